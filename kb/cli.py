@@ -1,0 +1,124 @@
+"""The ``kitkb`` command: a thin shim over the library.
+
+Each subcommand parses its arguments and calls one library function, imported when the
+subcommand runs (start-up stays lean). Errors derived from :class:`kb.errors.KitkbError`
+print as one line and exit with their ``exit_code``; nothing prints a traceback unless
+``--traceback`` is given.
+
+Exit codes: 0 success / conforms, 1 violations or no plan, 2 unusable input.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+from typing import Callable, Sequence
+
+Handler = Callable[[argparse.Namespace], int]
+
+
+# --- validate / convert ------------------------------------------------------------
+
+def _cmd_validate(args: argparse.Namespace) -> int:
+    from kb.validate import run_validate
+
+    return run_validate(args.files, fmt=args.format, out=sys.stdout)
+
+
+def _cmd_convert(args: argparse.Namespace) -> int:
+    from kb.convert import convert
+
+    convert(Path(args.input), Path(args.output))
+    return 0
+
+
+def _add_validate(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("validate", help="closed-world validation of ontology files (SHACL)")
+    p.add_argument("files", nargs="*", help="files to validate (default: the shipped model and scenarios)")
+    p.add_argument("--format", choices=["text", "json"], default="text")
+    p.set_defaults(handler=_cmd_validate)
+
+    p = sub.add_parser("convert", help="convert between Turtle, RDF/XML, OWL/XML and functional syntax inputs")
+    p.add_argument("input")
+    p.add_argument("-o", "--output", required=True, help="output file; .ttl Turtle, .owl/.rdf RDF/XML")
+    p.set_defaults(handler=_cmd_convert)
+
+
+# --- scenario ----------------------------------------------------------------------
+
+def _cmd_scenario_generate(args: argparse.Namespace) -> int:
+    from kb.scenario import write_scenario
+
+    write_scenario(Path(args.output), parts=args.parts, kits=args.kits, seed=args.seed)
+    return 0
+
+
+def _add_scenario(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("scenario", help="scenario files (initial and goal states)")
+    ssub = p.add_subparsers(dest="scenario_command", required=True)
+    g = ssub.add_parser("generate", help="write a valid init/goal pair of any size")
+    g.add_argument("--parts", type=int, required=True, help="number of parts in the kits")
+    g.add_argument("--kits", type=int, default=1, help="number of kits to build")
+    g.add_argument("--seed", type=int, default=0)
+    g.add_argument("-o", "--output", required=True, help="output folder (init.ttl, goal.ttl)")
+    g.set_defaults(handler=_cmd_scenario_generate)
+
+
+# --- run (the main job) ---------------------------------------------------------------
+
+def _cmd_run(args: argparse.Namespace) -> int:
+    from kb.pipeline import run_main_job
+
+    return run_main_job(out=sys.stdout)
+
+
+def _add_run(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("run", help="the main job on the shipped scenarios")
+    p.set_defaults(handler=_cmd_run)
+
+
+# --- further subcommands are added below, one _add_* function each ---------------------
+
+_ADDERS: list[Callable[[argparse._SubParsersAction], None]] = [
+    _add_validate,
+    _add_scenario,
+    _add_run,
+]
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of the ``kitkb`` command."""
+    parser = argparse.ArgumentParser(prog="kitkb", description=__doc__.splitlines()[0])
+    parser.add_argument("--traceback", action="store_true", help="show Python tracebacks (debugging)")
+    sub = parser.add_subparsers(dest="command", required=True)
+    for add in _ADDERS:
+        add(sub)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``kitkb`` console script."""
+    from kb.errors import KitkbError
+
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return int(args.handler(args) or 0)
+    except KitkbError as exc:
+        if args.traceback:
+            raise
+        print(str(exc), file=sys.stderr)
+        return exc.exit_code
+    except KeyboardInterrupt:
+        print("kitkb: interrupted", file=sys.stderr)
+        return 130
+    except Exception as exc:  # a bug of ours: still one line, never a traceback by default
+        if args.traceback:
+            raise
+        print(f"kitkb: internal error: {type(exc).__name__}: {exc} (run with --traceback)", file=sys.stderr)
+        return 3
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

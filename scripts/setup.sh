@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Idempotent set-up on a fresh clone: Java (HermiT, ENHSP), a venv with kitkb and its
+# dependencies. With --postgres also the PostgreSQL server package (started by test.sh).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+want_pg=0
+[ "${1:-}" = "--postgres" ] && want_pg=1
+
+apt_install() {
+    if [ "$(id -u)" = 0 ]; then
+        (apt-get update -qq || true) >/dev/null
+        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "$@" >/dev/null
+    else
+        sudo DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "$@" >/dev/null
+    fi
+}
+
+if ! command -v java >/dev/null 2>&1; then
+    echo "setup: installing a Java runtime (HermiT, ENHSP)"
+    apt_install default-jre-headless
+fi
+if [ "$want_pg" = 1 ] && ! ls /usr/lib/postgresql/*/bin/initdb >/dev/null 2>&1; then
+    echo "setup: installing PostgreSQL"
+    apt_install postgresql
+fi
+
+PY=${PYTHON:-python3}
+if [ ! -x .venv/bin/python ]; then
+    "$PY" -m venv .venv
+fi
+stamp=.venv/.kitkb-installed
+if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ]; then
+    .venv/bin/python -m pip install -q --upgrade pip
+    .venv/bin/python -m pip install -q -e ".[test,postgres]"
+    touch "$stamp"
+fi
