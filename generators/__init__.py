@@ -9,7 +9,13 @@ from __future__ import annotations
 import importlib
 from typing import Any
 
-REGISTRY: dict[str, tuple[str, str]] = {}
+REGISTRY: dict[str, tuple[str, str]] = {
+    "shapes": ("generators.shapes", "ShapesGenerator"),
+    "sql": ("generators.sql", "SqlGenerator"),
+    "accessors": ("generators.accessors", "AccessorsGenerator"),
+    "pddl-domain": ("generators.pddl_domain", "PddlDomainGenerator"),
+    "pddl-problem": ("generators.pddl_problem", "PddlProblemGenerator"),
+}
 
 
 def get_generator(name: str) -> Any:

@@ -41,7 +41,8 @@ def _add_validate(sub: argparse._SubParsersAction) -> None:
 
     p = sub.add_parser("convert", help="convert between Turtle, RDF/XML, OWL/XML and functional syntax inputs")
     p.add_argument("input")
-    p.add_argument("-o", "--output", required=True, help="output file; .ttl Turtle, .owl/.rdf RDF/XML")
+    p.add_argument("-o", "--output", required=True,
+                   help="output file; .ttl Turtle, .owl/.rdf RDF/XML, .nt N-Triples (written atomically)")
     p.set_defaults(handler=_cmd_convert)
 
 
@@ -80,10 +81,99 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
 
 # --- further subcommands are added below, one _add_* function each ---------------------
 
+# --- db (world model database) ----------------------------------------------------------
+
+def _cmd_db_load(args: argparse.Namespace) -> int:
+    from kb.sqlgen_cli import db_load
+
+    return db_load(args)
+
+
+def _cmd_db_dump(args: argparse.Namespace) -> int:
+    from kb.sqlgen_cli import db_dump
+
+    return db_dump(args)
+
+
+def _add_db(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("db", help="the execution world model database (SQLite file or PostgreSQL)")
+    dsub = p.add_subparsers(dest="db_command", required=True)
+    g = dsub.add_parser("load", help="replace the database content with a data file (one transaction)")
+    g.add_argument("datafile")
+    g.add_argument("--db", default="kitkb.sqlite", help="SQLAlchemy URL or SQLite file (default kitkb.sqlite)")
+    g.set_defaults(handler=_cmd_db_load)
+    g = dsub.add_parser("dump", help="write the database as Turtle")
+    g.add_argument("--db", default="kitkb.sqlite", help="SQLAlchemy URL or SQLite file (default kitkb.sqlite)")
+    g.add_argument("-o", "--output", required=True, help="output .ttl file")
+    g.set_defaults(handler=_cmd_db_dump)
+
+
+# --- generate (pddl, sql) / plan ---------------------------------------------------------
+
+def _cmd_generate_pddl(args: argparse.Namespace) -> int:
+    from kb.planning_cli import generate_pddl
+
+    return generate_pddl(args)
+
+
+def _cmd_generate_sql(args: argparse.Namespace) -> int:
+    from kb.sqlgen_cli import generate_sql
+
+    return generate_sql(args)
+
+
+def _cmd_plan(args: argparse.Namespace) -> int:
+    from kb.planning_cli import plan
+
+    return plan(args)
+
+
+def _add_generate(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("generate", help="generate artefacts from the ontologies (PDDL, SQL)")
+    gsub = p.add_subparsers(dest="generate_command", required=True)
+    g = gsub.add_parser("pddl", help="PDDL domain and problem from an initial and a goal state file")
+    g.add_argument("init", help="initial state file (Turtle, RDF/XML, OWL functional syntax)")
+    g.add_argument("goal", help="goal state file")
+    g.add_argument("-o", "--output", required=True, help="output folder (domain.pddl, problem.pddl)")
+    g.add_argument("--encoding", choices=["strips", "numeric"], default="strips",
+                   help="strips: counts compiled into objects (Fast Downward, pyperplan); "
+                        "numeric: PDDL 2.1 fluents (ENHSP)")
+    g.set_defaults(handler=_cmd_generate_pddl)
+    g = gsub.add_parser("sql", help="SQL schema (DDL) of the shipped ontologies")
+    g.add_argument("--dialect", default="sqlite", help="SQL dialect (default sqlite)")
+    g.add_argument("-o", "--output", default="-", help="output file ('-' for standard output)")
+    g.set_defaults(handler=_cmd_generate_sql)
+
+
+def _add_plan(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("plan", help="plan with a real planner and write the validated plan",
+                       description="kitkb plan INIT GOAL -o PLAN (ontology state files) or "
+                                   "kitkb plan DOMAIN.pddl PROBLEM.pddl -o PLAN (existing PDDL). "
+                                   "Exit 0: plan written; 1: no plan; 2: unusable input or planner.")
+    p.add_argument("first", metavar="INIT|DOMAIN", help="initial state file, or a PDDL domain")
+    p.add_argument("second", metavar="GOAL|PROBLEM", help="goal state file, or a PDDL problem")
+    p.add_argument("-o", "--output", required=True, help="plan file (one action per line)")
+    p.add_argument("--planner", help="planner name (fast-downward, enhsp, pyperplan, ...); "
+                                     "default: chosen from the problem's kind")
+    p.add_argument("--encoding", choices=["strips", "numeric"], default="strips",
+                   help="encoding for ontology input (default strips)")
+    p.add_argument("--timeout", type=float, help="planner time limit in seconds")
+    p.add_argument("--engine-defaults", action="store_true",
+                   help="run the planner with its own default settings instead of kitkb's")
+    p.set_defaults(handler=_cmd_plan)
+
+
+def _add_planning(sub: argparse._SubParsersAction) -> None:
+    _add_generate(sub)
+    _add_plan(sub)
+
+
 _ADDERS: list[Callable[[argparse._SubParsersAction], None]] = [
     _add_validate,
     _add_scenario,
     _add_run,
+    _add_db,
+    _add_planning,
 ]
 
 

@@ -1,0 +1,57 @@
+"""Hand shapes the engine does not support to pySHACL, and read pySHACL's report graph."""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Iterable
+
+from rdflib import RDF, Graph
+from rdflib.term import Node
+
+from kb.shacl.model import SH, ShaclResult
+from kb.shacl.shapes import TARGET_PREDICATES
+
+log = logging.getLogger("kb.shacl")
+
+
+def results_from_report(report: Graph) -> list[ShaclResult]:
+    """The results (``sh:result``) of a pySHACL (or any SHACL) validation report graph."""
+    out = []
+    # top-level results only: pySHACL also types the nested sh:detail results of sh:node
+    for r in report.objects(None, SH.result):
+        msgs = sorted(str(m) for m in report.objects(r, SH.resultMessage))
+        out.append(
+            ShaclResult(
+                focus=report.value(r, SH.focusNode),
+                path=report.value(r, SH.resultPath),
+                value=report.value(r, SH.value),
+                source_shape=report.value(r, SH.sourceShape),
+                component=report.value(r, SH.sourceConstraintComponent),
+                severity=report.value(r, SH.resultSeverity),
+                message=msgs[0] if msgs else "",
+            )
+        )
+    return out
+
+
+def run_pyshacl(data: Graph, shapes: Graph, ont: Graph | None, only: Iterable[Node]) -> list[ShaclResult]:
+    """Validate with pySHACL, keeping the targets of the shapes in ``only`` and no others."""
+    import pyshacl
+
+    keep = set(only)
+    reduced = Graph()
+    for prefix, ns in shapes.namespaces():
+        reduced.bind(prefix, ns, override=True)
+    for s, p, o in shapes:
+        if p in TARGET_PREDICATES and s not in keep:
+            continue
+        if p == RDF.type and s not in keep and o not in (SH.NodeShape, SH.PropertyShape) and (
+            (s, RDF.type, SH.NodeShape) in shapes or (s, RDF.type, SH.PropertyShape) in shapes
+        ):
+            continue  # an implicit class target of a shape we evaluate ourselves
+        reduced.add((s, p, o))
+    log.warning("pySHACL evaluates %d shape(s) the fast engine does not support: %s",
+                len(keep), ", ".join(sorted(str(k) for k in keep)))
+    _, report, _ = pyshacl.validate(data, shacl_graph=reduced, ont_graph=ont, inference="none",
+                                    advanced=False, allow_warnings=True)
+    return results_from_report(report)

@@ -1,0 +1,230 @@
+"""The data graph indexed once: subject -> predicate -> objects, plus class membership.
+
+Terms are keys (N-Triples spellings, see :mod:`kb.shacl.terms`). The index is the union of
+everything added (data and model triples), which is what pySHACL validates when it is given
+an ontology graph: it mixes the ontology into a copy of the data graph.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+from rdflib import Graph
+
+from kb.shacl.terms import key_of
+
+RDF_TYPE = "<http://www.w3.org/1999/02/22-rdf-syntax-ns#type>"
+SUBCLASS_OF = "<http://www.w3.org/2000/01/rdf-schema#subClassOf>"
+
+
+class DataIndex:
+    """Subject-predicate-object dictionaries with lazily built inverse and class indexes."""
+
+    def __init__(self) -> None:
+        self.spo: dict[str, dict[str, list[str]]] = {}
+        self._inverse: dict[str, dict[str, list[str]]] = {}
+        self._supers: dict[str, frozenset[str]] = {}
+        self._instances: dict[str, list[str]] | None = None
+        self._subclasses: dict[str, list[str]] | None = None
+        self.triples = 0
+
+    # ------------------------------------------------------------------ building
+    def add(self, s: str, p: str, o: str) -> None:
+        """Add one triple (duplicates are ignored)."""
+        preds = self.spo.get(s)
+        if preds is None:
+            self.spo[s] = {p: [o]}
+            self.triples += 1
+            return
+        objs = preds.get(p)
+        if objs is None:
+            preds[p] = [o]
+            self.triples += 1
+        elif o not in objs:
+            objs.append(o)
+            self.triples += 1
+
+    def add_ntriples(self, text: str) -> None:
+        """Add N-Triples text as written by pyoxigraph (one triple per line, single spaces)."""
+        spo = self.spo
+        count = 0
+        for line in text.splitlines():
+            if not line or line[0] == "#":
+                continue
+            s, p, o = line.split(" ", 2)
+            o = o[:-2] if o.endswith(" .") else o.rstrip(" .")
+            preds = spo.get(s)
+            if preds is None:
+                spo[s] = {p: [o]}
+                count += 1
+                continue
+            objs = preds.get(p)
+            if objs is None:
+                preds[p] = [o]
+                count += 1
+            elif o not in objs:
+                objs.append(o)
+                count += 1
+        self.triples += count
+        self._reset()
+
+    def add_graph(self, graph: Graph) -> None:
+        """Add an rdflib graph; literal keys keep rdflib's idea of term identity."""
+        cache: dict[object, str] = {}
+
+        def k(term: object) -> str:
+            key = cache.get(term)
+            if key is None:
+                key = cache[term] = key_of(term)  # type: ignore[arg-type]
+            return key
+
+        for s, p, o in graph.triples((None, None, None)):
+            self.add(k(s), k(p), k(o))
+        self._reset()
+
+    def _reset(self) -> None:
+        self._inverse.clear()
+        self._supers.clear()
+        self._instances = None
+        self._subclasses = None
+
+    # ------------------------------------------------------------------ lookups
+    def objects(self, s: str, p: str) -> list[str]:
+        """Objects of (s, p, ?)."""
+        preds = self.spo.get(s)
+        if preds is None:
+            return []
+        return preds.get(p) or []
+
+    def subjects(self, p: str, o: str) -> list[str]:
+        """Subjects of (?, p, o), through an inverse index built once per predicate."""
+        return self.inverse(p).get(o) or []
+
+    def inverse(self, p: str) -> dict[str, list[str]]:
+        """object -> subjects for predicate ``p``."""
+        inv = self._inverse.get(p)
+        if inv is None:
+            inv = {}
+            for s, preds in self.spo.items():
+                for o in preds.get(p, ()):
+                    subs = inv.get(o)
+                    if subs is None:
+                        inv[o] = [s]
+                    else:
+                        subs.append(s)
+            self._inverse[p] = inv
+        return inv
+
+    def prepare_inverse(self, predicates: Iterable[str]) -> None:
+        """Build the inverse indexes of several predicates in one pass over the data."""
+        wanted = {p for p in predicates if p not in self._inverse}
+        if not wanted:
+            return
+        invs: dict[str, dict[str, list[str]]] = {p: {} for p in wanted}
+        for s, preds in self.spo.items():
+            for p in wanted.intersection(preds):
+                inv = invs[p]
+                for o in preds[p]:
+                    subs = inv.get(o)
+                    if subs is None:
+                        inv[o] = [s]
+                    else:
+                        subs.append(s)
+        self._inverse.update(invs)
+
+    def subjects_with(self, p: str) -> list[str]:
+        """Subjects that have a value for ``p``."""
+        return [s for s, preds in self.spo.items() if p in preds]
+
+    def objects_of(self, p: str) -> set[str]:
+        """Objects of all triples with predicate ``p``."""
+        return set(self.inverse(p))
+
+    def superclasses(self, cls: str) -> frozenset[str]:
+        """``cls`` and everything reachable from it by rdfs:subClassOf."""
+        found = self._supers.get(cls)
+        if found is None:
+            seen = {cls}
+            todo = [cls]
+            while todo:
+                for sup in self.objects(todo.pop(), SUBCLASS_OF):
+                    if sup not in seen:
+                        seen.add(sup)
+                        todo.append(sup)
+            found = self._supers[cls] = frozenset(seen)
+        return found
+
+    def is_instance(self, node: str, cls: str) -> bool:
+        """SHACL instance test: some rdf:type of ``node`` is ``cls`` or a subclass of it."""
+        for t in self.objects(node, RDF_TYPE):
+            if t == cls or cls in self.superclasses(t):
+                return True
+        return False
+
+    def instances(self, cls: str) -> set[str]:
+        """Instances of ``cls`` and of its transitive subclasses (the sh:targetClass set)."""
+        if self._instances is None:
+            inst: dict[str, list[str]] = {}
+            subs: dict[str, list[str]] = {}
+            for s, preds in self.spo.items():
+                for t in preds.get(RDF_TYPE, ()):
+                    inst.setdefault(t, []).append(s)
+                for sup in preds.get(SUBCLASS_OF, ()):
+                    subs.setdefault(sup, []).append(s)
+            self._instances, self._subclasses = inst, subs
+        assert self._subclasses is not None
+        found: set[str] = set(self._instances.get(cls, ()))
+        seen = {cls}
+        todo = [cls]
+        while todo:
+            for sub in self._subclasses.get(todo.pop(), ()):
+                if sub not in seen:
+                    seen.add(sub)
+                    todo.append(sub)
+                    found.update(self._instances.get(sub, ()))
+        return found
+
+    def ntriples_split(
+        self, predicates: Iterable[str] | None = None
+    ) -> tuple[str, list[tuple[str, str, str]]]:
+        """N-Triples text of the triples without blank nodes, and the triples with them."""
+        lines: list[str] = []
+        bnodes: list[tuple[str, str, str]] = []
+        wanted = None if predicates is None else set(predicates)
+        for s, preds in self.spo.items():
+            sb = s[0] == "_"
+            for p, objs in preds.items():
+                if wanted is not None and p not in wanted:
+                    continue
+                for o in objs:
+                    if sb or o[0] == "_":
+                        bnodes.append((s, p, o))
+                    else:
+                        lines.append(f"{s} {p} {o} .")
+        return "\n".join(lines) + "\n", bnodes
+
+    def predicate_stats(self, predicates: Iterable[str]) -> dict[str, tuple[int, int, int]]:
+        """(triples, distinct subjects, distinct objects) for each predicate asked for."""
+        wanted = set(predicates)
+        count = dict.fromkeys(wanted, 0)
+        subs = dict.fromkeys(wanted, 0)
+        objs: dict[str, set[str]] = {p: set() for p in wanted}
+        for preds in self.spo.values():
+            for p in wanted.intersection(preds):
+                vals = preds[p]
+                count[p] += len(vals)
+                subs[p] += 1
+                objs[p].update(vals)
+        return {p: (count[p], subs[p], len(objs[p])) for p in wanted}
+
+    def ntriples(self, predicates: Iterable[str] | None = None) -> str:
+        """N-Triples text of the triples with the given predicates (all when None)."""
+        lines: list[str] = []
+        wanted = None if predicates is None else set(predicates)
+        for s, preds in self.spo.items():
+            for p, objs in preds.items():
+                if wanted is not None and p not in wanted:
+                    continue
+                for o in objs:
+                    lines.append(f"{s} {p} {o} .")
+        return "\n".join(lines) + "\n"
