@@ -44,16 +44,6 @@ def machine() -> str:
             f"{platform.python_version()}, SQLite {sqlite3.sqlite_version}, load average {load:.1f} at start")
 
 
-def _wipe(url: str) -> None:
-    from sqlalchemy import MetaData, create_engine
-
-    engine = create_engine(url)
-    meta = MetaData()
-    meta.reflect(engine)
-    meta.drop_all(engine)
-    engine.dispose()
-
-
 def _timed(fn, *args):  # noqa: ANN001, ANN202
     t = time.perf_counter()
     out = fn(*args)
@@ -110,9 +100,9 @@ def main(argv: list[str] | None = None) -> int:
               f"({init.stat().st_size / 1e6:.1f} MB); written in {t:.1f} s, parsed in {parse_s:.1f} s")
         results = {"sqlite": bench(db.normalize_url(Path(tmp) / "world.sqlite"), init, args.updates, args.batch, 1)}
         if args.pg:
-            _wipe(args.pg)
+            db.drop_all(args.pg)
             results["postgresql"] = bench(args.pg, init, args.updates, args.batch, 1)
-            _wipe(args.pg)
+            db.drop_all(args.pg)
     rows = [("load init.ttl (parse + insert, one transaction)", "load_s", "{:.1f} s"),
             ("individuals stored", "individuals", "{:.0f}"),
             ("global poses of all solid objects (one query + numpy)", "global_all_s", "{:.2f} s"),

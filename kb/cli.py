@@ -203,6 +203,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("kitkb: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:  # the reader went away (``kitkb validate ... | head``)
+        import os
+
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 1
     except Exception as exc:  # a bug of ours: still one line, never a traceback by default
         if args.traceback:
             raise

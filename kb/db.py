@@ -472,6 +472,17 @@ def load(datafile: str | Path, url: str | Path = DEFAULT_DB) -> LoadReport:
     return report
 
 
+def drop_all(url: str | Path) -> None:
+    """Drop every table of database ``url`` (kitkb's and any other): a clean slate for tests."""
+    from sqlalchemy import MetaData
+
+    engine = open_engine(url)
+    meta = MetaData()
+    meta.reflect(engine)
+    meta.drop_all(engine)
+    engine.dispose()
+
+
 def _prefixes(graph: Graph) -> dict[str, str]:
     """The graph's prefixes, plus ``:`` for the namespace most individuals are named in."""
     out = {p: str(ns) for p, ns in graph.namespace_manager.namespaces()}

@@ -27,14 +27,6 @@ NIST = Path("/work/shared/nist")
 PG_URL = os.environ.get("KITKB_PG_URL")
 
 
-def _wipe(url: str) -> None:
-    engine = create_engine(url)
-    meta = MetaData()
-    meta.reflect(engine)
-    meta.drop_all(engine)
-    engine.dispose()
-
-
 @pytest.fixture(params=["sqlite", pytest.param("postgresql", marks=pytest.mark.postgres)])
 def url(request, tmp_path):
     if request.param == "sqlite":
@@ -42,9 +34,9 @@ def url(request, tmp_path):
         return
     if not PG_URL:
         pytest.skip("KITKB_PG_URL is not set")
-    _wipe(PG_URL)
+    db.drop_all(PG_URL)
     yield PG_URL
-    _wipe(PG_URL)
+    db.drop_all(PG_URL)
 
 
 def _data_files() -> list[Path]:

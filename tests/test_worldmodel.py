@@ -13,7 +13,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 from rdflib import Namespace, URIRef
-from sqlalchemy import MetaData, create_engine
 
 from kb import db
 from kb.errors import InputError
@@ -29,14 +28,6 @@ SCENARIO = next((d / "init.ttl" for d in scenario_dirs() if d.name == "small-kit
 REPO = Path(__file__).resolve().parent.parent
 
 
-def _wipe(url: str) -> None:
-    engine = create_engine(url)
-    meta = MetaData()
-    meta.reflect(engine)
-    meta.drop_all(engine)
-    engine.dispose()
-
-
 @pytest.fixture(params=["sqlite", pytest.param("postgresql", marks=pytest.mark.postgres)])
 def url(request, tmp_path):
     if request.param == "sqlite":
@@ -45,11 +36,11 @@ def url(request, tmp_path):
         pytest.skip("KITKB_PG_URL is not set")
     else:
         u = PG_URL
-        _wipe(u)
+        db.drop_all(u)
     db.load(SCENARIO, u)
     yield u
     if request.param == "postgresql":
-        _wipe(u)
+        db.drop_all(u)
 
 
 @pytest.fixture
