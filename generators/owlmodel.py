@@ -37,6 +37,7 @@ class Restriction:
     max: int = UNBOUNDED
     on: Node | None = None          # qualifying class or data range (None: unqualified)
     all_values: Node | None = None  # owl:allValuesFrom filler
+    via: URIRef = RDFS.subClassOf   # axiom stating it: rdfs:subClassOf or owl:equivalentClass
 
 
 @dataclass
@@ -45,6 +46,7 @@ class ClassInfo:
 
     iri: URIRef
     supers: set[URIRef] = field(default_factory=set)
+    parents: set[URIRef] = field(default_factory=set)  # named rdfs:subClassOf objects only
     restrictions: list[Restriction] = field(default_factory=list)
     keys: list[list[URIRef]] = field(default_factory=list)
     disjoint: set[URIRef] = field(default_factory=set)
@@ -113,8 +115,10 @@ class OwlModel:
         g = self.graph
         for sup in g.objects(c, RDFS.subClassOf):
             self._class_expression(info, sup)
+            if isinstance(sup, URIRef) and sup != OWL.Thing and sup != c:
+                info.parents.add(sup)
         for eq in g.objects(c, OWL.equivalentClass):
-            self._class_expression(info, eq)
+            self._class_expression(info, eq, OWL.equivalentClass)
         for key in g.objects(c, OWL.hasKey):
             info.keys.append([k for k in Collection(g, key) if isinstance(k, URIRef)])
         for other in g.objects(c, OWL.disjointWith):
@@ -132,8 +136,8 @@ class OwlModel:
             if a in self.classes:
                 self.classes[a].disjoint.update(b for b in named if b != a)
 
-    def _class_expression(self, info: ClassInfo, expr: Node) -> None:
-        """Fold a superclass expression (named, restriction, intersection) into ``info``."""
+    def _class_expression(self, info: ClassInfo, expr: Node, via: URIRef = RDFS.subClassOf) -> None:
+        """Fold a superclass expression (named, restriction, intersection) stated by ``via`` into ``info``."""
         g = self.graph
         if isinstance(expr, URIRef):
             if expr != OWL.Thing and expr != info.iri:
@@ -142,11 +146,12 @@ class OwlModel:
         if (expr, RDF.type, OWL.Restriction) in g:
             r = self._restriction(expr)
             if r is not None:
+                r.via = via
                 info.restrictions.append(r)
             return
         for members in g.objects(expr, OWL.intersectionOf):
             for m in Collection(g, members):
-                self._class_expression(info, m)
+                self._class_expression(info, m, via)
 
     def _restriction(self, node: Node) -> Restriction | None:
         g = self.graph
@@ -212,6 +217,17 @@ class OwlModel:
         return info
 
     # --- queries ----------------------------------------------------------------------
+
+    def ontologies(self) -> list[tuple[URIRef, str]]:
+        """(IRI, owl:versionInfo or "") of every named ``owl:Ontology`` in the graph, sorted."""
+        g = self.graph
+        return sorted((o, str(g.value(o, OWL.versionInfo) or ""))
+                      for o in _named(g.subjects(RDF.type, OWL.Ontology)))
+
+    def comment(self, term: URIRef) -> str:
+        """The ``rdfs:comment`` of ``term``, else its ``rdfs:label``, else ""."""
+        g = self.graph
+        return str(g.value(term, RDFS.comment) or g.value(term, RDFS.label) or "")
 
     def ancestors(self, c: URIRef) -> list[URIRef]:
         """Named superclasses of ``c`` (transitively, ``c`` excluded), sorted."""

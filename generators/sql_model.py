@@ -1,7 +1,8 @@
 """The relational model of the ontologies: which tables and columns hold which classes and properties.
 
-This is the typed layer between the ontology graph and the writers (:mod:`generators.sql`
-renders it as SQLAlchemy metadata and DDL, :mod:`generators.accessors` as a Python module).
+This is the typed layer between the ontology and the writers (:mod:`generators.sql`
+renders it as SQLAlchemy metadata and DDL, :mod:`generators.accessors` as a Python module);
+it reads the ontology through :class:`generators.owlmodel.OwlModel`.
 The mapping (see docs/database.md):
 
 * one table per named class (joined-table inheritance): a class table holds the class's
@@ -25,11 +26,12 @@ import re
 from dataclasses import asdict, dataclass, field, replace
 from functools import lru_cache
 from pathlib import Path
-from typing import Iterable
+from typing import Iterable, Sequence
 
-from rdflib import OWL, RDF, RDFS, XSD, BNode, Graph, Literal, URIRef
-from rdflib.collection import Collection
+from rdflib import RDFS, XSD, Graph, URIRef
+from rdflib.term import Node
 
+from generators.owlmodel import UNBOUNDED, OwlModel
 from kb.namespaces import KTW, SOAP
 
 #: Namespaces whose classes and properties become tables and columns, with the table prefix.
@@ -168,78 +170,62 @@ def column_info(spec: ColumnSpec | LinkSpec) -> dict[str, object]:
     return info
 
 
-# --- reading the ontology ------------------------------------------------------------------
+# --- reading the ontology (through generators.owlmodel) ------------------------------------------
 
-class _Reader:
-    """Collects the facts the mapping needs from one ontology graph."""
+def _in_model(term: object) -> bool:
+    return isinstance(term, URIRef) and split_iri(str(term))[0] in MODEL_NAMESPACES
 
-    def __init__(self, graph: Graph):
-        self.g = graph
-        self.classes = sorted(c for c in graph.subjects(RDF.type, OWL.Class)
-                              if isinstance(c, URIRef) and self.in_model(c))
 
-    @staticmethod
-    def in_model(term: object) -> bool:
-        return isinstance(term, URIRef) and split_iri(str(term))[0] in MODEL_NAMESPACES
+def _model_classes(model: OwlModel) -> list[URIRef]:
+    return sorted(c for c in model.classes if _in_model(c))
 
-    def parent(self, cls: URIRef) -> URIRef | None:
-        parents = sorted(p for p in self.g.objects(cls, RDFS.subClassOf)
-                         if self.in_model(p) and (p, RDF.type, OWL.Class) in self.g and p != cls)
-        return parents[0] if parents else None
 
-    def properties(self) -> list[tuple[URIRef, str]]:
-        out = []
-        for kind, rdf_type in (("object", OWL.ObjectProperty), ("data", OWL.DatatypeProperty)):
-            out += [(p, kind) for p in self.g.subjects(RDF.type, rdf_type) if self.in_model(p)]
-        return sorted(set(out))
+def _parent(model: OwlModel, cls: URIRef) -> URIRef | None:
+    """The first (sorted) model class ``cls`` is stated a subclass of."""
+    parents = sorted(p for p in model.classes[cls].parents if _in_model(p) and p in model.classes)
+    return parents[0] if parents else None
 
-    def single(self, prop: URIRef, pred: URIRef) -> URIRef | None:
-        values = [v for v in self.g.objects(prop, pred) if isinstance(v, URIRef)]
-        return sorted(values)[0] if len(values) == 1 else None
 
-    def restrictions(self, cls: URIRef, prop: URIRef) -> tuple[int, int | None]:
-        """(min, max) number of values ``cls`` allows for ``prop`` (from its own restrictions)."""
-        lo, hi = 0, None
-        for r in self.g.objects(cls, RDFS.subClassOf):
-            if not isinstance(r, BNode) or (r, OWL.onProperty, prop) not in self.g:
-                continue
-            for pred, value in self.g.predicate_objects(r):
-                n = int(value) if isinstance(value, Literal) and str(value).isdigit() else None
-                if pred in (OWL.qualifiedCardinality, OWL.cardinality) and n is not None:
-                    lo, hi = max(lo, n), n if hi is None else min(hi, n)
-                elif pred in (OWL.minQualifiedCardinality, OWL.minCardinality) and n is not None:
-                    lo = max(lo, n)
-                elif pred in (OWL.maxQualifiedCardinality, OWL.maxCardinality) and n is not None:
-                    hi = n if hi is None else min(hi, n)
-                elif pred == OWL.someValuesFrom:
-                    lo = max(lo, 1)
-        return lo, hi
+def _properties(model: OwlModel) -> list[tuple[URIRef, str]]:
+    """(property, "object" | "data") of the model's properties, sorted."""
+    return sorted((p, "object" if info.kind == "object" else "data")
+                  for p, info in model.properties.items() if _in_model(p))
 
-    def value_type(self, rng: URIRef | None) -> ValueType:
-        """Storage kind, checks and canonical datatype of a datatype property's range."""
-        if rng is None or rng == RDFS.Literal:
-            return ValueType("text", range_iri=str(rng) if rng else None)
-        if str(rng).startswith(str(XSD)):
-            return _xsd_value_type(rng)
-        for eq in self.g.objects(rng, OWL.equivalentClass):
-            one_of = self.g.value(eq, OWL.oneOf)
-            if one_of is not None:
-                items = [v for v in Collection(self.g, one_of) if isinstance(v, Literal)]
-                base = items[0].datatype if items and items[0].datatype else None
-                vt = _xsd_value_type(base) if base else ValueType("text")
-                return ValueType(vt.kind, vt.checks, tuple(str(v) for v in items), vt.datatype, str(rng))
-            on = self.g.value(eq, OWL.onDatatype)
-            if isinstance(on, URIRef):
-                vt = self.value_type(on)
-                checks = list(vt.checks)
-                facets = self.g.value(eq, OWL.withRestrictions)
-                for facet in Collection(self.g, facets) if facets is not None else []:
-                    for pred, value in self.g.predicate_objects(facet):
-                        op = _FACETS.get(split_iri(str(pred))[1])
-                        if op and pred.startswith(str(XSD)):
-                            checks.append((op, str(value)))
-                return ValueType(vt.kind, tuple(checks), vt.enum, vt.datatype, str(rng))
-        return ValueType("text", datatype=str(rng), range_iri=str(rng))
+
+def _single(values: Sequence[Node]) -> URIRef | None:
+    return values[0] if len(values) == 1 and isinstance(values[0], URIRef) else None
+
+
+def _bounds(model: OwlModel, cls: URIRef, prop: URIRef) -> tuple[int, int | None]:
+    """(min, max) number of values ``cls`` allows for ``prop`` (from its own rdfs:subClassOf restrictions)."""
+    lo, hi = 0, UNBOUNDED
+    for r in model.classes[cls].restrictions:
+        if r.prop == prop and r.via == RDFS.subClassOf:
+            lo, hi = max(lo, r.min), min(hi, r.max)
+    return lo, hi if hi < UNBOUNDED else None
+
+
+def _value_type(model: OwlModel, rng: URIRef | None) -> ValueType:
+    """Storage kind, checks and canonical datatype of a datatype property's range."""
+    if rng is None or rng == RDFS.Literal:
+        return ValueType("text", range_iri=str(rng) if rng else None)
+    if str(rng).startswith(str(XSD)):
+        return _xsd_value_type(rng)
+    info = model.datatype_info(rng)
+    if info is not None and info.values is not None:
+        items = info.values
+        base = items[0].datatype if items and items[0].datatype else None
+        vt = _xsd_value_type(base) if base else ValueType("text")
+        return ValueType(vt.kind, vt.checks, tuple(str(v) for v in items), vt.datatype, str(rng))
+    if info is not None and info.base is not None:
+        vt = _value_type(model, info.base)
+        checks = list(vt.checks)
+        for pred, value in info.facets.items():
+            op = _FACETS.get(split_iri(str(pred))[1])
+            if op and pred.startswith(str(XSD)):
+                checks.append((op, str(value)))
+        return ValueType(vt.kind, tuple(checks), vt.enum, vt.datatype, str(rng))
+    return ValueType("text", datatype=str(rng), range_iri=str(rng))
 
 
 def _xsd_value_type(dt: URIRef) -> ValueType:
@@ -257,18 +243,18 @@ def _xsd_value_type(dt: URIRef) -> ValueType:
 
 # --- building the schema -----------------------------------------------------------------------
 
-def _table_names(reader: _Reader) -> dict[URIRef, str]:
+def _table_names(classes: list[URIRef]) -> dict[URIRef, str]:
     names: dict[URIRef, str] = {}
-    for c in reader.classes:
+    for c in classes:
         ns, local = split_iri(str(c))
         names[c] = shorten(f"{MODEL_NAMESPACES[ns]}_{snake(local)}")
     return names
 
 
-def _class_names(reader: _Reader) -> dict[URIRef, str]:
-    locals_ = [split_iri(str(c))[1] for c in reader.classes]
+def _class_names(classes: list[URIRef]) -> dict[URIRef, str]:
+    locals_ = [split_iri(str(c))[1] for c in classes]
     out = {}
-    for c, local in zip(reader.classes, locals_):
+    for c, local in zip(classes, locals_):
         ns = split_iri(str(c))[0]
         name = re.sub(r"\W", "_", local)
         if locals_.count(local) > 1 or name in {"Thing", "Base"}:
@@ -287,48 +273,51 @@ def _unique_name(name: str, taken: set[str]) -> str:
 
 def build_schema(graph: Graph) -> Schema:
     """The relational model of the model classes and properties in ``graph``."""
-    reader = _Reader(graph)
-    tables = _table_names(reader)
-    classes = _class_names(reader)
+    model = OwlModel(graph)
+    model_classes = _model_classes(model)
+    tables = _table_names(model_classes)
+    classes = _class_names(model_classes)
     columns: dict[str, list[ColumnSpec]] = {t: [] for t in tables.values()}
     taken: dict[str, set[str]] = {t: {"id"} for t in tables.values()}
     taken[THING_TABLE] = {"id", "iri", "name", "kind"}
     columns[THING_TABLE] = []
     links: list[LinkSpec] = []
     all_names = set(tables.values()) | {THING_TABLE}
-    for prop, kind in reader.properties():
-        domain = reader.single(prop, RDFS.domain)
+    for prop, kind in _properties(model):
+        info = model.properties[prop]
+        domain = _single(info.domains)
         domain = domain if domain in tables else None
         dom_table = tables[domain] if domain is not None else THING_TABLE
-        rng = reader.single(prop, RDFS.range)
+        rng = _single(info.ranges)
         dom_local = split_iri(str(domain))[1] if domain is not None else None
         attr = snake(_attribute(split_iri(str(prop))[1], dom_local))
-        lo, hi = reader.restrictions(domain, prop) if domain is not None else (0, None)
-        functional = (prop, RDF.type, OWL.FunctionalProperty) in graph or hi == 1
+        lo, hi = _bounds(model, domain, prop) if domain is not None else (0, None)
+        functional = info.functional or hi == 1
         if kind == "object":
             ckind, target = ("object", tables[rng]) if rng in tables else ("iri", None)
             value = ValueType("iri", range_iri=str(rng) if rng else None)
         else:
-            ckind, target, value = "data", None, reader.value_type(rng)
+            ckind, target, value = "data", None, _value_type(model, rng)
         if functional:
             suffix = "_id" if ckind == "object" else ""
             name = _unique_name(shorten(attr + suffix), taken[dom_table])
             columns[dom_table].append(ColumnSpec(
                 name, name, str(prop), ckind, value, target, nullable=lo < 1,
-                unique=(prop, RDF.type, OWL.InverseFunctionalProperty) in graph and ckind == "object"))
+                unique=info.inverse_functional and ckind == "object"))
         else:
             prefix = MODEL_NAMESPACES[split_iri(str(prop))[0]]
             name = _unique_name(shorten(f"{prefix}_{snake(split_iri(str(prop))[1])}"), all_names)
             links.append(LinkSpec(name, _unique_name(attr, taken[dom_table]), str(prop), ckind,
                                   dom_table, value, target, required=lo >= 1))
     specs = [TableSpec(tables[c], str(c), classes[c],
-                       tables[p] if (p := reader.parent(c)) is not None else THING_TABLE,
-                       tuple(columns[tables[c]]), _comment(graph, c))
-             for c in reader.classes]
+                       tables[p] if (p := _parent(model, c)) is not None else THING_TABLE,
+                       tuple(columns[tables[c]]), " ".join(model.comment(c).split()))
+             for c in model_classes]
     thing = TableSpec(THING_TABLE, "", "Thing", "", tuple(columns[THING_TABLE]),
                       "Every individual: its IRI, local name and most specific class.")
     ordered, links = _assign_attributes([thing, *_parents_first(specs)], links)
-    return Schema(tuple(ordered), tuple(sorted(links, key=lambda l: l.name)), _ontologies(graph))
+    ontologies = tuple(sorted((str(o), version) for o, version in model.ontologies()))
+    return Schema(tuple(ordered), tuple(sorted(links, key=lambda l: l.name)), ontologies)
 
 
 def _py_name(name: str) -> str:
@@ -368,11 +357,6 @@ def _assign_attributes(tables: list[TableSpec], links: list[LinkSpec]) -> tuple[
     return out, new_links
 
 
-def _comment(graph: Graph, cls: URIRef) -> str:
-    text = graph.value(cls, RDFS.comment) or graph.value(cls, RDFS.label) or ""
-    return " ".join(str(text).split())
-
-
 def _parents_first(specs: list[TableSpec]) -> list[TableSpec]:
     by_parent: dict[str, list[TableSpec]] = {}
     for s in specs:
@@ -387,14 +371,6 @@ def _parents_first(specs: list[TableSpec]) -> list[TableSpec]:
             nxt += [k.name for k in kids]
         frontier = nxt
     return out
-
-
-def _ontologies(graph: Graph) -> tuple[tuple[str, str], ...]:
-    out = []
-    for o in graph.subjects(RDF.type, OWL.Ontology):
-        if isinstance(o, URIRef):
-            out.append((str(o), str(graph.value(o, OWL.versionInfo) or "")))
-    return tuple(sorted(out))
 
 
 def model_files() -> list[Path]:
