@@ -84,6 +84,8 @@ class OwlModel:
         self.properties: dict[URIRef, PropertyInfo] = {}
         self.annotation_properties: set[URIRef] = set()
         self.datatypes: dict[URIRef, DatatypeInfo] = {}
+        #: Malformed axioms skipped while reading: (node, predicate, value, message).
+        self.problems: list[tuple[Node, URIRef, Node, str]] = []
         self._ancestors: dict[URIRef, list[URIRef]] = {}
         self._descendants: dict[URIRef, list[URIRef]] | None = None
         self._by_domain: dict[URIRef, list[URIRef]] | None = None
@@ -165,7 +167,11 @@ class OwlModel:
                              (OWL.maxCardinality, False, True), (OWL.maxQualifiedCardinality, False, True)):
             value = g.value(node, pred)
             if value is not None:
-                n = int(value)
+                n = _cardinality(value)
+                if n is None:
+                    self.problems.append((node, pred, value, f"cardinality {str(value)!r} of a restriction on "
+                                          f"<{prop}> is not a whole number >= 0"))
+                    continue
                 r.min = n if lo else r.min
                 r.max = n if hi else r.max
         some = g.value(node, OWL.someValuesFrom)
@@ -280,3 +286,12 @@ def _list(g: Graph, head: Node | None) -> list[Node]:
 def is_bnode(node: Node) -> bool:
     """True for a blank node."""
     return isinstance(node, BNode)
+
+
+def _cardinality(value: Node) -> int | None:
+    """The whole number >= 0 a cardinality literal states, or None if it states none."""
+    try:
+        n = int(str(value))
+    except ValueError:
+        return None
+    return n if n >= 0 else None

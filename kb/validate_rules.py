@@ -106,6 +106,9 @@ def check_model_source(ctx: Context, src: Any) -> None:
         elif kind in (OWL.Class, RDFS.Class):
             _check_class(ctx, src, p)
     _check_used_properties(ctx, src)
+    for node, pred, value, message in ctx.model.problems:
+        if (node, pred, value) in g:
+            ctx.report(src, ctx.locate(src, node, pred, value), "error", message, "malformed-axiom", node)
 
 
 def _check_property(ctx: Context, src: Any, p: URIRef) -> None:

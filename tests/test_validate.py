@@ -233,3 +233,21 @@ def test_data_file_importing_another_data_file(tmp_path: Path) -> None:
     found = {(d.rule, d.focus, d.line) for d in report.diagnostics}
     # the second RefObject (a misspelt reference, line 8) is both unknown and one value too many
     assert found == {("unknown-individual", ":extra_location", 8), ("max-count", ":extra_location", 8)}, found
+
+
+def test_malformed_cardinality_is_reported_at_its_line(tmp_path: Path) -> None:
+    model = tmp_path / "model.ttl"
+    model.write_text(
+        "@prefix owl: <http://www.w3.org/2002/07/owl#> .\n"
+        "@prefix rdfs: <http://www.w3.org/2000/01/rdf-schema#> .\n"
+        "@prefix xsd: <http://www.w3.org/2001/XMLSchema#> .\n"
+        "@prefix ex: <urn:ex#> .\n"
+        "<urn:ex> a owl:Ontology .\n"
+        "ex:Thing a owl:Class .\n"
+        "ex:Foo a owl:Class ; rdfs:subClassOf ex:Thing ,\n"
+        "    [ a owl:Restriction ; owl:onProperty ex:hasFoo_Bar ; owl:cardinality \"one\" ] .\n"
+        "ex:hasFoo_Bar a owl:DatatypeProperty ; rdfs:domain ex:Foo ; rdfs:range xsd:string .\n"
+    )
+    (diag,) = [d for d in validate([model]).diagnostics if d.rule == "malformed-axiom"]
+    # an anonymous restriction is placed at the statement holding it (7) or at its own line (8)
+    assert diag.line in (7, 8) and "'one'" in diag.message and diag.severity == "error"

@@ -102,6 +102,7 @@ class ClassC(PerValue):
     def __init__(self, shape: Shape, cls: str) -> None:
         super().__init__(shape)
         self.cls = cls
+        self._accepted: dict[str, bool] = {}  # rdf:type value -> is it cls or a subclass (one run)
 
     def check(self, ctx: Context, pairs: Pairs, out: list[Hit]) -> None:
         get, cls, supers = ctx.index.spo.get, self.cls, ctx.index.superclasses
@@ -125,8 +126,12 @@ class ClassC(PerValue):
     def ok(self, ctx: Context, value: str) -> bool:
         if value[0] == '"':
             return False
+        accepted = self._accepted
         for t in ctx.index.objects(value, RDF_TYPE):
-            if t == self.cls or self.cls in ctx.index.superclasses(t):
+            yes = accepted.get(t)
+            if yes is None:
+                yes = accepted[t] = t == self.cls or self.cls in ctx.index.superclasses(t)
+            if yes:
                 return True
         return False
 

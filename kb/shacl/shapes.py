@@ -55,29 +55,51 @@ class Shape:
     def path_text(self) -> str:
         return str(self.path_node) if self.path_node is not None else "the node"
 
-    def pairs(self, ctx: Context, foci: Iterable[str]) -> C.Pairs:
-        """(focus, value nodes) for each focus node."""
+    def pairs(self, ctx: Context, foci: Iterable[str], dicts: list[dict[str, list[str]]] | None = None) -> C.Pairs:
+        """(focus, value nodes) for each focus node (``dicts``: the foci's spo entries, if known)."""
         if self.path is None:
-            return [(f, [f]) for f in foci]
+            return [(f, (f,)) for f in foci]  # type: ignore[misc]
         kind, pred = self.path
         if kind == "pred":
+            if dicts is not None:
+                return [(f, d.get(pred, ())) for f, d in zip(foci, dicts)]  # type: ignore[misc]
             get = ctx.index.spo.get
-            return [(f, (get(f) or _EMPTY).get(pred) or []) for f in foci]
+            return [(f, (get(f) or _EMPTY).get(pred, ())) for f in foci]  # type: ignore[misc]
         inv = ctx.index.inverse(pred)
-        return [(f, inv.get(f) or []) for f in foci]
+        return [(f, inv.get(f, ())) for f in foci]  # type: ignore[misc]
 
-    def validate(self, ctx: Context, foci: Iterable[str], out: list[C.Hit]) -> None:
+    def validate(
+        self, ctx: Context, foci: Iterable[str], out: list[C.Hit], dicts: list[dict[str, list[str]]] | None = None
+    ) -> None:
         """Append the results for the focus nodes ``foci`` (nothing when deactivated)."""
         if self.deactivated or not self.constraints:
             return
-        pairs = self.pairs(ctx, foci)
-        for c in self.constraints:
-            c.check(ctx, pairs, out)
+        if self.path is not None:
+            pairs = self.pairs(ctx, foci, dicts)
+            for c in self.constraints:
+                c.check(ctx, pairs, out)
+            return
+        # a node shape: its property shapes share one lookup of each focus node's triples
+        foci = foci if isinstance(foci, list) else list(foci)
+        props = [c for c in self.constraints if isinstance(c, C.PropertyC)]
+        others = [c for c in self.constraints if not isinstance(c, C.PropertyC)]
+        if props:
+            get = ctx.index.spo.get
+            node_dicts = [get(f) or _EMPTY for f in foci]
+            for pc in props:
+                pc.prop.validate(ctx, foci, out, node_dicts)
+        if others:
+            pairs = self.pairs(ctx, foci)
+            for c in others:
+                c.check(ctx, pairs, out)
 
     def failing(self, ctx: Context, nodes: list[str]) -> set[str]:
         """The nodes among ``nodes`` that do not conform to this shape (evaluated in bulk)."""
         if self.deactivated or not nodes:
             return set()
+        if self.path is None and all(isinstance(c, C.PerValue) for c in self.constraints):
+            checks = [c.ok for c in self.constraints]  # no result tuples: just test each node
+            return {n for n in nodes if not all(ok(ctx, n) for ok in checks)}
         if self._focus_preserving():
             out: list[C.Hit] = []
             self.validate(ctx, nodes, out)
