@@ -8,7 +8,8 @@ foreign keys are SQLAlchemy objects, compiled with ``CreateTable(...).compile(di
 from __future__ import annotations
 
 import re
-from typing import Any, ClassVar
+from contextlib import contextmanager
+from typing import Any, ClassVar, Iterator
 
 from sqlalchemy import (Boolean, CheckConstraint, Column, Date, DateTime, Float, ForeignKey,
                         Integer, MetaData, Numeric, String, Table, Text)
@@ -169,9 +170,27 @@ def _kitkb_tables(meta: MetaData) -> None:
           comment="Statements outside the model's tables (ontology header, annotations, foreign terms).")
 
 
+@contextmanager
+def ddl_scope(meta: MetaData) -> Iterator[MetaData]:
+    """Keep DDL from changing ``meta``: SQLAlchemy's ``AddConstraint`` (emitted by ``ddl`` and by
+    ``create_all`` on dialects with ALTER) marks a foreign key as "not part of CREATE TABLE" for
+    good; restore that mark afterwards so one metadata serves every dialect in one process."""
+    fks = [fk for table in meta.tables.values() for fk in table.foreign_key_constraints]
+    saved = [fk._create_rule for fk in fks]
+    try:
+        yield meta
+    finally:
+        for fk, rule in zip(fks, saved):
+            fk._create_rule = rule
+
+
 def ddl(meta: MetaData, dialect_name: str) -> str:
     """The ``CREATE TABLE`` / ``CREATE INDEX`` script of ``meta`` for one dialect."""
-    dialect: Dialect = _dialect(dialect_name)
+    with ddl_scope(meta):
+        return _ddl(meta, _dialect(dialect_name))
+
+
+def _ddl(meta: MetaData, dialect: Dialect) -> str:
     parts = []
     for table in meta.sorted_tables:
         parts.append(str(CreateTable(table).compile(dialect=dialect)).strip() + ";")

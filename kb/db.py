@@ -518,7 +518,10 @@ def _prepare(conn: Connection, url: str) -> None:
     """Create the tables in an empty database, or empty the tables of a kitkb database."""
     m = model()
     if not inspect(conn).get_table_names():
-        m.metadata.create_all(conn)
+        from generators.sql import ddl_scope
+
+        with ddl_scope(m.metadata):
+            m.metadata.create_all(conn)
         return
     check_version(conn, url)
     for table in reversed(m.metadata.sorted_tables):

@@ -91,3 +91,12 @@ def test_orm_writes_are_dumped_and_checks_enforced(tmp_path):
     p1 = URIRef("https://example.org/new#p1")
     assert g.value(p1, URIRef("https://w3id.org/kitkb/kitting#hasPoint_Z")).eq(Literal(3.5))
     assert (URIRef("https://example.org/new#s"), None, None) not in g
+
+
+def test_ddl_of_one_dialect_leaves_the_metadata_as_it_was():
+    """SQLAlchemy's AddConstraint marks foreign keys for good; DDL for PostgreSQL (ALTER TABLE ...
+    ADD CONSTRAINT) must not drop them from a later SQLite CREATE TABLE in the same process."""
+    sqlite_before = ddl(gen.Base.metadata, "sqlite")
+    assert "ADD CONSTRAINT" in ddl(gen.Base.metadata, "postgresql")
+    assert ddl(gen.Base.metadata, "sqlite") == sqlite_before
+    assert "fk_kitkb_literal_thing_id" in sqlite_before
