@@ -71,11 +71,12 @@ def _add_scenario(sub: argparse._SubParsersAction) -> None:
 def _cmd_run(args: argparse.Namespace) -> int:
     from kb.pipeline import run_main_job
 
-    return run_main_job(out=sys.stdout)
+    return run_main_job(out=sys.stdout, out_dir=args.output)
 
 
 def _add_run(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("run", help="the main job on the shipped scenarios")
+    p = sub.add_parser("run", help="the main job on the shipped scenarios: validate, PDDL, plan, world model")
+    p.add_argument("-o", "--output", default="out", help="output folder (default out/)")
     p.set_defaults(handler=_cmd_run)
 
 
