@@ -15,7 +15,9 @@ from kb.convert import convert
 from kb.errors import InputError
 from kb.loader import load_file
 
-NIST_INIT = Path("/work/shared/nist/kittingInstancesInit1.owl")
+from shared_data import NIST_DIR
+
+NIST_INIT = NIST_DIR / "kittingInstancesInit1.owl"
 DATA = Path(__file__).parent / "data" / "loader"
 
 

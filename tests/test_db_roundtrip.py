@@ -22,8 +22,10 @@ from kb.errors import InputError
 from kb.loader import load_file
 from kb.resources import ontology_path, scenario_dirs
 
+from shared_data import NIST_DIR
+
 KTW = Namespace("https://w3id.org/kitkb/kitting#")
-NIST = Path("/work/shared/nist")
+NIST = NIST_DIR
 PG_URL = os.environ.get("KITKB_PG_URL")
 
 

@@ -16,9 +16,11 @@ import rdflib
 from rdflib import OWL, RDF, RDFS, BNode, Graph, Literal, Namespace, URIRef
 from rdflib.collection import Collection
 
+from shared_data import NIST_DIR
+
 ROOT = Path(__file__).resolve().parents[1]
 MODEL = ROOT / "ontologies" / "kitting.ttl"
-NIST_DIR = Path("/work/shared/nist")
+NIST_DIR = NIST_DIR
 NIST_MODEL = NIST_DIR / "kittingWorkstationClasses.owl"
 NIST_NS = "http://www.nist.gov/el/ontologies/kittingWorkstationClasses.owl#"
 KTW = Namespace("https://w3id.org/kitkb/kitting#")

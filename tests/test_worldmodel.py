@@ -21,6 +21,8 @@ from kb.resources import scenario_dirs
 from kb.transforms import axes_of, from_xyz_rpy, invert, pose_matrix, updated_relative
 from kb.worldmodel import WorldModel
 
+from shared_data import NIST_DIR
+
 KTW = Namespace("https://w3id.org/kitkb/kitting#")
 PG_URL = os.environ.get("KITKB_PG_URL")
 SCENARIO = next((d / "init.ttl" for d in scenario_dirs() if d.name == "small-kit"), None) or \
@@ -255,7 +257,7 @@ def test_two_processes_updating_different_objects_lose_nothing(wm, url, tmp_path
 
 
 def test_nist_init_file_global_poses(tmp_path):
-    nist = Path("/work/shared/nist/kittingInstancesInit1.owl")
+    nist = NIST_DIR / "kittingInstancesInit1.owl"
     if not nist.is_file():
         pytest.skip("NIST files not present")
     url = db.normalize_url(tmp_path / "nist.sqlite")
