@@ -18,6 +18,12 @@ with ``ontologies/kitting.ttl`` as model. ``--synthetic`` uses ``synthetic_kitti
     .venv/bin/python benchmarks/bench_validate.py --pyshacl-big   # pySHACL at 10k and 50k too
     .venv/bin/python benchmarks/bench_validate.py --sizes 10000 --pyshacl-sizes 10000 --engines pyshacl
 
+End to end (``--e2e``, on by default): the whole ``kitkb validate INIT.ttl`` command in a
+subprocess on a generated scenario (``kits=1``, seed 1, the same ~1% injected violations,
+written as N-Triples in ``init.ttl`` so reports carry line numbers): wall time, CPU time
+and peak memory (``ru_maxrss`` of that child, from ``os.wait4``); median of 3 runs up to
+10,000 parts, one run above.
+
 Measurements accumulate in ``benchmarks/results/validate.json`` (keyed by data set, size and
 engine); each run rewrites the "## Validation" section of ``docs/benchmarks.md`` from it.
 """
@@ -150,6 +156,49 @@ def make_synthetic(parts: int, out: Path, seed: int = 1) -> dict:
         "injected": {"total": injected},
         "triples": None,
     }
+
+
+def make_e2e(parts: int, out: Path, seed: int = 1, rate: float = 0.01) -> dict:
+    """A generated scenario (one kit) with injected violations, as ``out/init.ttl``."""
+    import pyoxigraph as ox
+
+    from kb.scenario import write_scenario
+
+    init, _goal = write_scenario(out / "scenario", parts=parts, kits=1, seed=seed)
+    nt = ox.serialize(ox.parse(path=str(init), format=ox.RdfFormat.TURTLE), format=ox.RdfFormat.N_TRIPLES)
+    text, kinds = inject(nt.decode(), rate, seed)
+    data = out / "init.ttl"
+    data.write_text(text)
+    return {"data": str(data), "injected": dict(kinds), "triples": text.count("\n"),
+            "bytes": data.stat().st_size}
+
+
+def kitkb_command() -> list[str]:
+    """The ``kitkb`` console command of this interpreter's environment (else ``python -m kb.cli``)."""
+    script = Path(sys.executable).parent / "kitkb"
+    return [str(script)] if script.exists() else [sys.executable, "-m", "kb.cli"]
+
+
+def run_e2e(data: str) -> dict:
+    """Run ``kitkb validate DATA`` once: wall and CPU seconds, peak MB, exit code, report lines."""
+    import tempfile
+
+    with tempfile.TemporaryFile("w+") as out:
+        t = time.perf_counter()
+        proc = subprocess.Popen([*kitkb_command(), "validate", data], stdout=out, stderr=subprocess.PIPE,
+                                cwd=ROOT, text=True)
+        _, status, usage = os.wait4(proc.pid, 0)
+        wall = time.perf_counter() - t
+        proc.returncode = os.waitstatus_to_exitcode(status)
+        err = proc.stderr.read() if proc.stderr else ""
+        out.seek(0)
+        lines = out.read().splitlines()
+    if proc.returncode not in (0, 1):
+        raise RuntimeError(f"kitkb validate failed ({proc.returncode}):\n{err[-3000:]}")
+    return {"wall_s": wall, "cpu_s": usage.ru_utime + usage.ru_stime, "maxrss_mb": usage.ru_maxrss / 1024,
+            "exit": proc.returncode, "diagnostics": max(0, len(lines) - 1),
+            "with_line": sum(1 for line in lines[:-1] if re.match(r"^[^:]+:\d+: ", line)),
+            "summary": lines[-1] if lines else ""}
 
 
 # ---------------------------------------------------------------- child processes
@@ -316,12 +365,26 @@ def table(store: dict, dataset: str) -> str:
     return "\n".join(rows)
 
 
+def e2e_table(store: dict) -> str:
+    rows = [
+        "| parts | triples | file MB | wall s (median) | CPU s | peak MB | exit | report lines (with line no.) | runs |",
+        "|---:|---:|---:|---:|---:|---:|---:|---:|---|",
+    ]
+    for n in sorted(int(k.split(":")[1]) for k in store if k.startswith("e2e:")):
+        e = store[f"e2e:{n}:kitkb-validate"]
+        rows.append(f"| {n:,} | {e['triples']:,} | {e['bytes'] / 1e6:,.0f} | {_fmt(e['wall_s'])} | {_fmt(e['cpu_s'])} "
+                    f"| {_fmt(e['maxrss_mb'], 0)} | {e['exit']} | {e['diagnostics']} ({e['with_line']}) "
+                    f"| {', '.join(f'{x:.1f}' for x in e['all_wall_s'])} s |")
+    return "\n".join(rows)
+
+
 def render(store: dict, info: dict) -> str:
     parts = [
         "## Validation",
         "",
-        "SHACL validation of a generated kitting workstation with about 1% injected violations, whole",
-        "run in one process: parse data and model, read shapes, validate. `kitkb` is",
+        "SHACL validation of a generated kitting workstation with about 1% injected violations. First",
+        "the end-to-end `kitkb validate` command, then the engine-only tables (kitkb's engine next to",
+        "plain pySHACL): whole run in one process: parse data and model, read shapes, validate. `kitkb` is",
         "`kb.shacl_engine` (data parsed with pyoxigraph, index in Python dictionaries, SHACL-SPARQL",
         "constraints run once over the graph in pyoxigraph); `pySHACL` is `pyshacl.validate(data,",
         "shacl_graph=shapes, ont_graph=model)` with default options on rdflib-parsed graphs. Peak",
@@ -333,6 +396,28 @@ def render(store: dict, info: dict) -> str:
         "(`--pyshacl-big` also times pySHACL at 10k and 50k parts).",
         "",
     ]
+    if any(k.startswith("e2e:") for k in store):
+        parts += [
+            "### End to end: `kitkb validate INIT.ttl`",
+            "",
+            "The whole user-facing command in a fresh process: load the file and the model it imports",
+            "(rdflib terms, per-file triple views), the Python rules, the fast SHACL engine over data +",
+            "model, report with file:line (lines looked up only for the nodes reported). Generated",
+            "scenario with one kit (`kitkb scenario generate --parts N --kits 1 --seed 1`) plus the ~1%",
+            "injected violations above, saved as N-Triples (`init.ttl`). Wall and CPU seconds and peak",
+            "memory (`ru_maxrss`) of the `kitkb` child process; median of the runs listed.",
+            "",
+            e2e_table(store),
+            "",
+        ]
+        notes = sorted({f"{n}: {v.get('date', '?')}, load average {v.get('load_average', '?')}"
+                        for n, v in store.items() if n.startswith("e2e:")})
+        parts += ["Runs (date, 1-minute load average when the run started):", ""]
+        parts += [f"- {n}" for n in notes] + [""]
+        if store.get("e2e-note"):
+            parts += [store["e2e-note"], ""]
+    parts += ["The tables below are engine-only: `kb.shacl_engine` on the same kind of data (kits =",
+              "parts / 10), without the loader, the Python rules or the report.", ""]
     for dataset, title in (("real", "Generated scenarios (kb.scenario) with the shipped shapes and rules"),
                            ("synthetic", "Synthetic workstation (benchmarks/synthetic_kitting.py, 10 node shapes)")):
         if any(k.startswith(dataset + ":") for k in store):
@@ -386,6 +471,9 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--workdir", type=Path, default=Path("/tmp/kitkb-bench-validate"))
     ap.add_argument("--no-doc", action="store_true", help="do not rewrite docs/benchmarks.md")
     ap.add_argument("--render-only", action="store_true", help="only rewrite the doc section from the results file")
+    ap.add_argument("--e2e-sizes", type=int, nargs="*", default=[1000, 10000, 50000],
+                    help="sizes for the end-to-end `kitkb validate` runs (none: skip them)")
+    ap.add_argument("--only-e2e", action="store_true", help="only the end-to-end runs")
     ap.add_argument("--child", choices=["kitkb", "pyshacl"], help=argparse.SUPPRESS)
     ap.add_argument("--spec", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
@@ -402,7 +490,22 @@ def main(argv: list[str] | None = None) -> None:
     info = machine()
     print(f"data set: {dataset}; machine: {info}")
     produced: set[str] = set()  # keys measured by this run: the only ones it writes back
-    for n in args.sizes:
+    for n in args.e2e_sizes:
+        out = args.workdir / f"e2e-{n}"
+        out.mkdir(parents=True, exist_ok=True)
+        spec = make_e2e(n, out)
+        print(f"\n{n} parts end to end: {spec['data']} (injected {spec['injected']})")
+        stamp = {"date": dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+                 "load_average": round(os.getloadavg()[0], 1)}
+        runs = [run_e2e(spec["data"]) for _ in range(3 if n <= 10000 else 1)]
+        for r in runs:
+            print(f"  kitkb validate: {json.dumps({k: (round(v, 2) if isinstance(v, float) else v) for k, v in r.items()})}")
+        med = {k: statistics.median(r[k] for r in runs) for k in ("wall_s", "cpu_s", "maxrss_mb")}
+        key = f"e2e:{n}:kitkb-validate"
+        produced.add(key)
+        store[key] = {**runs[0], **med, **spec, "all_wall_s": [round(r["wall_s"], 2) for r in runs], **stamp}
+        store = save(store, {k: store[k] for k in produced})
+    for n in ([] if args.only_e2e else args.sizes):
         out = args.workdir / f"{dataset}-{n}"
         out.mkdir(parents=True, exist_ok=True)
         spec = make_real(n, out) if real else make_synthetic(n, out)

@@ -253,7 +253,10 @@ class ShapesGenerator(Generator):
         return "\n".join(lines)
 
     def _key_block(self, c: URIRef, key: list[URIRef], i: int) -> str:
-        pats = " ".join(f"$this <{k}> ?k{j} . ?other <{k}> ?k{j} ." for j, k in enumerate(key))
+        # literal-valued key parts first (a serial number singles out one or two individuals;
+        # a SKU is shared by thousands): pySHACL joins in the order written, quadratic otherwise
+        order = sorted(range(len(key)), key=lambda j: self._is_object_property(key[j]))
+        pats = " ".join(f"$this <{key[j]}> ?k{j} . ?other <{key[j]}> ?k{j} ." for j in order)
         query = (f"SELECT $this (?other AS ?value) WHERE {{ {pats} "
                  f"?other <{RDF.type}>/<{RDFS.subClassOf}>* <{c}> . "
                  f"FILTER (?other != $this && STR(?other) < STR($this)) }}")
@@ -266,6 +269,10 @@ class ShapesGenerator(Generator):
             "    sh:sparql [",
             f"        sh:message {_literal(Literal(msg))} ;",
             f"        sh:select {_literal(Literal(query))} ] ."])
+
+    def _is_object_property(self, p: URIRef) -> bool:
+        info = self.model.properties.get(p)
+        return info is not None and info.kind == "object"
 
     def _inverse_functional_block(self, p: URIRef) -> str:
         name = self._shape_name(p, "inverse")

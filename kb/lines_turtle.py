@@ -53,6 +53,7 @@ _EOF = ("eof", "", 0)
 
 class _TurtleIndexer:
     def __init__(self, text: str, base: str, index: LineIndex):
+        self.text = text
         self.tokens = self._tokens(text)
         self.buf = next(self.tokens, _EOF)
         self.base = base
@@ -62,9 +63,8 @@ class _TurtleIndexer:
         self.literals: dict[tuple, Literal] = {}
 
     @staticmethod
-    def _tokens(text: str) -> Iterator[tuple[str, str, int]]:
-        line = 1
-        for m in _TTL_TOKEN.finditer(text):
+    def _tokens(text: str, start: int = 0, line: int = 1) -> Iterator[tuple[str, str, int]]:
+        for m in _TTL_TOKEN.finditer(text, start):
             kind = m.lastgroup
             value = m.group()
             if kind == "ws":
@@ -73,6 +73,21 @@ class _TurtleIndexer:
             yield kind, value, line
             if kind == "lstr":
                 line += value.count("\n")
+
+    def statement_at(self, start: int, line: int, prefixes: dict[str, str], wanted: set) -> None:
+        """Index the statement starting at offset ``start`` (on ``line``) if its subject is
+        in ``wanted``."""
+        if prefixes != self.prefixes:
+            self.prefixes = dict(prefixes)
+            self.terms.clear()
+        self.tokens = self._tokens(self.text, start, line)
+        self.buf = next(self.tokens, _EOF)
+        kind, value, _ = self.buf
+        try:
+            if self.term(kind, value) in wanted:
+                self.statement()
+        except (KeyError, ValueError, IndexError, RecursionError):
+            pass
 
     def peek(self) -> tuple[str, str, int]:
         return self.buf
@@ -213,3 +228,127 @@ class _TurtleIndexer:
             local = re.sub(r"\\(.)", r"\1", local)
             return URIRef(map_iri(self.prefixes[prefix] + local))
         return None
+
+
+# --- targeted index ---------------------------------------------------------------------
+
+_PREFIX_AT = re.compile(r"(?:@prefix|prefix)\s+([A-Za-z][\w.-]*)?:\s*<([^<>\s]*)>", re.I)
+_BASE_AT = re.compile(r"(?:@base|base)\s*<", re.I)
+_LINE_HEAD = re.compile(r"^[ \t]*(<[^<>\s]*>|(?:[A-Za-z][\w.-]*)?:[^\s;,()\[\]\"#]*)", re.M)
+_COMMENT = re.compile(r"\s#")
+
+
+def _trie_regex(words: set[str]) -> re.Pattern[str]:
+    """A regular expression matching any of ``words``, shaped as a trie (one walk per position
+    instead of one attempt per word)."""
+    trie: dict = {}
+    for w in words:
+        node = trie
+        for ch in w:
+            node = node.setdefault(ch, {})
+        node[""] = {}
+
+    def pattern(node: dict) -> str:
+        ends = "" in node
+        alts = [re.escape(ch) + pattern(sub) for ch, sub in sorted(node.items()) if ch]
+        if not alts:
+            return ""
+        body = alts[0] if len(alts) == 1 else "(?:" + "|".join(alts) + ")"
+        return f"(?:{body})?" if ends else body
+
+    return re.compile(pattern(trie) if trie else r"(?!)")
+
+
+def _directives(text: str, words: tuple[str, ...]) -> list[int]:
+    """Offsets where one of ``words`` (or it with a leading ``@``) starts a token, in order."""
+    found: set[int] = set()
+    for w in words:
+        i = text.find(w)
+        while i >= 0:
+            start = i - 1 if i > 0 and text[i - 1] == "@" else i
+            if start == 0 or not (text[start - 1].isalnum() or text[start - 1] in "_@:/#.-"):
+                found.add(start)
+            i = text.find(w, i + 1)
+    return sorted(found)
+
+
+class TargetedTurtleIndex:
+    """Line index of a big Turtle/N-Triples file built for a few subjects at a time.
+
+    The full index tokenizes the whole file (minutes at a million statements). Here one
+    regular-expression pass over line starts finds the statements that begin with one of
+    the subjects' spellings (``<iri>`` or ``prefix:local``, the NIST namespace included)
+    right after the end of the previous statement, and only those statements are tokenized.
+    Entries are the ones the full index makes for those subjects (first line wins, file
+    order). A statement must start its line; files with ``@base`` are not handled
+    (``usable`` is False, and the caller builds the full index).
+    """
+
+    def __init__(self, text: str, base: str) -> None:
+        self.text = text
+        self.base = base
+        self.prefixes: list[tuple[int, str, str]] = []
+        for i in _directives(text, ("prefix", "PREFIX", "Prefix")):
+            m = _PREFIX_AT.match(text, i)
+            if m:
+                self.prefixes.append((i, m.group(1) or "", urljoin(base, m.group(2))))
+        self.usable = not any(_BASE_AT.match(text, i) for i in _directives(text, ("base", "BASE", "Base")))
+
+    def spellings(self, term: URIRef) -> set[str]:
+        """How ``term`` may be written as a subject (before namespace mapping)."""
+        from kb.namespaces import NAMESPACE_MAP
+
+        iri = str(term)
+        raws = {iri} | {old + iri[len(new):] for old, new in NAMESPACE_MAP.items() if iri.startswith(new)}
+        out = {f"<{r}>" for r in raws}
+        for _, name, ns in self.prefixes:
+            for r in raws:
+                if r.startswith(ns) and len(r) > len(ns):
+                    out.add(f"{name}:{r[len(ns):]}")
+        return out
+
+    def index(self, subjects: set, index: LineIndex) -> None:
+        """Add the statements about ``subjects`` (URIRefs) to ``index``."""
+        text = self.text
+        spelled = set()
+        for s in subjects:
+            spelled |= self.spellings(s)
+        indexer = _TurtleIndexer(text, self.base, index)
+        decls, d = self.prefixes, 0
+        prefixes: dict[str, str] = {}
+        line, at = 1, 0
+        for m in _trie_regex(spelled).finditer(text):
+            start = m.start()
+            end = m.end()
+            if end < len(text) and not (text[end].isspace() or text[end] in ";,.(["):
+                continue  # a longer name that starts like a wanted one
+            if not self._after_statement(start):
+                continue
+            while d < len(decls) and decls[d][0] < start:
+                prefixes[decls[d][1]] = decls[d][2]
+                d += 1
+            line += text.count("\n", at, start)
+            at = start
+            indexer.statement_at(start, line, prefixes, subjects)
+
+    def _after_statement(self, pos: int) -> bool:
+        """True when only blanks and comments separate ``pos`` from the end of a statement or
+        directive (or the start of the file)."""
+        text = self.text
+        j = text.rfind("\n", 0, pos) + 1
+        if text[j:pos].strip():
+            return False
+        while j > 0:
+            k = text.rfind("\n", 0, j - 1) + 1
+            seg = text[k:j - 1].strip()
+            j = k
+            if not seg or seg[0] == "#":
+                continue
+            if seg.endswith("."):
+                return True
+            low = seg.lower()
+            if low.startswith(("prefix", "base")) and seg.endswith(">"):
+                return True
+            head = _COMMENT.split(seg, 1)[0].rstrip()
+            return head.endswith(".") or (head.lower().startswith(("prefix", "base")) and head.endswith(">"))
+        return True

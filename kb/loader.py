@@ -18,7 +18,6 @@ otherwise it is a warning at the line of the import.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Iterable, Sequence
 from urllib.parse import unquote, urlsplit
@@ -31,7 +30,7 @@ from kb.diagnostics import Diagnostic
 from kb.errors import InputError
 from kb.parsing import Triple, decode, detect_format, gc_paused, new_graph, parse_text, strip_slash_comments
 from kb.resources import ontology_path
-from kb.sources import LineIndex, build_index
+from kb.sources import LineIndex, TripleView, build_index
 
 _NIST_MODEL_FILE = "kittingWorkstationClasses.owl"
 _VOCABULARY = (str(RDF), str(RDFS), str(OWL), str(XSD))
@@ -54,7 +53,13 @@ class Source:
         self.warnings = list(warnings or [])
         self._graph = graph
         self._triples = triples
+        self._view: TripleView | None = None
         self._index: LineIndex | None = None
+        #: Targeted line index of big Turtle files: only the subjects asked for are indexed.
+        self._partial: LineIndex | None = None
+        self._covered: set = set()
+        self._mode: str | None = None  # "full" or "targeted", decided on the first lookup
+        self._target = None
         #: The file's prefix declarations (namespace-mapped); bound in ``graph``.
         self.prefixes = dict(prefixes or {})
 
@@ -66,13 +71,25 @@ class Source:
         """This file's triples as an rdflib graph."""
         if self._graph is None:
             with gc_paused():
-                self._graph = new_graph(self._triples or (), self.prefixes)
+                triples = self._triples if self._triples is not None else (self._view or ())
+                self._graph = new_graph(triples, self.prefixes)
             self._triples = None
         return self._graph
 
     def triples(self) -> Iterable[Triple]:
         """This file's triples (without building its graph)."""
-        return self._triples if self._triples is not None else iter(self.graph)
+        if self._triples is not None:
+            return self._triples
+        return iter(self._view) if self._view is not None else iter(self.graph)
+
+    def view(self) -> TripleView:
+        """This file's triples as a :class:`kb.sources.TripleView` (much cheaper to build than
+        ``graph``; what validation queries)."""
+        if self._view is None:
+            with gc_paused():
+                self._view = TripleView(self._triples if self._triples is not None else self.graph)
+            self._triples = None  # the view holds them (without duplicates)
+        return self._view
 
     def line_of(self, subject, predicate=None, obj=None) -> int | None:  # noqa: ANN001
         """1-based line of (s,p,o), else of (s,p), else of the first statement about s.
@@ -80,27 +97,78 @@ class Source:
         A blank node is located through the statement that refers to it. The index is
         built on the first call.
         """
-        if self._index is None:
-            with gc_paused():
-                self._index = self._build_index()
-        line = self._index.lookup(subject, predicate, obj)
+        line = self._lookup(subject, predicate, obj)
         if line is None and isinstance(subject, BNode):
             root = subject
             for depth, parent in enumerate(self._referrers(subject)):
-                line = self._index.lookup(*parent)
+                line = self._lookup(*parent)
                 root = parent[0]
                 if line is not None or depth > 20:
                     break
             if line is None and isinstance(root, BNode):
-                line = self._index.axiom_line(self._named_closure(root))
+                line = self._full_index().axiom_line(self._named_closure(root))
         return line
+
+    #: Turtle files at least this big are indexed only for the subjects asked about.
+    TARGETED_BYTES = 4_000_000
+
+    def prepare_lines(self, subjects: Iterable) -> None:  # noqa: ANN001
+        """Index, in one pass over a big Turtle file, the statements of ``subjects`` (and of
+        the named nodes blank ones hang off), before asking their lines one by one."""
+        if self._index is not None or not self._targeted():
+            return
+        wanted = set()
+        for s in subjects:
+            if isinstance(s, BNode):
+                wanted.update(p[0] for p in self._referrers(s) if isinstance(p[0], URIRef))
+            elif isinstance(s, URIRef):
+                wanted.add(s)
+        self._scan(wanted - self._covered)
+
+    def _lookup(self, subject, predicate=None, obj=None) -> int | None:  # noqa: ANN001
+        if self._index is None and self._targeted():
+            if isinstance(subject, URIRef) and subject not in self._covered:
+                self._scan({subject})
+            return self._partial.lookup(subject, predicate, obj) if self._partial is not None else None
+        return self._full_index().lookup(subject, predicate, obj)
+
+    def _full_index(self) -> LineIndex:
+        if self._index is None:
+            with gc_paused():
+                self._index = self._build_index()
+        return self._index
+
+    def _targeted(self) -> bool:
+        """True for a big Turtle/N-Triples file (without @base, which the scan does not follow)."""
+        if self._mode is None:
+            self._mode = "full"
+            if self.format not in ("turtle", "ntriples"):
+                return False
+            try:
+                if self.path.stat().st_size < self.TARGETED_BYTES:
+                    return False
+                text = self.path.read_bytes().decode("utf-8-sig")
+            except (OSError, UnicodeDecodeError):
+                return False
+            from kb.lines_turtle import TargetedTurtleIndex
+
+            target = TargetedTurtleIndex(text, self.path.resolve().as_uri())
+            if target.usable:
+                self._partial, self._target, self._mode = LineIndex(), target, "targeted"
+        return self._mode == "targeted"
+
+    def _scan(self, subjects: set) -> None:
+        if subjects:
+            with gc_paused():
+                self._target.index(subjects, self._partial)
+            self._covered |= subjects
 
     def _named_closure(self, node: BNode, limit: int = 10_000) -> set[URIRef]:
         """Named non-vocabulary terms reachable from a blank node (what its axiom mentions)."""
         found: set[URIRef] = set()
         seen, stack = {node}, [node]
         while stack and len(seen) < limit:
-            for p, o in self.graph.predicate_objects(stack.pop()):
+            for p, o in self.view().predicate_objects(stack.pop()):
                 if isinstance(o, BNode) and o not in seen:
                     seen.add(o)
                     stack.append(o)
@@ -112,7 +180,7 @@ class Source:
     def _referrers(self, node: BNode):  # noqa: ANN202
         seen = {node}
         while isinstance(node, BNode):
-            parent = next(iter(self.graph.subject_predicates(node)), None)
+            parent = next(iter(self.view().subject_predicates(node)), None)
             if parent is None or parent[0] in seen:
                 return
             seen.add(parent[0])
@@ -129,15 +197,27 @@ class Source:
         return build_index(text, self.format, self.path.resolve().as_uri())
 
 
-@dataclass(eq=False)
 class KnowledgeBase:
     """Sources (named files first, then resolved imports) and the union of their triples.
 
-    With a single source, ``graph`` is that source's graph (the same object, not a copy).
+    ``graph`` is built on first use (validation never asks for it). With a single source it
+    is that source's graph (the same object, not a copy).
     """
 
-    sources: list[Source]
-    graph: Graph
+    def __init__(self, sources: list[Source], graph: Graph | None = None) -> None:
+        self.sources = sources
+        self._graph = graph
+
+    def __repr__(self) -> str:
+        return f"KnowledgeBase({self.sources!r})"
+
+    @property
+    def graph(self) -> Graph:
+        """The union of all sources' triples as one rdflib graph."""
+        if self._graph is None:
+            with gc_paused():
+                self._graph = _union(self.sources)
+        return self._graph
 
     def source_of(self, subject, predicate=None, obj=None) -> tuple[Source, int | None] | None:  # noqa: ANN001
         """The source stating (s,p,o) / (s,p) / something about s, preferring named files."""
@@ -223,8 +303,7 @@ def load(paths: Sequence[str | Path], *, resolve_imports: bool = True) -> Knowle
                 seen_iris.update(i for i in (iri, source.ontology_iri) if i)
                 sources.append(source)
                 queue.append(source)
-    with gc_paused():
-        return KnowledgeBase(sources, _union(sources))
+    return KnowledgeBase(sources)
 
 
 def _union(sources: list[Source]) -> Graph:

@@ -12,13 +12,14 @@ exit 2). See docs/validation.md for the rules.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import hashlib
 import os
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Sequence, TextIO
+from typing import Any, Iterable, NamedTuple, Sequence, TextIO
 
 from rdflib import OWL, RDF, Graph, URIRef
 from rdflib.graph import ReadOnlyGraphAggregate
@@ -28,6 +29,8 @@ from generators.shapes import ShapesGenerator
 from kb.diagnostics import Diagnostic, to_json
 from kb.errors import InputError
 from kb.namespaces import KTW
+from kb.parsing import gc_paused
+from kb.sources import TripleView, UnionView
 from kb import validate_rules as rules
 from kb.validate_report import SH, Namer, ShaclResult, dedupe, diagnostics, line_of
 
@@ -101,38 +104,97 @@ def validate(paths: Sequence[str | Path], *, shapes_files: Sequence[str | Path] 
     started = time.perf_counter()
     if not paths:
         raise InputError("nothing to validate: no files given")
+    # millions of long-lived acyclic objects (terms, index dictionaries): the cyclic garbage
+    # collector would walk them all again and again, for nothing
+    with gc_paused():
+        return _validate(paths, shapes_files, started)
+
+
+def _validate(paths: Sequence[str | Path], shapes_files: Sequence[str | Path] | None,
+              started: float) -> ValidationReport:
     kb = _load([str(p) for p in paths])
     given = {_key(p) for p in paths}
     sources = [s for s in kb.sources if _key(s.path) in given] or list(kb.sources)
-    data = [s for s in kb.sources if rules.is_data_graph(s.graph)]
+    data = [s for s in kb.sources if rules.is_data_graph(rules.graph_of(s))]
     model_graph = _merge(*(s.graph for s in kb.sources if s not in data))
     model = OwlModel(model_graph)
     namer = Namer()
-    ctx = rules.Context(model, _individuals(kb.graph), namer.name,
-                        line_of)
+    later = _Deferred()
+    ctx = rules.Context(model, _individuals(kb.sources), namer.name, later.locate)
     for src in sources:
         ctx.out.extend(getattr(src, "warnings", []) or [])
         (rules.check_data_source if src in data else rules.check_model_source)(ctx, src)
     checked = {id(src): g for src in sources if (g := _shacl_data(src, data, model_graph)) is not None}
-    shacl: list[Diagnostic] = []
+    found: dict[int, list[ShaclResult]] = {}
+    shapes = None
     if checked or shapes_files is not None:
         shapes = _shapes(model, shapes_files)
         for src in sources:
             if id(src) in checked:
-                g = checked[id(src)]
-                shacl += diagnostics(_run_shacl(g, shapes), src, g, shapes, namer, ctx)
+                found[id(src)] = _run_shacl(checked[id(src)], shapes)
+    # every line asked for is looked up in one pass over each (big) file
+    for src in sources:
+        later.want(src, (r.focus for r in found.get(id(src), ())))
+        later.want(src, (s for r in found.get(id(src), ()) if r.path is not None and not isinstance(r.path, URIRef)
+                         for s in checked[id(src)].subjects(None, r.focus)))
+    later.prepare()
+    ctx.out = [later.resolve(d) for d in ctx.out]
+    ctx.locate = line_of
+    shacl: list[Diagnostic] = []
+    for src in sources:
+        if id(src) in found:
+            g = checked[id(src)]
+            shacl += diagnostics(found[id(src)], src, g, shapes, namer, ctx)
     diags = dedupe(ctx.out + shacl)
     return ValidationReport(diags, [str(s.path) for s in sources], time.perf_counter() - started)
 
 
-def _shacl_data(src: Any, data: list[Any], model_graph: Graph) -> Graph | None:
+class _Line(NamedTuple):
+    """A line not looked up yet: (source, s, p, o) of :func:`line_of`."""
+
+    src: Any
+    s: Any
+    p: Any
+    o: Any
+
+
+class _Deferred:
+    """Collects the line look-ups of the rules, so a big file is scanned once for all of them."""
+
+    def __init__(self) -> None:
+        self.subjects: dict[int, tuple[Any, set]] = {}
+
+    def locate(self, src: Any, s: Any, p: Any = None, o: Any = None) -> _Line:
+        self.want(src, [s])
+        return _Line(src, s, p, o)
+
+    def want(self, src: Any, subjects: Iterable[Any]) -> None:
+        self.subjects.setdefault(id(src), (src, set()))[1].update(subjects)
+
+    def prepare(self) -> None:
+        for src, subjects in self.subjects.values():
+            prepare = getattr(src, "prepare_lines", None)
+            if prepare is not None:
+                try:
+                    prepare(subjects)
+                except Exception:  # only an optimisation: line_of looks up one by one
+                    pass
+
+    @staticmethod
+    def resolve(d: Diagnostic) -> Diagnostic:
+        if isinstance(d.line, _Line):
+            return dataclasses.replace(d, line=line_of(*d.line))
+        return d
+
+
+def _shacl_data(src: Any, data: list[Any], model_graph: Graph) -> Any:
     """The graph SHACL checks for ``src``: a data file with the model (and data files it
     imports); a model file holding individuals: the model; otherwise None (nothing to check)."""
     if src in data:
         imported = {str(i) for i in (getattr(src, "imports", None) or [])}
-        others = [d.graph for d in data if d is not src and str(getattr(d, "ontology_iri", "")) in imported]
-        return _union_view(model_graph, src.graph, *others)
-    if any(True for _ in rules.individual_types(src.graph)):
+        others = [rules.graph_of(d) for d in data if d is not src and str(getattr(d, "ontology_iri", "")) in imported]
+        return _union_view(model_graph, rules.graph_of(src), *others)
+    if any(True for _ in rules.individual_types(rules.graph_of(src))):
         return model_graph
     return None
 
@@ -149,14 +211,18 @@ def _merge(*graphs: Graph) -> Graph:
     return out
 
 
-def _union_view(*graphs: Graph) -> Graph:
+def _union_view(*graphs: Any) -> UnionView:
     """A read-only union of graphs without copying them (queried by the reporter)."""
-    return ReadOnlyGraphAggregate(list(graphs))  # type: ignore[return-value]
+    return UnionView(list(graphs))
 
 
-def _individuals(graph: Graph) -> set[URIRef]:
-    out = {s for s, _ in rules.individual_types(graph)}
-    out.update(s for s in graph.subjects(RDF.type, OWL.NamedIndividual) if isinstance(s, URIRef))
+def _individuals(sources: Iterable[Any]) -> set[URIRef]:
+    """Individuals of all sources: subjects typed with a model class or owl:NamedIndividual."""
+    out: set[URIRef] = set()
+    for src in sources:
+        g = rules.graph_of(src)
+        out.update(s for s, _ in rules.individual_types(g))
+        out.update(s for s in g.subjects(RDF.type, OWL.NamedIndividual) if isinstance(s, URIRef))
     return out
 
 
@@ -243,9 +309,9 @@ def _run_shacl(data: Graph, shapes: Graph) -> list[ShaclResult]:
 _programs: dict[int, tuple[Graph, Any]] = {}
 
 
-def _as_graph(data: Graph) -> Graph:
+def _as_graph(data: Any) -> Graph:
     """A plain graph (pySHACL needs one) from a union view."""
-    return _merge(*data.graphs) if isinstance(data, ReadOnlyGraphAggregate) else data
+    return _merge(*data.graphs) if isinstance(data, (UnionView, ReadOnlyGraphAggregate)) else data
 
 
 def _run_compiled(data: Graph, shapes: Graph) -> list[ShaclResult]:
@@ -265,8 +331,11 @@ def _run_compiled(data: Graph, shapes: Graph) -> list[ShaclResult]:
         _programs[id(shapes)] = cached
     program = cached[1]
     index = DataIndex()
-    for g in data.graphs if isinstance(data, ReadOnlyGraphAggregate) else [data]:
-        index.add_graph(g)
+    for g in data.graphs if isinstance(data, (UnionView, ReadOnlyGraphAggregate)) else [data]:
+        if isinstance(g, TripleView):
+            index.add_nested(g.by_subject())
+        else:
+            index.add_graph(g)
     results = evaluate(index, program, rdf11_strings=False)
     if program.unsupported:
         results += run_pyshacl(_as_graph(data), shapes, None, program.unsupported)
@@ -280,7 +349,7 @@ def _run_pyshacl(data: Graph, shapes: Graph) -> list[ShaclResult]:
     _conforms, results, _text = pyshacl.validate(data, shacl_graph=shapes, inference="none",
                                                  advanced=True, allow_warnings=True)
     out = []
-    for r in results.subjects(RDF.type, SH.ValidationResult):
+    for r in results.objects(None, SH.result):  # top-level results, not nested sh:detail ones
         out.append(ShaclResult(results.value(r, SH.focusNode), results.value(r, SH.resultPath),
                                results.value(r, SH.value), results.value(r, SH.sourceShape),
                                results.value(r, SH.sourceConstraintComponent),

@@ -51,6 +51,7 @@ _COMPONENT_RULES = {
 
 def diagnostics(results: Iterable[ShaclResult], src: Any, data: Graph, shapes: Graph,
                  namer: "Namer", ctx: rules.Context) -> list[Diagnostic]:
+    """The report lines of the SHACL ``results`` for ``src`` (``data``: what was validated)."""
     out = []
     for r in _one_closed_result_each(results, data, shapes):
         comp = str(r.component).rpartition("#")[2].removesuffix("ConstraintComponent")
@@ -59,7 +60,7 @@ def diagnostics(results: Iterable[ShaclResult], src: Any, data: Graph, shapes: G
             rule = "class"
         if isinstance(r.path, Node) and shapes.value(r.path, SH.inversePath) is not None:
             rule = "inverse-functional"
-        if _suppressed(rule, r, ctx, namer, src, data) or not _mentions(src.graph, r.focus):
+        if _suppressed(rule, r, ctx, namer, src, data) or not _mentions(rules.graph_of(src), r.focus):
             continue
         message = _message(rule, r, src, data, shapes, namer)
         severity = "warning" if r.severity in (SH.Warning, SH.Info) else "error"
@@ -87,7 +88,7 @@ def _one_closed_result_each(results: Iterable[ShaclResult], data: Graph, shapes:
     return out + list(closed.values())
 
 
-def _mentions(g: Graph, node: Node) -> bool:
+def _mentions(g: Any, node: Node) -> bool:
     """True when ``node`` occurs in ``g`` (results about other files' nodes belong there)."""
     return (node, None, None) in g or (None, None, node) in g
 

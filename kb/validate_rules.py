@@ -54,10 +54,21 @@ def local_name(term: Node) -> str:
     return text
 
 
+def graph_of(src: Any) -> Any:
+    """What the checks query for ``src``: its :class:`kb.sources.TripleView` when the source
+    offers one (cheap to build for big data files), else its rdflib graph."""
+    view = getattr(src, "view", None)
+    return view() if callable(view) else src.graph
+
+
 def individual_types(graph: Graph) -> Iterator[tuple[URIRef, URIRef]]:
     """(individual, class) for every rdf:type triple naming a non-built-in class."""
+    model_class: dict[Node, bool] = {}
     for s, o in graph.subject_objects(RDF.type):
-        if isinstance(s, URIRef) and isinstance(o, URIRef) and o not in META_TYPES and not is_w3c(o):
+        ok = model_class.get(o)
+        if ok is None:
+            ok = model_class[o] = isinstance(o, URIRef) and o not in META_TYPES and not is_w3c(o)
+        if ok and isinstance(s, URIRef):
             yield s, o
 
 
@@ -229,7 +240,7 @@ def _owner(g: Graph, node: Node) -> Node | None:
 
 def check_data_source(ctx: Context, src: Any) -> None:
     """Rules for a file that holds individuals of an imported model."""
-    g: Graph = src.graph
+    g = graph_of(src)
     for term, kind in sorted(declared_terms(g).items()):
         ctx.report(src, ctx.locate(src, term, RDF.type, kind), "error",
                    f"data file declares {ctx.name(kind, src)} {ctx.name(term, src)}: "
@@ -247,7 +258,13 @@ def check_data_source(ctx: Context, src: Any) -> None:
 
 
 def _check_types(ctx: Context, src: Any) -> None:
-    for s, c in sorted(individual_types(src.graph)):
+    by_class: dict[URIRef, list[URIRef]] = {}
+    for s, c in individual_types(graph_of(src)):
+        by_class.setdefault(c, []).append(s)
+    true = Literal(True)
+    offenders = [(s, c) for c, members in by_class.items()
+                 if c not in ctx.model.classes or (c, ABSTRACT, true) in ctx.model.graph for s in members]
+    for s, c in sorted(offenders):
         if c not in ctx.model.classes:
             ctx.report(src, ctx.locate(src, s, RDF.type, c), "error",
                        f"{ctx.name(s, src)} is typed {ctx.name(c, src)}, which is not a declared class"
@@ -259,7 +276,7 @@ def _check_types(ctx: Context, src: Any) -> None:
 
 
 def _check_predicates(ctx: Context, src: Any) -> None:
-    g: Graph = src.graph
+    g = graph_of(src)
     known = set(ctx.model.properties) | ctx.model.annotation_properties
     headers = set(g.subjects(RDF.type, OWL.Ontology))
     for p in sorted(set(g.predicates())):
@@ -273,16 +290,17 @@ def _check_predicates(ctx: Context, src: Any) -> None:
 
 
 def _check_references(ctx: Context, src: Any) -> None:
-    g: Graph = src.graph
+    g = graph_of(src)
     for p, info in sorted(ctx.model.properties.items()):
         if info.kind != "object":
             continue
-        for s, o in sorted(g.subject_objects(p)):
-            if isinstance(o, URIRef) and o not in ctx.individuals and not _punned(ctx, o):
-                ctx.report(src, ctx.locate(src, s, p, o), "error",
-                           f"unknown individual {ctx.name(o, src)} (object of {ctx.name(p, src)} on "
-                           f"{ctx.name(s, src)})" + _hint(ctx, o, ctx.individuals, src),
-                           "unknown-individual", s)
+        unknown = [(s, o) for s, o in g.subject_objects(p)
+                   if isinstance(o, URIRef) and o not in ctx.individuals and not _punned(ctx, o)]
+        for s, o in sorted(unknown):
+            ctx.report(src, ctx.locate(src, s, p, o), "error",
+                       f"unknown individual {ctx.name(o, src)} (object of {ctx.name(p, src)} on "
+                       f"{ctx.name(s, src)})" + _hint(ctx, o, ctx.individuals, src),
+                       "unknown-individual", s)
 
 
 def _punned(ctx: Context, term: URIRef) -> bool:

@@ -7,7 +7,7 @@ an ontology graph: it mixes the ontology into a copy of the data graph.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 
 from rdflib import Graph
 
@@ -80,6 +80,62 @@ class DataIndex:
 
         for s, p, o in graph.triples((None, None, None)):
             self.add(k(s), k(p), k(o))
+        self._reset()
+
+    def add_triples(self, triples: Iterable[tuple[object, object, object]]) -> None:
+        """Add rdflib-term triples (a :class:`kb.sources.TripleView`, the loader's lists);
+        each distinct term is spelled once, as :meth:`add_graph` spells it."""
+        cache: dict[object, str] = {}
+        get = cache.get
+        add = self.add
+        for s, p, o in triples:
+            ks = get(s)
+            if ks is None:
+                ks = cache[s] = key_of(s)  # type: ignore[arg-type]
+            kp = get(p)
+            if kp is None:
+                kp = cache[p] = key_of(p)  # type: ignore[arg-type]
+            ko = get(o)
+            if ko is None:
+                ko = cache[o] = key_of(o)  # type: ignore[arg-type]
+            add(ks, kp, ko)
+        self._reset()
+
+    def add_nested(self, spo: Mapping[object, Mapping[object, Iterable[object]]]) -> None:
+        """Add rdflib-term triples given as subject -> predicate -> objects (without
+        duplicates, as :meth:`kb.sources.TripleView.by_subject` gives them)."""
+        cache: dict[object, str] = {}
+        get = cache.get
+        mine = self.spo
+        count = 0
+        for s, preds in spo.items():
+            ks = get(s)
+            if ks is None:
+                ks = cache[s] = key_of(s)  # type: ignore[arg-type]
+            have = mine.get(ks)
+            for p, objs in preds.items():
+                kp = get(p)
+                if kp is None:
+                    kp = cache[p] = key_of(p)  # type: ignore[arg-type]
+                keys = []
+                for o in objs:
+                    ko = get(o)
+                    if ko is None:
+                        ko = cache[o] = key_of(o)  # type: ignore[arg-type]
+                    keys.append(ko)
+                if have is None:
+                    mine[ks] = have = {kp: keys}
+                    count += len(keys)
+                elif kp not in have and len(set(keys)) == len(keys):
+                    have[kp] = keys
+                    count += len(keys)
+                else:
+                    before = self.triples
+                    for ko in keys:
+                        self.add(ks, kp, ko)
+                    count += self.triples - before
+                    self.triples = before
+        self.triples += count
         self._reset()
 
     def _reset(self) -> None:
