@@ -18,6 +18,17 @@ from typing import Callable, Sequence
 Handler = Callable[[argparse.Namespace], int]
 
 
+def _lazy(module: str, function: str) -> Handler:
+    """A handler that imports ``module`` only when its subcommand runs and calls ``function(args)``."""
+
+    def handler(args: argparse.Namespace) -> int:
+        import importlib
+
+        return getattr(importlib.import_module(module), function)(args)
+
+    return handler
+
+
 # --- validate / convert ------------------------------------------------------------
 
 def _cmd_validate(args: argparse.Namespace) -> int:
@@ -84,50 +95,20 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
 
 # --- db (world model database) ----------------------------------------------------------
 
-def _cmd_db_load(args: argparse.Namespace) -> int:
-    from kb.sqlgen_cli import db_load
-
-    return db_load(args)
-
-
-def _cmd_db_dump(args: argparse.Namespace) -> int:
-    from kb.sqlgen_cli import db_dump
-
-    return db_dump(args)
-
-
 def _add_db(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("db", help="the execution world model database (SQLite file or PostgreSQL)")
     dsub = p.add_subparsers(dest="db_command", required=True)
     g = dsub.add_parser("load", help="replace the database content with a data file (one transaction)")
     g.add_argument("datafile")
     g.add_argument("--db", default="kitkb.sqlite", help="SQLAlchemy URL or SQLite file (default kitkb.sqlite)")
-    g.set_defaults(handler=_cmd_db_load)
+    g.set_defaults(handler=_lazy("kb.sqlgen_cli", "db_load"))
     g = dsub.add_parser("dump", help="write the database as Turtle")
     g.add_argument("--db", default="kitkb.sqlite", help="SQLAlchemy URL or SQLite file (default kitkb.sqlite)")
     g.add_argument("-o", "--output", required=True, help="output .ttl file")
-    g.set_defaults(handler=_cmd_db_dump)
+    g.set_defaults(handler=_lazy("kb.sqlgen_cli", "db_dump"))
 
 
 # --- generate (pddl, sql) / plan ---------------------------------------------------------
-
-def _cmd_generate_pddl(args: argparse.Namespace) -> int:
-    from kb.planning_cli import generate_pddl
-
-    return generate_pddl(args)
-
-
-def _cmd_generate_sql(args: argparse.Namespace) -> int:
-    from kb.sqlgen_cli import generate_sql
-
-    return generate_sql(args)
-
-
-def _cmd_plan(args: argparse.Namespace) -> int:
-    from kb.planning_cli import plan
-
-    return plan(args)
-
 
 def _add_generate(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("generate", help="generate artefacts from the ontologies (PDDL, SQL)")
@@ -139,11 +120,11 @@ def _add_generate(sub: argparse._SubParsersAction) -> None:
     g.add_argument("--encoding", choices=["strips", "numeric"], default="strips",
                    help="strips: counts compiled into objects (Fast Downward, pyperplan); "
                         "numeric: PDDL 2.1 fluents (ENHSP)")
-    g.set_defaults(handler=_cmd_generate_pddl)
+    g.set_defaults(handler=_lazy("kb.planning_cli", "generate_pddl"))
     g = gsub.add_parser("sql", help="SQL schema (DDL) of the shipped ontologies")
     g.add_argument("--dialect", default="sqlite", help="SQL dialect (default sqlite)")
     g.add_argument("-o", "--output", default="-", help="output file ('-' for standard output)")
-    g.set_defaults(handler=_cmd_generate_sql)
+    g.set_defaults(handler=_lazy("kb.sqlgen_cli", "generate_sql"))
 
 
 def _add_plan(sub: argparse._SubParsersAction) -> None:
@@ -161,7 +142,7 @@ def _add_plan(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--timeout", type=float, help="planner time limit in seconds")
     p.add_argument("--engine-defaults", action="store_true",
                    help="run the planner with its own default settings instead of kitkb's")
-    p.set_defaults(handler=_cmd_plan)
+    p.set_defaults(handler=_lazy("kb.planning_cli", "plan"))
 
 
 def _add_planning(sub: argparse._SubParsersAction) -> None:
