@@ -124,7 +124,8 @@ def measure(label: str, parts: int, kits: int, args: argparse.Namespace, work: P
     runs.append(("kitkb-numeric", ["plan", str(init), str(goal), "--encoding", "numeric"],
                  args.nist_repeat, args.nist_timeout, 2))
     for system, cmd, repeat, timeout, per_part in runs:
-        if system not in args.systems or (system.startswith("nist") and parts > args.nist_max_parts):
+        if system not in args.systems or (system.startswith("nist") and (
+                parts > args.nist_max_parts or (args.nist_sizes is not None and label not in args.nist_sizes))):
             continue
         walls, cpus, length, timing, status = [], [], None, "", "ok"
         for _ in range(repeat):
@@ -149,6 +150,7 @@ def measure(label: str, parts: int, kits: int, args: argparse.Namespace, work: P
             "runs": len(walls), "plan_length": length,
             "minimum_length": minimum_length(parts, kits, per_part), "timing": timing,
             "load_before": os.getloadavg()[0], "date": dt.datetime.now(dt.timezone.utc).isoformat(timespec="seconds"),
+            "run": args.run,
         }
         print(json.dumps(results[key]), flush=True)
         save(results)
@@ -163,12 +165,13 @@ def fmt(value: float | None) -> str:
     return "-" if value is None else f"{value:.2f}"
 
 
-def _cell(entry: dict | None) -> str:
+def _cell(entry: dict | None, latest: str = "") -> str:
     if entry is None:
         return "not run"
+    earlier = f" ({entry['date'][:10]}, earlier run)" if latest and entry.get("run") != latest else ""
     if entry["wall_median"] is None:
-        return entry["status"]
-    return f"{fmt(entry['wall_median'])} ({fmt(entry['cpu_median'])})"
+        return entry["status"] + earlier
+    return f"{fmt(entry['wall_median'])} ({fmt(entry['cpu_median'])}){earlier}"
 
 
 def _length(entry: dict | None) -> str:
@@ -185,13 +188,14 @@ def _speedup(ours: dict, other: dict | None) -> str:
 
 def section(results: dict) -> str:
     rows = []
+    latest = max((r.get("run", "") for r in results.values() if r["system"] == "kitkb"), default="")
     for label, parts, kits in CASES:
         ours = results.get(f"{label}|kitkb")
         if ours is None:
             continue
         nist, tuned, num = (results.get(f"{label}|{k}") for k in ("nist", "nist-tuned", "kitkb-numeric"))
-        rows.append(f"| {label} | {parts} | {kits} | {_cell(ours)} | {_length(ours)} | {_cell(nist)} | "
-                    f"{_length(nist)} | {_speedup(ours, nist)} | {_cell(tuned)} | {_cell(num)} |")
+        rows.append(f"| {label} | {parts} | {kits} | {_cell(ours, latest)} | {_length(ours)} | {_cell(nist, latest)} | "
+                    f"{_length(nist)} | {_speedup(ours, nist)} | {_cell(tuned, latest)} | {_cell(num, latest)} |")
     summary = []
     ours160, nist160, tuned160 = (results.get(f"160|{k}") for k in ("kitkb", "nist", "nist-tuned"))
     if ours160 and nist160 and nist160["wall_median"]:
@@ -207,10 +211,12 @@ def section(results: dict) -> str:
     if all(g and g["cpu_median"] for g in growth):
         summary.append("CPU time per 4x more parts: " + ", ".join(
             f"x{b['cpu_median'] / a['cpu_median']:.1f}" for a, b in zip(growth, growth[1:]))
-            + " (start-up dominates small kits; planner and validator grow slightly faster than linearly).")
+            + " (start-up, about 1 s of CPU, dominates small kits; from 160 to 640 parts the planner and "
+            "the validator grow about linearly).")
     timings = [f"- {label}: {results[f'{label}|kitkb']['timing'].removeprefix('timing: ')}"
                for label, _p, _k in CASES if results.get(f"{label}|kitkb", {}).get("timing")]
-    loads = sorted(r["load_before"] for r in results.values())
+    loads = sorted(r["load_before"] for r in results.values() if r.get("run") == latest) or [float("nan")]
+    day = latest[:16].replace("T", " ") + " UTC" if latest else "?"
     return f"""## Planning
 
 Command: `.venv/bin/python benchmarks/bench_plan.py` (raw figures in `benchmarks/results/plan.json`;
@@ -222,12 +228,13 @@ NIST's own format (`benchmarks/nist_format.py`: same parts, trays, kits) solved 
 unified-planning's default settings, through `kitkb plan DOMAIN PROBLEM --planner enhsp
 --engine-defaults` (unified-planning's PDDL reader, same validator). Workstations from
 `kitkb scenario generate --parts N --kits K --seed 0`. Median wall time in seconds, CPU time
-(process + planner subprocesses) in brackets; medians of 3 runs (others: 1 run). Extra columns:
+(process + child processes: file reader, planner) in brackets; medians of 3 runs (others: 1 run);
+cells marked "earlier run" were not re-run in the latest run (their date is given). Extra columns:
 NIST's encoding with ENHSP under kitkb's ENHSP settings (`-planner sat-hmrphj`), and kitkb's own
 numeric encoding (`--encoding numeric`, ENHSP with kitkb's settings).
 
-Machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()},
-shared with other jobs (1-minute load average {loads[0]:.1f} to {loads[-1]:.1f} on 2 cores when runs started):
+Machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()};
+latest run {day}, shared with other jobs (1-minute load average {loads[0]:.1f} to {loads[-1]:.1f} on 2 cores when runs started):
 wall times are pessimistic and noisy, CPU times are the steadier measure.
 
 | kit | parts | kits | kitkb: s (cpu) | kitkb length / min | NIST + ENHSP: s (cpu) | NIST length / min | speed-up (wall) | NIST + ENHSP, kitkb settings | kitkb numeric + ENHSP |
@@ -245,22 +252,36 @@ compiled into tokens: the parts that will fill a kit are named up front (parts o
 interchangeable), so `put-part` is grounded once per part instead of per part x kit x tray, and
 Fast Downward's heuristic sees each missing part as a goal; (2) no `part-not-searched` flag and
 `look-for-part` is optional, so a part costs 2 actions instead of 3 and the search has no forced
-detours; (3) Fast Downward runs greedy best-first search with FF and preferred operators, with the
-translator's invariant synthesis and variable reordering switched off (they cost seconds on large
-kits here and the search does not need them). Start-up is kept lean: unified-planning is imported
-only by commands that plan, and its engines package is loaded without ConfigSpace/scipy
-(`generators/pddl/up_env.py`).
+detours; (3) Fast Downward runs lazy greedy best-first search with one FF heuristic that also gives
+the preferred operators (`let(h,ff(),lazy_greedy([h],preferred=[h]))`; writing `[ff()],
+preferred=[ff()]` builds two heuristics and evaluates every state twice, which cost 40% of the
+search), with the translator's invariant synthesis and variable reordering switched off (they cost
+seconds on large kits here and the search does not need them). Start-up is kept lean:
+unified-planning is imported only by commands that plan, and its engines package is loaded without
+ConfigSpace/scipy (`generators/pddl/up_env.py`); `kitkb plan` reads the ontology and state files in
+a forked child process while the parent imports unified-planning (2 cores), and falls back to
+reading in-process if the child fails, so errors are reported the same way.
 
 Where kitkb's time goes (one run each; `KITKB_TIMING=1` prints it; wall seconds, then CPU of
-the kitkb process and of the planner processes):
+the kitkb process and of its child processes, the file reader and the planner):
 """ + "\n".join(timings) + """
 
-At 640 parts the CPU time splits roughly into start-up and imports 1 s, reading the ontologies
-and state files 1.5 s, Fast Downward 2 s (translator 0.8 s, search 1.1 s) and unified-planning's
-plan validator 2.3 s (it grounds every one of the 1,290 plan steps through its expression
-walkers). The validator is the part that keeps the 640-part run above 5 s even on an idle
-machine; `kb.planning` already halves it (memoised parameter substitution, longer state chains,
-indexed object look-up) without changing what it checks.
+At 640 parts, the latest round of work measured A/B (HEAD before it against the working tree,
+interleaved, 3 runs each, `kitkb plan`, 2026-11-21 15:55 UTC, load average 1.9-2.0): before 5.68 s
+wall (5.69 s CPU), after 4.30 s wall (4.30 s CPU), the same 1,290-step plan; more runs at that
+load: 4.26-4.76 s wall. Wall times swing by 40% with the other jobs on the machine (the table's
+640-part run started at load 2.6). CPU seconds per phase at 640 parts, one run each, before ->
+after: start-up and imports 0.5 s (now hidden behind reading, which a forked child does in
+parallel), reading the ontologies and state files about 1 s (unchanged; `kb/loader.py` builds
+rdflib graphs), building and writing the PDDL 0.45 s, Fast Downward 2.0 -> 1.35 s (search 1.1 ->
+0.65 s; translator 0.8 s), unified-planning's plan validator 2.9 -> 1.3 s, interpreter exit about
+0.3 s. The validator is unified-planning's `SequentialPlanValidator` on the same problem and plan;
+`kb.planning` speeds up three of its internals without changing what it checks: the parameter
+map is promoted once per action instead of once per precondition and effect, ground literals
+(`f(o1, o2)`, `not f(o)`) are substituted and evaluated with the same expression-manager calls the
+generic walkers make (hash-consed, so the results are identical nodes; tests compare them with
+the walkers' results and check that broken plans are rejected), and `UPState.MAX_ANCESTORS` is
+raised so the 5,000-fact state is flattened less often.
 """
 
 
@@ -279,6 +300,8 @@ def main() -> None:
     parser.add_argument("--nist-repeat", type=int, default=1)
     parser.add_argument("--nist-timeout", type=float, default=900.0)
     parser.add_argument("--nist-max-parts", type=int, default=10**9, help="skip NIST above this many parts")
+    parser.add_argument("--nist-sizes", nargs="*", default=None,
+                        help="labels on which to run NIST's encoding (default: all of --sizes)")
     parser.add_argument("--numeric", action="store_true", help="also time kitkb's numeric encoding (ENHSP)")
     parser.add_argument("--systems", nargs="*", default=None,
                         help="which to run: kitkb nist nist-tuned kitkb-numeric (default: kitkb nist, "
@@ -288,6 +311,7 @@ def main() -> None:
     if args.systems is None:
         args.systems = ["kitkb", "nist"] + (["kitkb-numeric"] if args.numeric else [])
     results = json.loads(RESULTS.read_text()) if RESULTS.exists() else {}
+    args.run = dt.datetime.now(dt.timezone.utc).isoformat(timespec="seconds")
     if not args.doc_only:
         with tempfile.TemporaryDirectory(prefix="kitkb-bench-plan-") as tmp:
             for label, parts, kits in CASES:

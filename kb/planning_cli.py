@@ -44,7 +44,7 @@ def plan(args: argparse.Namespace) -> int:
     else:
         from generators.pddl.model import kitting_model
 
-        problem = kitting_model([first], [second], args.encoding).up_problem
+        problem = kitting_model([first], [second], args.encoding, overlap=True).up_problem
         source = f"ontology, {args.encoding} encoding"
     built = time.perf_counter() - start
     result = planning.run(problem, args.output, args.planner, args.timeout, args.engine_defaults)
@@ -54,6 +54,6 @@ def plan(args: argparse.Namespace) -> int:
     if os.environ.get("KITKB_TIMING"):
         cpu = os.times()
         print(f"timing: model {built:.2f} s, solve {result.times['solve']:.2f} s, validate "
-              f"{result.times['validate']:.2f} s; cpu {cpu.user + cpu.system:.2f} s + planner processes "
+              f"{result.times['validate']:.2f} s; cpu {cpu.user + cpu.system:.2f} s + child processes "
               f"{cpu.children_user + cpu.children_system:.2f} s", file=sys.stderr)
     return 0

@@ -185,3 +185,54 @@ def test_help_does_not_import_unified_planning() -> None:
             "print('unified_planning' in sys.modules)")
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert proc.stdout.strip() == "False"
+
+
+def test_validator_speed_ups_reject_broken_plans() -> None:
+    """kitkb's fast paths inside unified-planning's validator still reject wrong plans."""
+    from unified_planning.plans import SequentialPlan
+
+    from generators.pddl.model import kitting_model
+    from kb import planning
+    from kb.errors import KitkbError
+
+    d = SCENARIOS["small-kit"] if "small-kit" in SCENARIOS else next(iter(SCENARIOS.values()))
+    problem = kitting_model([d / "init.ttl"], [d / "goal.ttl"]).up_problem
+    plan = planning.solve(problem, planning.choose_planner(problem))
+    planning.validate(problem, plan)  # the planner's plan is accepted
+    steps = list(plan.actions)
+    swapped = steps[:]
+    swapped[0], swapped[1] = swapped[1], swapped[0]
+    for broken in (steps[1:], steps[:-1], swapped):
+        with pytest.raises(KitkbError, match="does not validate"):
+            planning.validate(problem, SequentialPlan(broken))
+
+
+def test_validator_fast_paths_match_unified_planning_walkers() -> None:
+    """Substitution and state evaluation fast paths give UP's own walkers' results."""
+    from unified_planning.model.walkers.state_evaluator import StateEvaluator
+    from unified_planning.model.walkers.substituter import Substituter
+    from unified_planning.engines.sequential_simulator import UPSequentialSimulator
+
+    from generators.pddl.model import kitting_model
+    from kb import planning
+
+    d = next(iter(SCENARIOS.values()))
+    problem = kitting_model([d / "init.ttl"], [d / "goal.ttl"]).up_problem
+    env = problem.environment
+    substituter = Substituter(env)
+    evaluator = StateEvaluator(problem)
+    state = UPSequentialSimulator(problem).get_initial_state()
+    objects = {}
+    for action in problem.actions:
+        subs = {}
+        for p in action.parameters:
+            objs = objects.setdefault(p.type, list(problem.objects(p.type)))
+            subs[env.expression_manager.ParameterExp(p)] = env.expression_manager.ObjectExp(objs[0])
+        promoted = planning._promote(substituter, subs)
+        exprs = list(action.preconditions) + [e.fluent for e in action.effects] + [e.value for e in action.effects]
+        exprs += [env.expression_manager.Not(x) for x in action.preconditions]
+        for expr in exprs:
+            ground = planning._substitute_fast(substituter, expr, promoted)
+            assert ground is substituter.walk(expr, subs=promoted)
+            fast = planning._evaluate_literal(ground, state, env.expression_manager)
+            assert fast is not None and fast is StateEvaluator.evaluate(evaluator, ground, state)
