@@ -43,7 +43,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 RESULTS = ROOT / "benchmarks" / "results" / "plan.json"
 DOC = ROOT / "docs" / "benchmarks.md"
-NIST_DOMAIN = Path("/work/shared/nist/domain-fluents.pddl")
+NIST_DOMAIN = Path(__file__).resolve().parent.parent.parent / "shared" / "nist" / "domain-fluents.pddl"
+if not NIST_DOMAIN.is_file():
+    NIST_DOMAIN = Path("/work/shared/nist/domain-fluents.pddl")
 PY = sys.executable
 #: (label, parts, kits): kits of 10, 40, 160, 640 parts, and 4 kits of 40 parts
 CASES = [("10", 10, 1), ("40", 40, 1), ("160", 160, 1), ("640", 640, 1), ("4x40", 160, 4)]

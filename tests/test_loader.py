@@ -16,7 +16,9 @@ from kb.errors import InputError
 from kb.loader import catalog, load, load_file, resolve_import
 from kb.resources import ontology_path
 
-NIST = Path("/work/shared/nist")
+from shared_data import NIST_DIR
+
+NIST = NIST_DIR
 DATA = Path(__file__).parent / "data" / "loader"
 NIST_FILES = ["kittingWorkstationClasses.owl", "kittingInstancesInit1.owl", "kittingInstancesGoal1.owl",
               "soapClasses.owl", "soapInstances.owl"]

@@ -15,9 +15,11 @@ import pytest
 from kb.errors import InputError, NotSolvableError
 from kb.resources import scenario_dirs
 
+from shared_data import NIST_DIR
+
 GOLDEN = Path(__file__).parent / "golden" / "pddl"
 SCENARIOS = {d.name: d for d in scenario_dirs()}
-NIST = Path("/work/shared/nist")
+NIST = NIST_DIR
 ENCODINGS = ("strips", "numeric")
 
 

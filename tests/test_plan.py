@@ -8,11 +8,13 @@ from pathlib import Path
 
 import pytest
 
-from kb.errors import ConfigurationError, InputError, NotSolvableError
+from kb.errors import ConfigurationError, InputError
 from kb.resources import scenario_dirs
 
+from shared_data import NIST_DIR
+
 SCENARIOS = {d.name: d for d in scenario_dirs()}
-NIST = Path("/work/shared/nist")
+NIST = NIST_DIR
 nist = pytest.mark.skipif(not NIST.is_dir(), reason="NIST corpus not present")
 
 

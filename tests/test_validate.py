@@ -16,11 +16,13 @@ from kb.suggest import closest, did_you_mean
 from kb.validate import default_files, run_validate, validate
 from kb.validate_rules import is_data_graph
 
+from shared_data import NIST_DIR
+
 ROOT = Path(__file__).resolve().parents[1]
 DATA = ROOT / "tests" / "data" / "validate"
 ONTOLOGIES = ROOT / "ontologies"
 SCENARIO = ONTOLOGIES / "scenarios" / "small-kit" / "init.ttl"
-NIST = Path("/work/shared/nist")
+NIST = NIST_DIR
 
 needs_nist = pytest.mark.skipif(not (NIST / "kittingInstancesInit1.owl").exists(), reason="NIST files not present")
 

@@ -17,9 +17,11 @@ import pytest
 
 from kb.validate import validate
 
+from shared_data import NIST_DIR
+
 ROOT = Path(__file__).resolve().parents[1]
 BASE = ROOT / "ontologies" / "scenarios" / "small-kit" / "init.ttl"
-NIST_INIT = Path("/work/shared/nist/kittingInstancesInit1.owl")
+NIST_INIT = NIST_DIR / "kittingInstancesInit1.owl"
 
 pytestmark = pytest.mark.skipif(not BASE.exists(), reason="shipped scenario not present")
 
