@@ -337,6 +337,9 @@ def _run_compiled(data: Graph, shapes: Graph) -> list[ShaclResult]:
         else:
             index.add_graph(g)
     results = evaluate(index, program, rdf11_strings=False)
+    # a caught exception's traceback can keep this frame alive in a reference cycle: drop
+    # the index (millions of objects) now, so reference counting frees it
+    del index
     if program.unsupported:
         results += run_pyshacl(_as_graph(data), shapes, None, program.unsupported)
     return list(results)  # type: ignore[arg-type]

@@ -406,3 +406,83 @@ def test_key_query_is_reordered_and_equals_pyshacl():
                   "SELECT $this WHERE { $this <a> ?x . OPTIONAL { ?x <b> ?y } }",
                   "SELECT $this WHERE { $this <a> ?x . BIND (?x AS ?y) ?y <b> ?z . }"):
         assert reorder(fixed, stats) == fixed
+
+
+# ---------------------------------------------------------------- background SPARQL store
+
+
+def test_background_store_load_gives_the_same_results_in_the_same_order(workstation, monkeypatch):
+    """evaluate() loads the SPARQL store in a thread and runs SPARQL shapes last; the
+    results must equal a plain sequential pass, hit for hit and in order."""
+    from kb.shacl.sparql import SparqlRunner
+
+    _, graphs, _ = workstation
+    with_thread = validate_graph(graphs["data"], graphs["shapes"], ont=graphs["model"])
+    started: list[bool] = []
+    real = SparqlRunner.prefetch
+    monkeypatch.setattr(SparqlRunner, "prefetch", lambda self: started.append(True) or real(self))
+    assert validate_graph(graphs["data"], graphs["shapes"], ont=graphs["model"]) == with_thread
+    assert started, "the workstation shapes have SPARQL constraints: the store should load in a thread"
+    # the plain pass: no thread, shapes in their original order
+    monkeypatch.setattr(SparqlRunner, "prefetch", lambda self: None)
+    monkeypatch.setattr("kb.shacl.engine._reaches_sparql", lambda shape: False)
+    sequential = validate_graph(graphs["data"], graphs["shapes"], ont=graphs["model"])
+    assert sequential == with_thread
+    assert any(r.component == SH.SPARQLConstraintComponent for r in sequential)
+
+
+def test_background_store_load_failure_is_raised_by_the_caller(workstation, monkeypatch):
+    """A store that fails to load in the thread is loaded again when first used, and the
+    error surfaces in the caller (not swallowed, no half-loaded store)."""
+    from kb.shacl.sparql import SparqlRunner
+
+    _, graphs, _ = workstation
+
+    def broken(store, plain, quads):  # noqa: ANN001
+        raise RuntimeError("store load failed")
+
+    monkeypatch.setattr(SparqlRunner, "_fill", staticmethod(broken))
+    with pytest.raises(RuntimeError, match="store load failed"):
+        validate_graph(graphs["data"], graphs["shapes"], ont=graphs["model"])
+
+
+ORDER_SHAPES = """
+@prefix sh: <http://www.w3.org/ns/shacl#> .
+@prefix t: <http://example.org/t#> .
+t:A_sparql a sh:NodeShape ; sh:targetClass t:Thing ;
+    sh:sparql [ sh:message "{$this} is too big" ;
+                sh:select "SELECT $this ?value WHERE { $this <http://example.org/t#size> ?value . FILTER (?value > 5) }" ] .
+t:B_count a sh:NodeShape ; sh:targetClass t:Thing ;
+    sh:property [ sh:path t:name ; sh:minCount 1 ] .
+t:C_sparql_via_node a sh:NodeShape ; sh:targetClass t:Thing ; sh:node t:A_sparql .
+t:D_count a sh:NodeShape ; sh:targetClass t:Thing ;
+    sh:property [ sh:path t:size ; sh:maxCount 1 ] .
+"""
+
+ORDER_DATA = """
+@prefix t: <http://example.org/t#> .
+t:a a t:Thing ; t:size 7, 8 .
+t:b a t:Thing ; t:size 9 .
+"""
+
+
+def test_sparql_shapes_run_last_but_results_keep_the_shape_order(monkeypatch):
+    """SPARQL-using shapes (directly or through sh:node) are evaluated after the others,
+    while the store loads; the results still come in the order of the shapes."""
+    import kb.shacl.engine as engine
+    from kb.shacl.sparql import SparqlRunner
+
+    data, shapes = ttl(ORDER_DATA), ttl(ORDER_SHAPES)
+    program = engine.compile_program(shapes, rdf11_strings=False, prefixes=engine.prefixes_of(shapes))
+    assert [engine._reaches_sparql(s) for s, _ in program.top] == [True, False, True, False]
+    got = validate_graph(data, shapes)
+    monkeypatch.setattr(SparqlRunner, "prefetch", lambda self: None)
+    monkeypatch.setattr(engine, "_reaches_sparql", lambda shape: False)
+    plain = validate_graph(data, shapes)
+    assert got == plain
+    # the SPARQL shape's results come first, before those of the count shapes evaluated
+    # ahead of it: a merge in evaluation order would show
+    comps = [str(r.component).split("#")[-1] for r in plain]
+    assert comps[0] == "SPARQLConstraintComponent" and str(plain[0].source_shape).endswith("A_sparql")
+    assert {"MinCountConstraintComponent", "MaxCountConstraintComponent", "NodeConstraintComponent"} <= set(comps)
+    assert comps.index("MinCountConstraintComponent") < comps.index("NodeConstraintComponent")

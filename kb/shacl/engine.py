@@ -13,8 +13,8 @@ from kb.shacl.constraints import Hit
 from kb.shacl.fallback import run_pyshacl
 from kb.shacl.index import DataIndex
 from kb.shacl.model import SH, ShaclResult
-from kb.shacl.shapes import Program, compile_program
-from kb.shacl.sparql import SparqlRunner
+from kb.shacl.shapes import Program, Shape, compile_program
+from kb.shacl.sparql import SparqlC, SparqlRunner
 from kb.shacl.terms import to_node
 
 STANDARD_PREFIXES = {
@@ -78,10 +78,25 @@ def evaluate(
     for _, targets in program.top:
         inverse.update(targets.get(SH.targetObjectsOf, ()))
     index.prepare_inverse(inverse)
-    hits: list[Hit] = []
-    for shape, targets in program.top:
-        if not shape.deactivated:
-            shape.validate(ctx, focus_nodes(index, targets), hits)
+    active = [(shape, targets) for shape, targets in program.top if not shape.deactivated]
+    # shapes reaching SPARQL constraints run last, while the SPARQL store loads in a
+    # background thread; each shape's hits are kept apart and merged in the original
+    # order, so the results are the same as in one sequential pass
+    uses_sparql = [_reaches_sparql(shape) for shape, _ in active]
+    if any(uses_sparql):
+        ctx.sparql.prefetch()
+    per_shape: list[list[Hit]] = [[] for _ in active]
+    order = [i for i, u in enumerate(uses_sparql) if not u] + [i for i, u in enumerate(uses_sparql) if u]
+    try:
+        for i in order:
+            shape, targets = active[i]
+            shape.validate(ctx, focus_nodes(index, targets), per_shape[i])
+    finally:
+        ctx.sparql.join()
+        # Context <-> SparqlRunner is a reference cycle: break it, so the index (millions
+        # of objects) is freed by reference counting, not by a long cyclic collection
+        ctx.sparql.ctx = None  # type: ignore[assignment]
+    hits: list[Hit] = [h for found in per_shape for h in found]
     return [
         ShaclResult(
             to_node(f), path, to_node(v) if v is not None else None, src, comp, sev,
@@ -89,6 +104,27 @@ def evaluate(
         )
         for f, path, v, src, comp, sev, msg in hits
     ]
+
+
+def _reaches_sparql(shape: Shape) -> bool:
+    """Does evaluating ``shape`` (with the shapes it refers to) run a SPARQL constraint?"""
+    seen: set[int] = set()
+    todo = [shape]
+    while todo:
+        s = todo.pop()
+        if id(s) in seen:
+            continue
+        seen.add(id(s))
+        for c in s.constraints:
+            if isinstance(c, SparqlC):
+                return True
+            for attr in ("prop", "other"):
+                ref = getattr(c, attr, None)
+                if isinstance(ref, Shape):
+                    todo.append(ref)
+            todo.extend(m for m in getattr(c, "members", ()) if isinstance(m, Shape))
+        todo.extend(r for r in s.refs if isinstance(r, Shape))
+    return False
 
 
 def run(

@@ -248,21 +248,67 @@ class SparqlRunner:
         self._texts: dict[tuple[int, frozenset[str]], str] = {}
         self._grouped: dict[int, tuple[dict[str, list[dict[str, str]]], list[dict[str, str]]]] = {}
         self._bnodes: dict[str, ox.BlankNode] = {}
+        self._pending: Any = None  # the background thread of prefetch(), until joined
+
+    def prefetch(self) -> None:
+        """Load the pyoxigraph store in a background thread (the queries run later, here).
+
+        pyoxigraph releases the GIL while it loads, so this overlaps with the Python
+        constraints. :meth:`rows` joins the thread before using the store; results are the
+        same as without prefetching (a failed load is done again, and raises, on first use).
+        Running the queries in the thread too was slower: turning their rows into Python
+        objects takes turns with the caller for the GIL.
+        """
+        if self.engine != "oxigraph" or self._pending is not None or not self.constraints:
+            return
+        import threading
+
+        # the Python part (spelling the triples) runs here: in the thread it would only
+        # take turns with the caller for the GIL
+        try:
+            store, plain, quads = ox.Store(), *self._triples(self._predicates())
+        except Exception:  # raised again, in the caller's thread, by the first use
+            return
+
+        def load() -> None:
+            try:
+                self._fill(store, plain, quads)
+                self._store = store
+            except Exception:  # idem: store() loads again, and raises
+                pass
+
+        self._pending = threading.Thread(target=load, name="kitkb-sparql", daemon=True)
+        self._pending.start()
+
+    def join(self) -> None:
+        """Wait for :meth:`prefetch` to finish (no-op when none is running)."""
+        pending = self._pending
+        if pending is not None:
+            pending.join()
+            self._pending = None
 
     def store(self) -> ox.Store:
         if self._store is None:
-            self._store = ox.Store()
-            self._load(self._predicates())
+            store = ox.Store()
+            self._load(store, self._predicates())
+            self._store = store  # only once complete (a failed load is retried, and raises)
         return self._store
 
-    def _load(self, preds: set[str] | None) -> None:
-        assert self._store is not None
+    def _load(self, store: ox.Store, preds: set[str] | None) -> None:
+        self._fill(store, *self._triples(preds))
+
+    def _triples(self, preds: set[str] | None) -> tuple[bytes, list[ox.Quad]]:
+        """N-Triples of the triples without blank nodes, and quads of those with them."""
         plain, with_bnodes = self.ctx.index.ntriples_split(preds)
-        self._store.load(input=plain.encode(), format=ox.RdfFormat.N_TRIPLES)
         # the N-Triples parser renames blank nodes: build those quads ourselves to keep labels
         quads = [ox.Quad(self.ox_term(s), self.ox_term(p), self.ox_term(o)) for s, p, o in with_bnodes]
+        return plain.encode(), quads
+
+    @staticmethod
+    def _fill(store: ox.Store, plain: bytes, quads: list[ox.Quad]) -> None:
+        store.load(input=plain, format=ox.RdfFormat.N_TRIPLES)
         if quads:
-            self._store.extend(quads)
+            store.extend(quads)
 
     def ox_term(self, key: str) -> Any:
         if key[0] == "<":
@@ -352,20 +398,26 @@ class SparqlRunner:
             text = self._texts[key] = reorder(c.text, self._stats.get, bound)
         return text
 
+    def _group(self, c: SparqlC) -> tuple[dict[str, list[dict[str, str]]], list[dict[str, str]]]:
+        by_this: dict[str, list[dict[str, str]]] = {}
+        anywhere: list[dict[str, str]] = []
+        for row in self._solutions(c):
+            this = row.get("this")
+            if this is None:
+                anywhere.append(row)
+            else:
+                by_this.setdefault(this, []).append(row)
+        grouped = self._grouped[id(c)] = (by_this, anywhere)
+        return grouped
+
     def rows(self, c: SparqlC, focus: str) -> list[dict[str, str]]:
+        if self._pending is not None:
+            self.join()
         if not c.once:
             return self._solutions(c, focus)
         grouped = self._grouped.get(id(c))
         if grouped is None:
-            by_this: dict[str, list[dict[str, str]]] = {}
-            anywhere: list[dict[str, str]] = []
-            for row in self._solutions(c):
-                this = row.get("this")
-                if this is None:
-                    anywhere.append(row)
-                else:
-                    by_this.setdefault(this, []).append(row)
-            grouped = self._grouped[id(c)] = (by_this, anywhere)
+            grouped = self._group(c)
         by_this, anywhere = grouped
         mine = by_this.get(focus)
         if not anywhere:
