@@ -4,14 +4,13 @@ the RDF statements it becomes (see :mod:`kb.sources`)."""
 from __future__ import annotations
 
 import re
-import xml.parsers.expat
 from dataclasses import dataclass, field
 from urllib.parse import urljoin
 
 from rdflib import Literal, URIRef
 from rdflib.namespace import OWL, RDF, RDFS
 
-from kb.parsing import make_literal, map_iri
+from kb.parsing import expat_parser, make_literal, map_iri, run_expat
 from kb.sources import LineIndex
 
 
@@ -143,8 +142,7 @@ def _fold_literals(args: list) -> list:
 
 def _owx_axioms(text: str, base: str) -> list[_Node]:
     """The axioms of an OWL/XML document as the same node trees as OFN."""
-    parser = xml.parsers.expat.ParserCreate(namespace_separator=" ")
-    parser.SetParamEntityParsing(xml.parsers.expat.XML_PARAM_ENTITY_PARSING_NEVER)
+    parser = expat_parser(" ")
     stack: list[_Node] = [_Node("", 1)]
     state = {"base": base, "onto": None}
     prefixes: dict[str, str] = {}
@@ -202,13 +200,7 @@ def _owx_axioms(text: str, base: str) -> list[_Node]:
             parent.args.append(node)
         texts.clear()
 
-    parser.StartElementHandler = start
-    parser.EndElementHandler = end
-    parser.CharacterDataHandler = texts.append
-    try:
-        parser.Parse(text.encode("utf-8"), True)
-    except xml.parsers.expat.ExpatError:
-        pass
+    run_expat(parser, text, start, end, texts.append)
     return [n for n in stack[0].args if isinstance(n, _Node)]
 
 

@@ -3,13 +3,12 @@ property elements statements (see :mod:`kb.sources`)."""
 
 from __future__ import annotations
 
-import xml.parsers.expat
 from urllib.parse import urljoin
 
 from rdflib import URIRef
 from rdflib.namespace import RDF
 
-from kb.parsing import make_literal, map_iri
+from kb.parsing import expat_parser, make_literal, map_iri, run_expat
 from kb.sources import LineIndex
 
 _RDF = str(RDF)
@@ -18,8 +17,7 @@ _XML = "http://www.w3.org/XML/1998/namespace"
 
 def index_rdfxml(text: str, base: str, index: LineIndex) -> None:
     """Walk RDF/XML with expat: node elements state subjects, property elements statements."""
-    parser = xml.parsers.expat.ParserCreate(namespace_separator="")
-    parser.SetParamEntityParsing(xml.parsers.expat.XML_PARAM_ENTITY_PARSING_NEVER)
+    parser = expat_parser("")
     # frames: ("root",) | ("node", subject) | ("prop", s, p, line, attrs, has_child) | ("skip",)
     stack: list[list] = []
     bases: list[str] = [base]
@@ -95,10 +93,4 @@ def index_rdfxml(text: str, base: str, index: LineIndex) -> None:
             index.add(frame[3], frame[1], frame[2], lit)
         texts.clear()
 
-    parser.StartElementHandler = start
-    parser.EndElementHandler = end
-    parser.CharacterDataHandler = texts.append
-    try:
-        parser.Parse(text.encode("utf-8"), True)
-    except xml.parsers.expat.ExpatError:
-        pass
+    run_expat(parser, text, start, end, texts.append)

@@ -339,3 +339,23 @@ def _convert(quads: Iterable[ox.Quad], iris: dict) -> list[Triple]:
         # the cache hit is a C call; term() only runs for new (or falsy, e.g. "0") terms
         append((get(s) or term(s), get(p) or term(p), get(o) or term(o)))
     return out
+
+
+def expat_parser(namespace_separator: str) -> xml.parsers.expat.XMLParserType:
+    """An expat parser for the line indexes: namespaces split by ``namespace_separator``,
+    parameter entities never read (the entity guard has already vetted the text)."""
+    parser = xml.parsers.expat.ParserCreate(namespace_separator=namespace_separator)
+    parser.SetParamEntityParsing(xml.parsers.expat.XML_PARAM_ENTITY_PARSING_NEVER)
+    return parser
+
+
+def run_expat(parser: xml.parsers.expat.XMLParserType, text: str, start, end, chars) -> None:  # noqa: ANN001
+    """Feed ``text`` through ``parser`` with the given handlers. A line index is best effort:
+    the file was already parsed, so an expat error just ends the walk where it is."""
+    parser.StartElementHandler = start
+    parser.EndElementHandler = end
+    parser.CharacterDataHandler = chars
+    try:
+        parser.Parse(text.encode("utf-8"), True)
+    except xml.parsers.expat.ExpatError:
+        pass
