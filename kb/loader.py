@@ -125,6 +125,12 @@ class Source:
                 wanted.add(s)
         self._scan(wanted - self._covered)
 
+    def warm_lines(self) -> None:
+        """Get ready for line look-ups without indexing anything yet (a big Turtle file is
+        read and its directives found; see :meth:`prepare_lines`)."""
+        if self._index is None:
+            self._targeted()
+
     def _lookup(self, subject, predicate=None, obj=None) -> int | None:  # noqa: ANN001
         if self._index is None and self._targeted():
             if isinstance(subject, URIRef) and subject not in self._covered:

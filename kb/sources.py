@@ -103,10 +103,15 @@ class TripleView:
         self._spo = spo
         self._len = count
         self._pos: dict[Key, dict[Key, list[Key]]] | None = None
+        self._single: dict[Key, dict[Key, list[Key]]] = {}
         self._osp: dict[Key, dict[Key, list[Key]]] | None = None
 
     # --- indexes ---------------------------------------------------------------------
+    #: Predicates indexed one at a time before the whole predicate index is built at once.
+    SINGLE_PREDICATES = 2
+
     def _by_predicate(self) -> dict[Key, dict[Key, list[Key]]]:
+        """predicate -> object -> subjects, for every predicate."""
         if self._pos is None:
             pos: dict[Key, dict[Key, list[Key]]] = {}
             for s, preds in self._spo.items():
@@ -122,6 +127,29 @@ class TripleView:
                             subs.append(s)
             self._pos = pos
         return self._pos
+
+    def _predicate(self, p: Key) -> dict[Key, list[Key]]:
+        """object -> subjects for one predicate: a pass over the subjects for the first few
+        predicates asked about (what is asked before validation needs them all: rdf:type),
+        the whole predicate index after that."""
+        if self._pos is not None:
+            return self._pos.get(p) or {}
+        one = self._single.get(p)
+        if one is None:
+            if len(self._single) >= self.SINGLE_PREDICATES:
+                self._single.clear()
+                return self._by_predicate().get(p) or {}
+            one = self._single[p] = {}
+            for s, preds in self._spo.items():
+                objs = preds.get(p)
+                if objs is not None:
+                    for o in objs:
+                        subs = one.get(o)
+                        if subs is None:
+                            one[o] = [s]
+                        else:
+                            subs.append(s)
+        return one
 
     def _by_object(self) -> dict[Key, dict[Key, list[Key]]]:
         if self._osp is None:
@@ -168,7 +196,7 @@ class TripleView:
                 elif o in objs:
                     yield s, pp, o
         elif p is not None:
-            inv = self._by_predicate().get(p)
+            inv = self._predicate(p)
             if not inv:
                 return
             if o is not None:
@@ -188,7 +216,7 @@ class TripleView:
     def subjects(self, predicate: Key | None = None, obj: Key | None = None) -> Iterator[Key]:
         """Subjects of (?, p, o); with duplicates when p or o is None, like rdflib."""
         if predicate is not None and obj is not None:
-            yield from self._by_predicate().get(predicate, {}).get(obj, ())
+            yield from self._predicate(predicate).get(obj, ())
             return
         for s, _, _ in self.triples((None, predicate, obj)):
             yield s

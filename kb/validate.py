@@ -19,7 +19,7 @@ import os
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Iterable, NamedTuple, Sequence, TextIO
+from typing import Any, Callable, Iterable, NamedTuple, Sequence, TextIO
 
 from rdflib import OWL, RDF, Graph, URIRef
 from rdflib.graph import ReadOnlyGraphAggregate
@@ -120,18 +120,25 @@ def _validate(paths: Sequence[str | Path], shapes_files: Sequence[str | Path] | 
     model = OwlModel(model_graph)
     namer = Namer()
     later = _Deferred()
+    checked = {id(src): g for src in sources if (g := _shacl_data(src, data, model_graph)) is not None}
+    found: dict[int, list[ShaclResult]] = {}
+    shapes = None
+    pending: list[tuple[int, Finish]] = []
+    if checked or shapes_files is not None:
+        shapes = _shapes(model, shapes_files)
+        # the first file's SHACL run starts now (on a big file, part of it in a forked
+        # process), the Python rules run meanwhile; the other files follow one by one
+        todo = [src for src in sources if id(src) in checked]
+        if todo:
+            pending.append((id(todo[0]), _start_shacl(checked[id(todo[0])], shapes)))
+        pending += [(id(src), functools.partial(_later_shacl, checked[id(src)], shapes)) for src in todo[1:]]
     ctx = rules.Context(model, _individuals(kb.sources), namer.name, later.locate)
     for src in sources:
         ctx.out.extend(getattr(src, "warnings", []) or [])
         (rules.check_data_source if src in data else rules.check_model_source)(ctx, src)
-    checked = {id(src): g for src in sources if (g := _shacl_data(src, data, model_graph)) is not None}
-    found: dict[int, list[ShaclResult]] = {}
-    shapes = None
-    if checked or shapes_files is not None:
-        shapes = _shapes(model, shapes_files)
-        for src in sources:
-            if id(src) in checked:
-                found[id(src)] = _run_shacl(checked[id(src)], shapes)
+    for key, finish in pending:
+        # while a forked child is still evaluating, the big files get ready for line look-ups
+        found[key] = finish(functools.partial(later.warm, sources))
     # every line asked for is looked up in one pass over each (big) file
     for src in sources:
         later.want(src, (r.focus for r in found.get(id(src), ())))
@@ -170,6 +177,17 @@ class _Deferred:
 
     def want(self, src: Any, subjects: Iterable[Any]) -> None:
         self.subjects.setdefault(id(src), (src, set()))[1].update(subjects)
+
+    @staticmethod
+    def warm(sources: Iterable[Any]) -> None:
+        """Get the sources ready for line look-ups (read a big file, find its directives)."""
+        for src in sources:
+            warm = getattr(src, "warm_lines", None)
+            if warm is not None:
+                try:
+                    warm()
+                except Exception:  # only an optimisation, as in prepare()
+                    pass
 
     def prepare(self) -> None:
         for src, subjects in self.subjects.values():
@@ -242,10 +260,14 @@ def _shipped_signature() -> str:
 
 @functools.lru_cache(maxsize=8)
 def _parse_shapes(path: str, mtime: float) -> Graph:
+    """A shapes file as an rdflib graph, read by kitkb's loader (pyoxigraph: a fifth of
+    the time of rdflib's Turtle parser; syntax errors come with their line)."""
+    from kb.loader import load_file
+
     try:
-        return Graph().parse(path, format="turtle")
-    except Exception as exc:  # rdflib raises many types for bad syntax
-        raise InputError(f"cannot read shapes: {exc}".splitlines()[0], path) from None
+        return load_file(path).graph
+    except InputError as exc:
+        raise InputError(f"cannot read shapes: {exc.message}", exc.file or path, exc.line) from None
 
 
 _generated: dict[str, Graph] = {}
@@ -296,14 +318,38 @@ def _require_shapes(g: Graph, where: str) -> None:
 
 def _run_shacl(data: Graph, shapes: Graph) -> list[ShaclResult]:
     """Run SHACL with kitkb's fast engine (``KITKB_SHACL_ENGINE=pyshacl`` selects pySHACL)."""
-    if os.environ.get("KITKB_SHACL_ENGINE", "") == "pyshacl":
-        return _run_pyshacl(_as_graph(data), shapes)
-    try:
-        return _run_compiled(data, shapes)
-    except ImportError:  # the engine's internals moved: its public function still works
+    return _start_shacl(data, shapes)()
+
+
+def _later_shacl(data: Graph, shapes: Graph, meanwhile: Callable[[], None] | None = None) -> list[ShaclResult]:
+    """:func:`_run_shacl`, called when its results are wanted (``meanwhile`` runs first)."""
+    if meanwhile is not None:
+        meanwhile()
+    return _run_shacl(data, shapes)
+
+
+Finish = Callable[..., list[ShaclResult]]
+
+
+def _start_shacl(data: Graph, shapes: Graph) -> Finish:
+    """Start :func:`_run_shacl`; the function returned gives its results. It takes an
+    optional ``meanwhile`` function, run while a forked child may still be at work."""
+    if os.environ.get("KITKB_SHACL_ENGINE", "") != "pyshacl":
+        try:
+            return _start_compiled(data, shapes)
+        except ImportError:  # the engine's internals moved: its public function still works
+            pass
+
+    def finish(meanwhile: Callable[[], None] | None = None) -> list[ShaclResult]:
+        if meanwhile is not None:
+            meanwhile()
+        if os.environ.get("KITKB_SHACL_ENGINE", "") == "pyshacl":
+            return _run_pyshacl(_as_graph(data), shapes)
         from kb.shacl_engine import validate_graph
 
         return list(validate_graph(_as_graph(data), shapes))  # type: ignore[arg-type]
+
+    return finish
 
 
 _programs: dict[int, tuple[Graph, Any]] = {}
@@ -314,13 +360,14 @@ def _as_graph(data: Any) -> Graph:
     return _merge(*data.graphs) if isinstance(data, (UnionView, ReadOnlyGraphAggregate)) else data
 
 
-def _run_compiled(data: Graph, shapes: Graph) -> list[ShaclResult]:
-    """kb.shacl_engine.validate_graph, with each shapes graph compiled once per process.
+def _start_compiled(data: Graph, shapes: Graph) -> Finish:
+    """kb.shacl.engine's evaluation (started: on a big graph a forked child is already at
+    work when this returns), with each shapes graph compiled once per process.
 
     Compiling (parsing the SPARQL constraints) is most of the time of a small file; the
     shapes graphs passed here are cached objects, so the program is kept by identity.
     """
-    from kb.shacl.engine import evaluate, prefixes_of
+    from kb.shacl.engine import Evaluation, prefixes_of
     from kb.shacl.fallback import run_pyshacl
     from kb.shacl.index import DataIndex
     from kb.shacl.shapes import compile_program
@@ -336,13 +383,22 @@ def _run_compiled(data: Graph, shapes: Graph) -> list[ShaclResult]:
             index.add_nested(g.by_subject())
         else:
             index.add_graph(g)
-    results = evaluate(index, program, rdf11_strings=False)
-    # a caught exception's traceback can keep this frame alive in a reference cycle: drop
-    # the index (millions of objects) now, so reference counting frees it
+    evaluation = Evaluation(index, program, rdf11_strings=False)
+    # the evaluation holds the index; a caught exception's traceback could keep this frame
+    # (and the index: millions of objects) alive in a reference cycle
     del index
-    if program.unsupported:
-        results += run_pyshacl(_as_graph(data), shapes, None, program.unsupported)
-    return list(results)  # type: ignore[arg-type]
+
+    def finish(meanwhile: Callable[[], None] | None = None) -> list[ShaclResult]:
+        nonlocal evaluation
+        try:
+            results = evaluation.finish(meanwhile)
+        finally:
+            evaluation = None  # type: ignore[assignment]  # frees the index now
+        if program.unsupported:
+            results += run_pyshacl(_as_graph(data), shapes, None, program.unsupported)
+        return list(results)  # type: ignore[arg-type]
+
+    return finish
 
 
 def _run_pyshacl(data: Graph, shapes: Graph) -> list[ShaclResult]:

@@ -69,41 +69,85 @@ def focus_nodes(index: DataIndex, targets: dict[URIRef, list[str]]) -> set[str]:
 
 
 def evaluate(
-    index: DataIndex, program: Program, *, rdf11_strings: bool, sparql: str = "oxigraph"
+    index: DataIndex, program: Program, *, rdf11_strings: bool, sparql: str = "oxigraph",
+    parallel: bool | None = None,
 ) -> list[ShaclResult]:
-    """Validate ``index`` with the supported shapes of ``program``."""
-    ctx = Context(index, rdf11_strings)
-    ctx.sparql = SparqlRunner(ctx, program.sparql_constraints(), sparql)  # type: ignore[arg-type]
-    inverse = {s.path[1] for s in program.shapes.values() if s.path and s.path[0] == "inv"}
-    for _, targets in program.top:
-        inverse.update(targets.get(SH.targetObjectsOf, ()))
-    index.prepare_inverse(inverse)
-    active = [(shape, targets) for shape, targets in program.top if not shape.deactivated]
-    # shapes reaching SPARQL constraints run last, while the SPARQL store loads in a
-    # background thread; each shape's hits are kept apart and merged in the original
-    # order, so the results are the same as in one sequential pass
-    uses_sparql = [_reaches_sparql(shape) for shape, _ in active]
-    if any(uses_sparql):
-        ctx.sparql.prefetch()
-    per_shape: list[list[Hit]] = [[] for _ in active]
-    order = [i for i, u in enumerate(uses_sparql) if not u] + [i for i, u in enumerate(uses_sparql) if u]
-    try:
-        for i in order:
-            shape, targets = active[i]
-            shape.validate(ctx, focus_nodes(index, targets), per_shape[i])
-    finally:
-        ctx.sparql.join()
-        # Context <-> SparqlRunner is a reference cycle: break it, so the index (millions
-        # of objects) is freed by reference counting, not by a long cyclic collection
-        ctx.sparql.ctx = None  # type: ignore[assignment]
-    hits: list[Hit] = [h for found in per_shape for h in found]
-    return [
-        ShaclResult(
-            to_node(f), path, to_node(v) if v is not None else None, src, comp, sev,
-            msg if isinstance(msg, str) else msg.generic(v),
-        )
-        for f, path, v, src, comp, sev, msg in hits
-    ]
+    """Validate ``index`` with the supported shapes of ``program``.
+
+    ``parallel``: share the work with a forked child process (:mod:`kb.shacl.parallel`);
+    None decides by the size of the index and the machine.
+    """
+    return Evaluation(index, program, rdf11_strings=rdf11_strings, sparql=sparql, parallel=parallel).finish()
+
+
+class Evaluation:
+    """One validation of ``index``, started at construction and collected by :meth:`finish`.
+
+    With a forked child (see :mod:`kb.shacl.parallel`) the child is already at work when the
+    constructor returns, so the caller can do something else before :meth:`finish`, which
+    evaluates the parent's share of the shapes and merges the results in program order.
+    """
+
+    def __init__(self, index: DataIndex, program: Program, *, rdf11_strings: bool, sparql: str = "oxigraph",
+                 parallel: bool | None = None) -> None:
+        from kb.shacl import parallel as par
+
+        ctx = self.ctx = Context(index, rdf11_strings)
+        ctx.sparql = SparqlRunner(ctx, program.sparql_constraints(), sparql)  # type: ignore[arg-type]
+        inverse = {s.path[1] for s in program.shapes.values() if s.path and s.path[0] == "inv"}
+        for _, targets in program.top:
+            inverse.update(targets.get(SH.targetObjectsOf, ()))
+        index.prepare_inverse(inverse)
+        self.index = index
+        self.active = [(shape, targets) for shape, targets in program.top if not shape.deactivated]
+        self.uses_sparql = [_reaches_sparql(shape) for shape, _ in self.active]
+        n = len(self.active)
+        fork = par.can_fork(index.triples) if parallel is None else (parallel and par.can_fork(0, min_triples=0))
+        child: set[int] = set()
+        if fork and n > 1:
+            self.foci = [focus_nodes(index, targets) for _, targets in self.active]
+            costs = [len(f) * max(1, par.shape_weight(shape)) for f, (shape, _) in zip(self.foci, self.active)]
+            child = par.plan(costs, self.uses_sparql)
+            if len(child) == n:  # the parent keeps something to do
+                child.discard(max(child, key=lambda i: (not self.uses_sparql[i], costs[i])))
+        else:
+            self.foci = None
+        self.split = par.Split(n, self._run, child)
+        self.split.start()
+
+    def _run(self, which: list[int]) -> dict[int, list[Hit]]:
+        """Evaluate the shapes ``which``: plain shapes first, then those reaching SPARQL
+        constraints, while the SPARQL store loads in a background thread."""
+        ctx, index = self.ctx, self.index
+        plain = [i for i in which if not self.uses_sparql[i]]
+        late = [i for i in which if self.uses_sparql[i]]
+        if late:
+            ctx.sparql.prefetch()
+        out: dict[int, list[Hit]] = {}
+        try:
+            for i in plain + late:
+                shape, targets = self.active[i]
+                foci = self.foci[i] if self.foci is not None else focus_nodes(index, targets)
+                shape.validate(ctx, foci, out.setdefault(i, []))
+        finally:
+            ctx.sparql.join()
+        return out
+
+    def finish(self, meanwhile: Callable[[], None] | None = None) -> list[ShaclResult]:
+        """All results, in the order of one sequential pass over the program's shapes
+        (``meanwhile``: see :meth:`kb.shacl.parallel.Split.finish`)."""
+        try:
+            per_shape = self.split.finish(meanwhile)
+        finally:
+            # Context <-> SparqlRunner is a reference cycle: break it, so the index (millions
+            # of objects) is freed by reference counting, not by a long cyclic collection
+            self.ctx.sparql.ctx = None  # type: ignore[assignment]
+            self.foci = None
+            self.split = None  # type: ignore[assignment]  # it refers back to self._run
+        return [
+            ShaclResult(to_node(f), path, to_node(v) if v is not None else None, src, comp, sev, msg)
+            for found in per_shape for f, path, v, src, comp, sev, msg in found
+        ]
 
 
 def _reaches_sparql(shape: Shape) -> bool:

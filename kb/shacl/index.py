@@ -103,25 +103,28 @@ class DataIndex:
 
     def add_nested(self, spo: Mapping[object, Mapping[object, Iterable[object]]]) -> None:
         """Add rdflib-term triples given as subject -> predicate -> objects (without
-        duplicates, as :meth:`kb.sources.TripleView.by_subject` gives them)."""
-        cache: dict[object, str] = {}
+        duplicates, as :meth:`kb.sources.TripleView.by_subject` gives them).
+
+        Keys are cached by object identity (the terms live in ``spo`` while this runs):
+        hashing an rdflib literal is a Python-level call, hashing its ``id`` is not."""
+        cache: dict[int, str] = {}
         get = cache.get
         mine = self.spo
         count = 0
         for s, preds in spo.items():
-            ks = get(s)
+            ks = get(id(s))
             if ks is None:
-                ks = cache[s] = key_of(s)  # type: ignore[arg-type]
+                ks = cache[id(s)] = key_of(s)  # type: ignore[arg-type]
             have = mine.get(ks)
             for p, objs in preds.items():
-                kp = get(p)
+                kp = get(id(p))
                 if kp is None:
-                    kp = cache[p] = key_of(p)  # type: ignore[arg-type]
+                    kp = cache[id(p)] = key_of(p)  # type: ignore[arg-type]
                 keys = []
                 for o in objs:
-                    ko = get(o)
+                    ko = get(id(o))
                     if ko is None:
-                        ko = cache[o] = key_of(o)  # type: ignore[arg-type]
+                        ko = cache[id(o)] = key_of(o)  # type: ignore[arg-type]
                     keys.append(ko)
                 if have is None:
                     mine[ks] = have = {kp: keys}

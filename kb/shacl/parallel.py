@@ -1,0 +1,179 @@
+"""Share one validation between two processes: a forked child evaluates part of the shapes.
+
+The data index is built once, in the parent; ``os.fork`` gives the child the same index
+(copy-on-write) without copying or pickling it. The child evaluates the shapes that reach
+SHACL-SPARQL constraints (loading the pyoxigraph store in its own background thread) plus a
+share of the plain shapes, and sends its results back through a pipe; the parent evaluates
+the remaining shapes meanwhile (and the caller may do other work between :meth:`Split.start`
+and :meth:`Split.finish`). Results are merged per shape in the program's order, so they are
+the same, in the same order, as those of one sequential pass.
+
+Forking is used only where it is safe and worth it: a POSIX system, at least two usable
+cores, no other thread running in the parent at the time of the fork (a lock held by another
+thread would stay locked in the child), and an index of at least :data:`MIN_TRIPLES`
+triples. ``KITKB_SHACL_PARALLEL=0`` turns it off. If the child fails for any reason (killed,
+out of memory, an exception), the parent evaluates the child's shapes itself.
+"""
+
+from __future__ import annotations
+
+import os
+import pickle
+import threading
+from collections.abc import Callable
+
+from kb.shacl.constraints import Hit, PropertyC
+
+#: Smallest index (triples, data and model) validated by two processes.
+MIN_TRIPLES = 100_000
+
+#: Share of the plain shapes' estimated cost the child takes on top of the SPARQL shapes
+#: (the parent also runs the caller's work between start and finish).
+CHILD_SHARE = 0.4
+
+Result = tuple  # a hit with its message spelled out (see :func:`_spelled`)
+
+
+def usable_cores() -> int:
+    try:
+        return len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):
+        return os.cpu_count() or 1
+
+
+def can_fork(triples: int, *, min_triples: int | None = None) -> bool:
+    """Is splitting a validation of ``triples`` triples between two processes safe and useful?"""
+    setting = os.environ.get("KITKB_SHACL_PARALLEL", "").strip().lower()
+    if setting in ("0", "no", "false", "off"):
+        return False
+    forced = setting in ("1", "yes", "true", "on", "force")
+    if not hasattr(os, "fork") or threading.active_count() > 1:
+        return False
+    if forced:
+        return True
+    limit = MIN_TRIPLES if min_triples is None else min_triples
+    return triples >= limit and usable_cores() >= 2
+
+
+def spelled(hit: Hit) -> Result:
+    """A hit with its generic message made (what crosses the pipe; constraints stay home)."""
+    f, path, v, src, comp, sev, msg = hit
+    return f, path, v, src, comp, sev, msg if isinstance(msg, str) else msg.generic(v)
+
+
+def shape_weight(shape, seen: set[int] | None = None) -> int:  # noqa: ANN001
+    """Constraints evaluated per focus node by ``shape`` (property shapes included)."""
+    seen = set() if seen is None else seen
+    if id(shape) in seen:
+        return 0
+    seen.add(id(shape))
+    w = 0
+    for c in shape.constraints:
+        w += 1
+        if isinstance(c, PropertyC):
+            w += shape_weight(c.prop, seen)
+    return w
+
+
+def plan(costs: list[float], sparql: list[bool], share: float = CHILD_SHARE) -> set[int]:
+    """Indexes of the shapes the child evaluates: all SPARQL ones, then the costliest plain
+    ones until they reach ``share`` of the plain shapes' total cost."""
+    child = {i for i, s in enumerate(sparql) if s}
+    plain = sorted((i for i, s in enumerate(sparql) if not s), key=lambda i: -costs[i])
+    budget = share * sum(costs[i] for i in plain)
+    taken = 0.0
+    for i in plain:
+        if taken + costs[i] > budget:
+            continue
+        child.add(i)
+        taken += costs[i]
+    return child
+
+
+class Split:
+    """Shapes ``0..n-1``, evaluated by ``run(indexes) -> {index: hits}``, those in ``child`` by a
+    forked child process."""
+
+    def __init__(self, n: int, run: Callable[[list[int]], dict[int, list[Hit]]], child: set[int]) -> None:
+        self.n = n
+        self.run = run
+        self.child = sorted(i for i in child if 0 <= i < n)
+        self.pid: int | None = None
+        self.fd: int | None = None
+
+    def start(self) -> None:
+        """Fork the child (when there is something for it to do)."""
+        if not self.child:
+            return
+        r, w = os.pipe()
+        try:
+            pid = os.fork()
+        except OSError:
+            os.close(r)
+            os.close(w)
+            return
+        if pid == 0:  # the child: never returns to the caller
+            code = 1
+            try:
+                os.close(r)
+                found = {i: [spelled(h) for h in hits] for i, hits in self.run(self.child).items()}
+                data = pickle.dumps(found, protocol=pickle.HIGHEST_PROTOCOL)
+                with os.fdopen(w, "wb") as out:
+                    out.write(data)
+                code = 0
+            except BaseException:  # noqa: BLE001 - the parent does the work again
+                pass
+            finally:
+                os._exit(code)
+        os.close(w)
+        self.pid, self.fd = pid, r
+
+    def finish(self, meanwhile: Callable[[], None] | None = None) -> list[list[Result]]:
+        """Every shape's results, in shape order. The parent's shapes are evaluated now, then
+        ``meanwhile`` runs (work of the caller's that fits while the child is still busy)."""
+        forked = self.pid is not None
+        mine = [i for i in range(self.n) if not (forked and i in self.child)]
+        try:
+            found = {i: [spelled(h) for h in hits] for i, hits in self.run(mine).items()} if mine else {}
+            if meanwhile is not None:
+                meanwhile()
+            theirs = self._collect() if forked else {}
+        finally:
+            self._reap()
+        if theirs is None or any(i not in theirs for i in self.child if forked):
+            theirs = {i: [spelled(h) for h in hits] for i, hits in self.run(self.child).items()}
+        found.update(theirs)
+        return [found.get(i, []) for i in range(self.n)]
+
+    def _collect(self) -> dict[int, list[Result]] | None:
+        """The child's results, or None if it failed."""
+        assert self.fd is not None and self.pid is not None
+        chunks = []
+        with os.fdopen(self.fd, "rb") as inp:
+            self.fd = None
+            while chunk := inp.read(1 << 20):
+                chunks.append(chunk)
+        _, status = os.waitpid(self.pid, 0)
+        self.pid = None
+        if os.waitstatus_to_exitcode(status) != 0:
+            return None
+        try:
+            found = pickle.loads(b"".join(chunks))
+        except Exception:  # noqa: BLE001 - a truncated or garbled answer: do it here
+            return None
+        return found if isinstance(found, dict) else None
+
+    def _reap(self) -> None:
+        """Never leave a child behind (the parent failed before collecting)."""
+        if self.fd is not None:
+            os.close(self.fd)
+            self.fd = None
+        if self.pid is not None:
+            import signal
+
+            try:
+                os.kill(self.pid, signal.SIGKILL)
+                os.waitpid(self.pid, 0)
+            except OSError:
+                pass
+            self.pid = None

@@ -1,0 +1,169 @@
+"""Validation shared with a forked child process (kb.shacl.parallel): same results, same
+order, and the parent still answers when the child fails."""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+import sys
+import threading
+from pathlib import Path
+
+import pytest
+
+from kb.shacl import parallel
+from kb.shacl.engine import Evaluation, evaluate
+from kb.validate import validate
+
+pytestmark = pytest.mark.skipif(not hasattr(os, "fork"), reason="needs os.fork")
+
+_BENCH = Path(__file__).resolve().parent.parent / "benchmarks" / "bench_validate.py"
+
+
+def _bench():
+    spec = importlib.util.spec_from_file_location("bench_validate_for_tests", _BENCH)
+    assert spec and spec.loader
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.fixture(scope="module")
+def broken_workstation(tmp_path_factory) -> Path:
+    """A generated workstation (300 parts) with about 5% injected violations of every kind
+    the benchmark injects (SPARQL rules included), as N-Triples."""
+    out = tmp_path_factory.mktemp("parallel")
+    spec = _bench().make_e2e(300, out, seed=4, rate=0.05)
+    assert sum(spec["injected"].values()) >= 10
+    return Path(spec["data"])
+
+
+def _index_and_program(path: Path):
+    """The engine's inputs for ``path`` as ``kitkb validate`` builds them."""
+    from kb import validate as v
+    from kb.loader import load
+    from kb.shacl.engine import prefixes_of
+    from kb.shacl.index import DataIndex
+    from kb.shacl.shapes import compile_program
+    from generators.owlmodel import OwlModel
+
+    kb = load([path])
+    data, model = kb.sources[0], kb.sources[1:]
+    model_graph = v._merge(*(s.graph for s in model))
+    shapes = v._shapes(OwlModel(model_graph), None)
+    program = compile_program(shapes, rdf11_strings=False, prefixes=prefixes_of(shapes))
+
+    def index() -> DataIndex:
+        ix = DataIndex()
+        ix.add_graph(model_graph)
+        ix.add_nested(data.view().by_subject())
+        return ix
+
+    return index, program
+
+
+def test_forked_evaluation_equals_one_pass_hit_for_hit(broken_workstation, monkeypatch):
+    index, program = _index_and_program(broken_workstation)
+    forks: list[int] = []
+    real_start = parallel.Split.start
+
+    def start(self):  # noqa: ANN001, ANN202
+        real_start(self)
+        forks.append(self.pid)
+
+    monkeypatch.setattr(parallel.Split, "start", start)
+    one_pass = evaluate(index(), program, rdf11_strings=False, parallel=False)
+    assert forks == [None]
+    shared = evaluate(index(), program, rdf11_strings=False, parallel=True)
+    assert forks[-1] is not None, "a child process should have been forked"
+    assert shared == one_pass
+    assert len({r.source_shape for r in one_pass}) >= 5  # the comparison covers many shapes
+
+
+def test_child_gets_the_sparql_shapes_and_a_share_of_the_rest(broken_workstation):
+    index, program = _index_and_program(broken_workstation)
+    ev = Evaluation(index(), program, rdf11_strings=False, parallel=True)
+    try:
+        sparql = {i for i, uses in enumerate(ev.uses_sparql) if uses}
+        assert sparql and sparql <= set(ev.split.child)
+        plain = set(range(len(ev.active))) - sparql
+        assert plain - set(ev.split.child), "the parent keeps plain shapes"
+        assert plain & set(ev.split.child), "the child takes some plain shapes too"
+    finally:
+        ev.finish()
+
+
+@pytest.mark.parametrize("failure", ["raise", "exit", "kill"])
+def test_parent_redoes_the_work_of_a_failed_child(broken_workstation, monkeypatch, failure):
+    index, program = _index_and_program(broken_workstation)
+    expected = evaluate(index(), program, rdf11_strings=False, parallel=False)
+    parent = os.getpid()
+    real_run = Evaluation._run
+
+    def run(self, which):  # noqa: ANN001, ANN202
+        if os.getpid() != parent:
+            if failure == "raise":
+                raise RuntimeError("child failed")
+            if failure == "exit":
+                os._exit(0)  # a clean exit without an answer
+            os.kill(os.getpid(), 9)
+        return real_run(self, which)
+
+    monkeypatch.setattr(Evaluation, "_run", run)
+    assert evaluate(index(), program, rdf11_strings=False, parallel=True) == expected
+    with pytest.raises(ChildProcessError):
+        os.waitpid(-1, os.WNOHANG)  # no child left behind
+
+
+def test_kitkb_validate_reports_the_same_with_and_without_a_child(broken_workstation, monkeypatch):
+    monkeypatch.setenv("KITKB_SHACL_PARALLEL", "0")
+    alone = validate([broken_workstation])
+    monkeypatch.setenv("KITKB_SHACL_PARALLEL", "force")
+    forks: list[int] = []
+    real_start = parallel.Split.start
+
+    def start(self):  # noqa: ANN001, ANN202
+        real_start(self)
+        forks.append(self.pid)
+
+    monkeypatch.setattr(parallel.Split, "start", start)
+    shared = validate([broken_workstation])
+    assert forks and forks[0] is not None
+    assert alone.diagnostics and shared.diagnostics == alone.diagnostics
+    rules = {d.rule for d in alone.diagnostics}
+    assert len(rules) >= 5, rules
+
+
+def test_no_fork_with_another_thread_running_or_when_turned_off(monkeypatch):
+    monkeypatch.delenv("KITKB_SHACL_PARALLEL", raising=False)
+    monkeypatch.setattr(parallel, "usable_cores", lambda: 2)
+    assert parallel.can_fork(10**6)
+    assert not parallel.can_fork(parallel.MIN_TRIPLES - 1)
+    monkeypatch.setattr(parallel, "usable_cores", lambda: 1)
+    assert not parallel.can_fork(10**6)
+    monkeypatch.setenv("KITKB_SHACL_PARALLEL", "force")
+    assert parallel.can_fork(10)
+    stop = threading.Event()
+    worker = threading.Thread(target=stop.wait)
+    worker.start()
+    try:
+        assert not parallel.can_fork(10**6), "a fork with another thread alive could deadlock the child"
+    finally:
+        stop.set()
+        worker.join()
+    monkeypatch.setenv("KITKB_SHACL_PARALLEL", "0")
+    assert not parallel.can_fork(10**6)
+
+
+def test_split_merges_in_shape_order_and_plans_by_cost():
+    def run(which):  # noqa: ANN001, ANN202
+        return {i: [(f"f{i}", None, None, "s", "c", "v", f"m{i}")] for i in which}
+
+    split = parallel.Split(5, run, {1, 3})
+    split.start()
+    assert split.pid is not None or not parallel.can_fork(0, min_triples=0)
+    got = split.finish()
+    assert [hits[0][0] for hits in got] == ["f0", "f1", "f2", "f3", "f4"]
+    child = parallel.plan([10.0, 1.0, 5.0, 4.0], [False, True, False, False], share=0.4)
+    assert 1 in child and 0 not in child  # SPARQL always; the costliest plain one stays home
+    assert child == {1, 2} or child == {1, 3}
