@@ -259,16 +259,19 @@ def _trie_regex(words: set[str]) -> re.Pattern[str]:
     return re.compile(pattern(trie) if trie else r"(?!)")
 
 
-def _directives(text: str, words: tuple[str, ...]) -> list[int]:
-    """Offsets where one of ``words`` (or it with a leading ``@``) starts a token, in order."""
+def _directives(text: str, words: tuple[str, ...], low: str | None = None) -> list[int]:
+    """Offsets where one of ``words`` (or it with a leading ``@``) starts a token, in order.
+
+    ``low``: ``text.lower()`` of an ASCII text, searched for the lower-case word instead
+    (any mix of cases; one pass per word instead of one per spelling)."""
     found: set[int] = set()
-    for w in words:
-        i = text.find(w)
+    for w, hay in ([(words[0].lower(), low)] if low is not None else [(w, text) for w in words]):
+        i = hay.find(w)
         while i >= 0:
             start = i - 1 if i > 0 and text[i - 1] == "@" else i
             if start == 0 or not (text[start - 1].isalnum() or text[start - 1] in "_@:/#.-"):
                 found.add(start)
-            i = text.find(w, i + 1)
+            i = hay.find(w, i + 1)
     return sorted(found)
 
 
@@ -288,11 +291,12 @@ class TargetedTurtleIndex:
         self.text = text
         self.base = base
         self.prefixes: list[tuple[int, str, str]] = []
-        for i in _directives(text, ("prefix", "PREFIX", "Prefix")):
+        low = text.lower() if text.isascii() else None  # same offsets as text
+        for i in _directives(text, ("prefix", "PREFIX", "Prefix"), low):
             m = _PREFIX_AT.match(text, i)
             if m:
                 self.prefixes.append((i, m.group(1) or "", urljoin(base, m.group(2))))
-        self.usable = not any(_BASE_AT.match(text, i) for i in _directives(text, ("base", "BASE", "Base")))
+        self.usable = not any(_BASE_AT.match(text, i) for i in _directives(text, ("base", "BASE", "Base"), low))
 
     def spellings(self, term: URIRef) -> set[str]:
         """How ``term`` may be written as a subject (before namespace mapping)."""

@@ -271,7 +271,7 @@ def _load_file(path: Path) -> Source:
         text, warnings = strip_slash_comments(text, path)
     terms: dict[str, URIRef] = {}
     prefixes: dict[str, str] = {}
-    triples = parse_text(text, fmt, path, terms, prefixes)
+    triples = parse_text(text, fmt, path, terms, prefixes, raw=data)
     a, ontology, imports_ = (terms.get(str(t)) for t in (RDF.type, OWL.Ontology, OWL.imports))
     onto = next((s for s, p, o in triples if o is ontology and p is a), None) if ontology is not None else None
     imports = [str(o) for s, p, o in triples if p is imports_ and s == onto] if imports_ is not None else []

@@ -53,8 +53,13 @@ class _QuietIllTypedLiterals(logging.Filter):
 logging.getLogger("rdflib.term").addFilter(_QuietIllTypedLiterals())
 
 
+_MAPPED = tuple(NAMESPACE_MAP)
+
+
 def map_iri(iri: str) -> str:
     """``iri`` with a foreign namespace (NIST kitting) rewritten to ours."""
+    if not iri.startswith(_MAPPED):  # one C call for the common case
+        return iri
     for old, new in NAMESPACE_MAP.items():
         if iri.startswith(old):
             return new + iri[len(old):]
@@ -234,12 +239,14 @@ def strip_slash_comments(text: str, path: Path) -> tuple[str, list[Diagnostic]]:
 
 
 def parse_text(text: str, fmt: str, path: Path, terms: dict | None = None,
-               prefixes: dict[str, str] | None = None) -> list[Triple]:
+               prefixes: dict[str, str] | None = None, raw: bytes | None = None) -> list[Triple]:
     """The triples of ``text`` in format ``fmt`` (IRIs namespace-mapped).
 
     ``terms``, if given, receives the IRI -> term map used, so callers can find triples
     by term identity (much faster than rdflib's ``==`` over a million triples);
-    ``prefixes`` receives the file's prefix declarations (namespace-mapped).
+    ``prefixes`` receives the file's prefix declarations (namespace-mapped). ``raw``: the
+    UTF-8 bytes ``text`` was decoded from, if the caller has them (Turtle and N-Triples are
+    then parsed from them, without encoding ``text`` again).
     """
     prefixes = {} if prefixes is None else prefixes
     if fmt in ("rdfxml", "owlxml"):
@@ -249,8 +256,12 @@ def parse_text(text: str, fmt: str, path: Path, terms: dict | None = None,
     if fmt in ("ofn", "owlxml"):
         text = _horned_to_rdfxml(text, fmt, path, prefixes)
         fmt = "rdfxml"
+    if raw is None or fmt not in ("turtle", "ntriples"):
+        raw = text.encode("utf-8")
+    elif raw.startswith(b"\xef\xbb\xbf"):  # the byte order mark decode() dropped
+        raw = raw[3:]
     try:
-        quads = ox.parse(text.encode("utf-8"), format=_OX_FORMAT[fmt], base_iri=path.resolve().as_uri())
+        quads = ox.parse(raw, format=_OX_FORMAT[fmt], base_iri=path.resolve().as_uri())
         triples = _convert(quads, {} if terms is None else terms)
         for name, iri in (getattr(quads, "prefixes", None) or {}).items():
             prefixes.setdefault(name, map_iri(iri))
@@ -336,8 +347,18 @@ def _convert(quads: Iterable[ox.Quad], iris: dict) -> list[Triple]:
     out: list[Triple] = []
     append = out.append
     for s, p, o, _ in quads:
-        # the cache hit is a C call; term() only runs for new (or falsy, e.g. "0") terms
-        append((get(s) or term(s), get(p) or term(p), get(o) or term(o)))
+        # the cache hit is a C call; term() only runs for new terms (no ``get(x) or term(x)``:
+        # that asks a literal for its truth value, a Python-level call)
+        a = get(s)
+        if a is None:
+            a = term(s)
+        b = get(p)
+        if b is None:
+            b = term(p)
+        c = get(o)
+        if c is None:
+            c = term(o)
+        append((a, b, c))
     return out
 
 

@@ -255,7 +255,9 @@ def _signature(model: OwlModel) -> str:
 def _shipped_signature() -> str:
     from kb.resources import ontology_path
 
-    return _signature(OwlModel(Graph().parse(ontology_path("kitting.ttl"), format="turtle")))
+    from kb.loader import load_file
+
+    return _signature(OwlModel(load_file(ontology_path("kitting.ttl")).graph))
 
 
 @functools.lru_cache(maxsize=8)

@@ -267,7 +267,8 @@ _PREFIX_PATTERNS = [re.compile(r"@prefix\s+([\w.-]*):\s*<([^>]*)>", re.I),
 def _declared_prefixes(path: Path) -> list[tuple[str, str]]:
     """The prefixes a file declares (last one wins), namespaces mapped as the loader maps them."""
     try:
-        text = path.read_text(encoding="utf-8", errors="replace")[:200_000]
+        with path.open("rb") as f:  # the head only: a data file can be hundreds of megabytes
+            text = f.read(200_000).decode("utf-8", errors="replace")
     except OSError:
         return []
     found: dict[str, str] = {}

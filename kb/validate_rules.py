@@ -238,6 +238,34 @@ def _owner(g: Graph, node: Node) -> Node | None:
 
 # --- data files -------------------------------------------------------------------------
 
+def pairs_by_predicate(graph: Any, predicates: set[Node]) -> dict[Node, list[tuple[Node, Node]]]:
+    """(subject, object) pairs of each of ``predicates``; one pass over a
+    :class:`kb.sources.TripleView` (no predicate index is built for a big data file)."""
+    out: dict[Node, list[tuple[Node, Node]]] = {p: [] for p in predicates}
+    spo = graph.by_subject() if hasattr(graph, "by_subject") else None
+    if spo is None:
+        for p in predicates:
+            out[p].extend(graph.subject_objects(p))
+        return out
+    wanted = frozenset(predicates)
+    for s, preds in spo.items():
+        if wanted.isdisjoint(preds):
+            continue
+        for p in wanted.intersection(preds):
+            pairs = out[p]
+            for o in preds[p]:
+                pairs.append((s, o))
+    return out
+
+
+def predicate_set(graph: Any) -> set[Node]:
+    """The predicates ``graph`` uses."""
+    spo = graph.by_subject() if hasattr(graph, "by_subject") else None
+    if spo is None:
+        return set(graph.predicates())
+    return set().union(*spo.values())
+
+
 def check_data_source(ctx: Context, src: Any) -> None:
     """Rules for a file that holds individuals of an imported model."""
     g = graph_of(src)
@@ -245,8 +273,10 @@ def check_data_source(ctx: Context, src: Any) -> None:
         ctx.report(src, ctx.locate(src, term, RDF.type, kind), "error",
                    f"data file declares {ctx.name(kind, src)} {ctx.name(term, src)}: "
                    "classes and properties belong in a model file", "data-declares-term", term)
+    object_props = {p for p, info in ctx.model.properties.items() if info.kind == "object"}
+    pairs = pairs_by_predicate(g, set(AXIOM_PREDICATES) | object_props)
     for pred in sorted(AXIOM_PREDICATES):
-        for s, o in sorted(g.subject_objects(pred)):
+        for s, o in sorted(pairs[pred]):
             if isinstance(s, URIRef):
                 what = "changes" if s in ctx.model.classes or s in ctx.model.properties else "states"
                 ctx.report(src, ctx.locate(src, s, pred, o), "error",
@@ -254,7 +284,7 @@ def check_data_source(ctx: Context, src: Any) -> None:
                            "axioms belong in a model file", "data-declares-term", s)
     _check_types(ctx, src)
     _check_predicates(ctx, src)
-    _check_references(ctx, src)
+    _check_references(ctx, src, pairs)
 
 
 def _check_types(ctx: Context, src: Any) -> None:
@@ -279,7 +309,7 @@ def _check_predicates(ctx: Context, src: Any) -> None:
     g = graph_of(src)
     known = set(ctx.model.properties) | ctx.model.annotation_properties
     headers = set(g.subjects(RDF.type, OWL.Ontology))
-    for p in sorted(set(g.predicates())):
+    for p in sorted(predicate_set(g)):
         if is_w3c(p) or p in known:
             continue
         for s in sorted(set(g.subjects(p, None)) - headers):
@@ -289,12 +319,11 @@ def _check_predicates(ctx: Context, src: Any) -> None:
                        + _hint(ctx, p, known, src), "unknown-property", s)
 
 
-def _check_references(ctx: Context, src: Any) -> None:
-    g = graph_of(src)
+def _check_references(ctx: Context, src: Any, pairs: dict[Node, list[tuple[Node, Node]]]) -> None:
     for p, info in sorted(ctx.model.properties.items()):
         if info.kind != "object":
             continue
-        unknown = [(s, o) for s, o in g.subject_objects(p)
+        unknown = [(s, o) for s, o in pairs[p]
                    if isinstance(o, URIRef) and o not in ctx.individuals and not _punned(ctx, o)]
         for s, o in sorted(unknown):
             ctx.report(src, ctx.locate(src, s, p, o), "error",

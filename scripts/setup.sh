@@ -35,3 +35,6 @@ if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ]; then
     .venv/bin/python -m pip install -q -e ".[test,postgres]"
     touch "$stamp"
 fi
+# byte-compile kitkb's own modules (PYTHONDONTWRITEBYTECODE=1 environments never cache
+# them, and every command would compile them again: 0.15 s of each kitkb run)
+.venv/bin/python -m compileall -q kb generators >/dev/null || true

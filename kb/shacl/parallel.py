@@ -29,7 +29,7 @@ MIN_TRIPLES = 100_000
 
 #: Share of the plain shapes' estimated cost the child takes on top of the SPARQL shapes
 #: (the parent also runs the caller's work between start and finish).
-CHILD_SHARE = 0.4
+CHILD_SHARE = 0.45
 
 Result = tuple  # a hit with its message spelled out (see :func:`_spelled`)
 

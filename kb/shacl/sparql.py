@@ -173,7 +173,10 @@ def _analyse(c: SparqlC) -> None:
     )
 
 
-def _prefix_block(comp: Compiler, cnode: Node) -> str:
+def _prefix_block(comp: Compiler, cnode: Node, body: str) -> str:
+    """PREFIX declarations for ``body``: the shapes graph's prefixes and the constraint's
+    sh:prefixes, those ``body`` can use (``name:`` occurs in it; an unused declaration
+    means nothing, and parsing dozens of them was most of the time of compiling a query)."""
     g = comp.g
     found = dict(comp.prefixes)
     for pnode in g.objects(cnode, SH.prefixes):
@@ -182,7 +185,7 @@ def _prefix_block(comp: Compiler, cnode: Node) -> str:
             ns = next(iter(g.objects(decl, SH.namespace)), None)
             if pre is not None and ns is not None:
                 found[str(pre)] = str(ns)
-    return "".join(f"PREFIX {p}: <{ns}>\n" for p, ns in found.items())
+    return "".join(f"PREFIX {p}: <{ns}>\n" for p, ns in found.items() if f"{p}:" in body)
 
 
 def _path_text(path: Node | None) -> str | None:
@@ -208,7 +211,7 @@ def compile_sparql(comp: Compiler, s: Shape, cnode: Node) -> tuple[SparqlC | Non
             return None, f"SPARQL constraint {cnode} uses $PATH without a predicate path"
         body = _PATH_VAR.sub(r"\g<1>" + str(_path_text(s.path_node)), body)
     messages = sorted(str(m) for m in g.objects(cnode, SH.message))
-    c = SparqlC(s, cnode, _prefix_block(comp, cnode) + body, messages)
+    c = SparqlC(s, cnode, _prefix_block(comp, cnode, body) + body, messages)
     try:
         _analyse(c)
     except Exception as exc:  # a query rdflib cannot parse: let pySHACL report on it
