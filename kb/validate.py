@@ -363,8 +363,37 @@ def _as_graph(data: Any) -> Graph:
 
 
 def _start_compiled(data: Graph, shapes: Graph) -> Finish:
-    """kb.shacl.engine's evaluation (started: on a big graph a forked child is already at
-    work when this returns), with each shapes graph compiled once per process.
+    """kb.shacl.engine's evaluation, started.
+
+    On a big graph all of it runs in a forked helper process (:class:`kb.shacl.parallel.Forked`)
+    while the caller goes on with the Python rules: the helper compiles the shapes, indexes
+    the data and shares the evaluation with a child of its own (the SPARQL shapes and a
+    little more; :mod:`kb.shacl.parallel`), so the caller's process never builds the engine's
+    index. Should the helper fail, the caller runs the same code itself.
+    """
+    from kb.shacl import parallel
+
+    if parallel.can_fork(len(data)):
+        job = parallel.Forked(lambda: _start_in_process(data, shapes, parallel.HELPER_SHARE)())
+        if job.started:
+            def finish(meanwhile: Callable[[], None] | None = None) -> list[ShaclResult]:
+                try:
+                    if meanwhile is not None:
+                        meanwhile()
+                    ok, value = job.result()
+                finally:
+                    job.cancel()
+                if ok and isinstance(value, list):
+                    return value
+                return _start_in_process(data, shapes)()
+
+            return finish
+    return _start_in_process(data, shapes)
+
+
+def _start_in_process(data: Graph, shapes: Graph, share: float | None = None) -> Finish:
+    """kb.shacl.engine's evaluation in this process (started: on a big graph a forked child
+    is already at work when this returns), with each shapes graph compiled once per process.
 
     Compiling (parsing the SPARQL constraints) is most of the time of a small file; the
     shapes graphs passed here are cached objects, so the program is kept by identity.
@@ -385,7 +414,7 @@ def _start_compiled(data: Graph, shapes: Graph) -> Finish:
             index.add_nested(g.by_subject())
         else:
             index.add_graph(g)
-    evaluation = Evaluation(index, program, rdf11_strings=False)
+    evaluation = Evaluation(index, program, rdf11_strings=False, share=share)
     # the evaluation holds the index; a caught exception's traceback could keep this frame
     # (and the index: millions of objects) alive in a reference cycle
     del index

@@ -115,23 +115,51 @@ def test_parent_redoes_the_work_of_a_failed_child(broken_workstation, monkeypatc
         os.waitpid(-1, os.WNOHANG)  # no child left behind
 
 
+def _record_forks(monkeypatch) -> list[int | None]:  # noqa: ANN001
+    """Process ids of the Forked jobs this process starts."""
+    forks: list[int | None] = []
+    real_init = parallel.Forked.__init__
+
+    def init(self, fn):  # noqa: ANN001, ANN202
+        real_init(self, fn)
+        forks.append(self.pid)
+
+    monkeypatch.setattr(parallel.Forked, "__init__", init)
+    return forks
+
+
 def test_kitkb_validate_reports_the_same_with_and_without_a_child(broken_workstation, monkeypatch):
     monkeypatch.setenv("KITKB_SHACL_PARALLEL", "0")
     alone = validate([broken_workstation])
     monkeypatch.setenv("KITKB_SHACL_PARALLEL", "force")
-    forks: list[int] = []
-    real_start = parallel.Split.start
-
-    def start(self):  # noqa: ANN001, ANN202
-        real_start(self)
-        forks.append(self.pid)
-
-    monkeypatch.setattr(parallel.Split, "start", start)
+    forks = _record_forks(monkeypatch)
     shared = validate([broken_workstation])
-    assert forks and forks[0] is not None
+    assert forks and forks[0] is not None, "SHACL should have run in a helper process"
     assert alone.diagnostics and shared.diagnostics == alone.diagnostics
     rules = {d.rule for d in alone.diagnostics}
     assert len(rules) >= 5, rules
+    with pytest.raises(ChildProcessError):
+        os.waitpid(-1, os.WNOHANG)
+
+
+def test_kitkb_validate_survives_a_failed_helper(broken_workstation, monkeypatch):
+    from kb import validate as v
+
+    monkeypatch.setenv("KITKB_SHACL_PARALLEL", "0")
+    expected = validate([broken_workstation]).diagnostics
+    monkeypatch.setenv("KITKB_SHACL_PARALLEL", "force")
+    parent = os.getpid()
+    real = v._start_in_process
+
+    def dying(*args, **kwargs):  # noqa: ANN002, ANN003, ANN202
+        if os.getpid() != parent:
+            os._exit(3)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(v, "_start_in_process", dying)
+    forks = _record_forks(monkeypatch)
+    assert validate([broken_workstation]).diagnostics == expected
+    assert forks and forks[0] is not None
 
 
 def test_no_fork_with_another_thread_running_or_when_turned_off(monkeypatch):

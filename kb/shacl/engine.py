@@ -89,7 +89,7 @@ class Evaluation:
     """
 
     def __init__(self, index: DataIndex, program: Program, *, rdf11_strings: bool, sparql: str = "oxigraph",
-                 parallel: bool | None = None) -> None:
+                 parallel: bool | None = None, share: float | None = None) -> None:
         from kb.shacl import parallel as par
 
         ctx = self.ctx = Context(index, rdf11_strings)
@@ -107,7 +107,7 @@ class Evaluation:
         if fork and n > 1:
             self.foci = [focus_nodes(index, targets) for _, targets in self.active]
             costs = [len(f) * max(1, par.shape_weight(shape)) for f, (shape, _) in zip(self.foci, self.active)]
-            child = par.plan(costs, self.uses_sparql)
+            child = par.plan(costs, self.uses_sparql, par.CHILD_SHARE if share is None else share)
             if len(child) == n:  # the parent keeps something to do
                 child.discard(max(child, key=lambda i: (not self.uses_sparql[i], costs[i])))
         else:

@@ -31,6 +31,10 @@ MIN_TRIPLES = 100_000
 #: (the parent also runs the caller's work between start and finish).
 CHILD_SHARE = 0.45
 
+#: The same share when the parent has nothing else to do (a helper process that only
+#: validates: the SPARQL shapes, with their store, are about as much work as the rest).
+HELPER_SHARE = 0.08
+
 Result = tuple  # a hit with its message spelled out (see :func:`_spelled`)
 
 
@@ -90,21 +94,18 @@ def plan(costs: list[float], sparql: list[bool], share: float = CHILD_SHARE) -> 
     return child
 
 
-class Split:
-    """Shapes ``0..n-1``, evaluated by ``run(indexes) -> {index: hits}``, those in ``child`` by a
-    forked child process."""
+class Forked:
+    """``fn()`` computed in a forked child process; :meth:`result` collects it.
 
-    def __init__(self, n: int, run: Callable[[list[int]], dict[int, list[Hit]]], child: set[int]) -> None:
-        self.n = n
-        self.run = run
-        self.child = sorted(i for i in child if 0 <= i < n)
+    The child sends the pickled value through a pipe and ends with ``os._exit`` (it never
+    returns into the caller's code). :meth:`result` gives ``(True, value)``, or
+    ``(False, None)`` when there was no child (the fork failed) or it failed in any way;
+    the caller then computes the value itself. A child is never left behind.
+    """
+
+    def __init__(self, fn: Callable[[], object]) -> None:
         self.pid: int | None = None
         self.fd: int | None = None
-
-    def start(self) -> None:
-        """Fork the child (when there is something for it to do)."""
-        if not self.child:
-            return
         r, w = os.pipe()
         try:
             pid = os.fork()
@@ -112,12 +113,11 @@ class Split:
             os.close(r)
             os.close(w)
             return
-        if pid == 0:  # the child: never returns to the caller
+        if pid == 0:  # the child
             code = 1
             try:
                 os.close(r)
-                found = {i: [spelled(h) for h in hits] for i, hits in self.run(self.child).items()}
-                data = pickle.dumps(found, protocol=pickle.HIGHEST_PROTOCOL)
+                data = pickle.dumps(fn(), protocol=pickle.HIGHEST_PROTOCOL)
                 with os.fdopen(w, "wb") as out:
                     out.write(data)
                 code = 0
@@ -128,43 +128,34 @@ class Split:
         os.close(w)
         self.pid, self.fd = pid, r
 
-    def finish(self, meanwhile: Callable[[], None] | None = None) -> list[list[Result]]:
-        """Every shape's results, in shape order. The parent's shapes are evaluated now, then
-        ``meanwhile`` runs (work of the caller's that fits while the child is still busy)."""
-        forked = self.pid is not None
-        mine = [i for i in range(self.n) if not (forked and i in self.child)]
+    @property
+    def started(self) -> bool:
+        return self.pid is not None or self.fd is not None
+
+    def result(self) -> tuple[bool, object]:
+        """(True, the child's value) or (False, None) if there is none."""
+        if self.pid is None:
+            return False, None
         try:
-            found = {i: [spelled(h) for h in hits] for i, hits in self.run(mine).items()} if mine else {}
-            if meanwhile is not None:
-                meanwhile()
-            theirs = self._collect() if forked else {}
+            assert self.fd is not None
+            chunks = []
+            with os.fdopen(self.fd, "rb") as inp:
+                self.fd = None
+                while chunk := inp.read(1 << 20):
+                    chunks.append(chunk)
+            _, status = os.waitpid(self.pid, 0)
+            self.pid = None
+            if os.waitstatus_to_exitcode(status) != 0:
+                return False, None
+            try:
+                return True, pickle.loads(b"".join(chunks))
+            except Exception:  # noqa: BLE001 - a garbled answer: the caller does it
+                return False, None
         finally:
-            self._reap()
-        if theirs is None or any(i not in theirs for i in self.child if forked):
-            theirs = {i: [spelled(h) for h in hits] for i, hits in self.run(self.child).items()}
-        found.update(theirs)
-        return [found.get(i, []) for i in range(self.n)]
+            self.cancel()
 
-    def _collect(self) -> dict[int, list[Result]] | None:
-        """The child's results, or None if it failed."""
-        assert self.fd is not None and self.pid is not None
-        chunks = []
-        with os.fdopen(self.fd, "rb") as inp:
-            self.fd = None
-            while chunk := inp.read(1 << 20):
-                chunks.append(chunk)
-        _, status = os.waitpid(self.pid, 0)
-        self.pid = None
-        if os.waitstatus_to_exitcode(status) != 0:
-            return None
-        try:
-            found = pickle.loads(b"".join(chunks))
-        except Exception:  # noqa: BLE001 - a truncated or garbled answer: do it here
-            return None
-        return found if isinstance(found, dict) else None
-
-    def _reap(self) -> None:
-        """Never leave a child behind (the parent failed before collecting)."""
+    def cancel(self) -> None:
+        """Stop and reap the child if it is still there (the caller gave up on it)."""
         if self.fd is not None:
             os.close(self.fd)
             self.fd = None
@@ -177,3 +168,43 @@ class Split:
             except OSError:
                 pass
             self.pid = None
+
+
+class Split:
+    """Shapes ``0..n-1``, evaluated by ``run(indexes) -> {index: hits}``, those in ``child`` by a
+    forked child process."""
+
+    def __init__(self, n: int, run: Callable[[list[int]], dict[int, list[Hit]]], child: set[int]) -> None:
+        self.n = n
+        self.run = run
+        self.child = sorted(i for i in child if 0 <= i < n)
+        self.job: Forked | None = None
+
+    @property
+    def pid(self) -> int | None:
+        """The child's process id while it runs (None: no child)."""
+        return self.job.pid if self.job is not None else None
+
+    def start(self) -> None:
+        """Fork the child (when there is something for it to do)."""
+        if self.child:
+            job = Forked(lambda: {i: [spelled(h) for h in hits] for i, hits in self.run(self.child).items()})
+            self.job = job if job.started else None
+
+    def finish(self, meanwhile: Callable[[], None] | None = None) -> list[list[Result]]:
+        """Every shape's results, in shape order. The parent's shapes are evaluated now, then
+        ``meanwhile`` runs (work of the caller's that fits while the child is still busy)."""
+        job, self.job = self.job, None
+        mine = [i for i in range(self.n) if not (job is not None and i in self.child)]
+        try:
+            found = {i: [spelled(h) for h in hits] for i, hits in self.run(mine).items()} if mine else {}
+            if meanwhile is not None:
+                meanwhile()
+            ok, theirs = job.result() if job is not None else (True, {})
+        finally:
+            if job is not None:
+                job.cancel()
+        if job is not None and not (ok and isinstance(theirs, dict) and all(i in theirs for i in self.child)):
+            theirs = {i: [spelled(h) for h in hits] for i, hits in self.run(self.child).items()}
+        found.update(theirs)  # type: ignore[arg-type]
+        return [found.get(i, []) for i in range(self.n)]
