@@ -36,7 +36,7 @@ def _cmd_validate(args: argparse.Namespace) -> int:
 
     if _console:
         # a one-shot process: the cyclic garbage collector would only walk the millions of
-        # objects of a big file again (a second at 10,000 parts); :func:`run` skips freeing them
+        # objects of a big file again (0.4 s at 10,000 parts); :func:`run` skips freeing them
         import gc
 
         gc.disable()

@@ -130,8 +130,8 @@ class TripleView:
 
     def _predicate(self, p: Key) -> dict[Key, list[Key]]:
         """object -> subjects for one predicate: a pass over the subjects for the first few
-        predicates asked about (what is asked before validation needs them all: rdf:type),
-        the whole predicate index after that."""
+        predicates asked about (validation asks about rdf:type and the odd unknown
+        predicate), the whole predicate index once more are asked about."""
         if self._pos is not None:
             return self._pos.get(p) or {}
         one = self._single.get(p)

@@ -253,9 +253,8 @@ def _signature(model: OwlModel) -> str:
 
 @functools.lru_cache(maxsize=1)
 def _shipped_signature() -> str:
-    from kb.resources import ontology_path
-
     from kb.loader import load_file
+    from kb.resources import ontology_path
 
     return _signature(OwlModel(load_file(ontology_path("kitting.ttl")).graph))
 
