@@ -24,9 +24,9 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from kb import db  # noqa: E402
-from kb.transforms import from_xyz_rpy  # noqa: E402
-from kb.worldmodel import WorldModel  # noqa: E402
+from kb import world  # noqa: E402
+from kb.world.load import read_data  # noqa: E402
+from kb.spatial.transforms import from_xyz_rpy  # noqa: E402
 
 
 def machine() -> str:
@@ -54,9 +54,9 @@ def bench(url: str, init: Path, updates: int, batch: int, seed: int) -> dict[str
     """Figures for one database."""
     rnd = random.Random(seed)
     out: dict[str, float] = {}
-    out["load_s"], report = _timed(db.load, init, url)
+    out["load_s"], report = _timed(world.load, init, url)
     out["individuals"] = report.individuals
-    with WorldModel(url) as wm:
+    with world.WorldModel(url) as wm:
         parts = [o.name for o in wm.objects("Part")]
         out["parts"] = len(parts)
         times = [_timed(wm.global_poses)[0] for _ in range(3)]
@@ -76,7 +76,7 @@ def bench(url: str, init: Path, updates: int, batch: int, seed: int) -> dict[str
         out["batch_updates_per_s"] = len(poses) / t
         assert all(np.allclose(wm.global_pose(n), g) for n, g in list(poses.items())[:20])
     with tempfile.TemporaryDirectory() as tmp:
-        out["dump_s"], _ = _timed(db.dump, url, Path(tmp) / "dump.ttl")
+        out["dump_s"], _ = _timed(world.dump, url, Path(tmp) / "dump.ttl")
     return out
 
 
@@ -95,14 +95,14 @@ def main(argv: list[str] | None = None) -> int:
     print(f"machine: {machine()}")
     with tempfile.TemporaryDirectory() as tmp:
         t, (init, _) = _timed(lambda: write_scenario(Path(tmp) / "sc", parts=args.parts, kits=args.kits, seed=0))
-        parse_s, (graph, _) = _timed(db.read_data, init)
+        parse_s, (graph, _) = _timed(read_data, init)
         print(f"scenario: {args.parts} parts, {args.kits} kits, {len(graph)} statements in init.ttl "
               f"({init.stat().st_size / 1e6:.1f} MB); written in {t:.1f} s, parsed in {parse_s:.1f} s")
-        results = {"sqlite": bench(db.normalize_url(Path(tmp) / "world.sqlite"), init, args.updates, args.batch, 1)}
+        results = {"sqlite": bench(world.normalize_url(Path(tmp) / "world.sqlite"), init, args.updates, args.batch, 1)}
         if args.pg:
-            db.drop_all(args.pg)
+            world.drop_all(args.pg)
             results["postgresql"] = bench(args.pg, init, args.updates, args.batch, 1)
-            db.drop_all(args.pg)
+            world.drop_all(args.pg)
     rows = [("load init.ttl (parse + insert, one transaction)", "load_s", "{:.1f} s"),
             ("individuals stored", "individuals", "{:.0f}"),
             ("global poses of all solid objects (one query + numpy)", "global_all_s", "{:.2f} s"),

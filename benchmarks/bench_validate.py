@@ -3,8 +3,8 @@
 For each size (parts in the workstation) it builds the data once, then runs each engine in
 a fresh subprocess (so peak memory, ``ru_maxrss``, belongs to that run alone):
 
-* ``kitkb``: parse with pyoxigraph (``kb.shacl_engine.load_index``, data and model), read the
-  shapes with rdflib, validate with ``kb.shacl_engine.validate_index``; median of ``--repeat``
+* ``kitkb``: parse with pyoxigraph (``kb.shacl.load_index``, data and model), read the
+  shapes with rdflib, validate with ``kb.shacl.validate_index``; median of ``--repeat``
   runs.
 * ``pyshacl``: parse data and model with rdflib, ``pyshacl.validate(data, shacl_graph=shapes,
   ont_graph=model)`` with default options; one run. The same child then runs kitkb's engine
@@ -127,7 +127,7 @@ def inject(nt: str, rate: float, seed: int) -> tuple[str, Counter]:
 def make_real(parts: int, out: Path, seed: int = 1, rate: float = 0.01) -> dict:
     import pyoxigraph as ox
 
-    from kb.resources import ontology_path, shapes_path
+    from kb.core.resources import ontology_path, shapes_path
     from kb.scenario import write_scenario
 
     init, _goal = write_scenario(out / "scenario", parts=parts, kits=max(1, parts // 10), seed=seed)
@@ -239,7 +239,7 @@ def _norm_key(k: tuple) -> tuple:
 
 
 def child_kitkb(spec: dict) -> dict:
-    from kb.shacl_engine import load_index, validate_index
+    from kb.shacl import load_index, validate_index
 
     t0 = time.perf_counter()
     index = load_index([spec["data"], spec["model"]])
@@ -267,7 +267,7 @@ def child_pyshacl(spec: dict) -> dict:
     from rdflib import Graph
 
     from kb.shacl.fallback import results_from_report
-    from kb.shacl_engine import validate_files
+    from kb.shacl import validate_files
 
     logging.getLogger("rdflib.term").setLevel(logging.CRITICAL)
     t0 = time.perf_counter()
@@ -400,7 +400,7 @@ def render(store: dict, info: dict) -> str:
         "SHACL validation of a generated kitting workstation with about 1% injected violations. First",
         "the end-to-end `kitkb validate` command, then the engine-only tables (kitkb's engine next to",
         "plain pySHACL): whole run in one process: parse data and model, read shapes, validate. `kitkb` is",
-        "`kb.shacl_engine` (data parsed with pyoxigraph, index in Python dictionaries, SHACL-SPARQL",
+        "`kb.shacl` (data parsed with pyoxigraph, index in Python dictionaries, SHACL-SPARQL",
         "constraints run once over the graph in pyoxigraph); `pySHACL` is `pyshacl.validate(data,",
         "shacl_graph=shapes, ont_graph=model)` with default options on rdflib-parsed graphs. Peak",
         "memory is `ru_maxrss` of a fresh subprocess per run. kitkb times are medians of the runs",
@@ -434,7 +434,7 @@ def render(store: dict, info: dict) -> str:
         parts += [f"- {n}" for n in notes] + [""]
         if store.get("e2e-note"):
             parts += [store["e2e-note"], ""]
-    parts += ["The tables below are engine-only: `kb.shacl_engine` on the same kind of data (kits =",
+    parts += ["The tables below are engine-only: `kb.shacl` on the same kind of data (kits =",
               "parts / 10), without the loader, the Python rules or the report.", ""]
     for dataset, title in (("real", "Generated scenarios (kb.scenario) with the shipped shapes and rules"),
                            ("synthetic", "Synthetic workstation (benchmarks/synthetic_kitting.py, 10 node shapes)")):

@@ -27,7 +27,7 @@ NIST_TYPES = {
 
 def nist_problem(init: Path, goal: Path) -> tuple[str, int, int]:
     """NIST-format problem text, number of kit parts, number of kits."""
-    from generators.pddl.model import kitting_model
+    from kb.planning.model import kitting_model
 
     spec = kitting_model([init], [goal], "numeric").problem
     assert spec is not None

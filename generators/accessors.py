@@ -1,12 +1,12 @@
 """Typed accessors generator: the relational model as a SQLAlchemy 2.0 declarative module.
 
-The output (checked in as ``kb/accessors_generated.py``) has one ``Mapped[...]`` class per
+The output (checked in as ``kb/world/generated/accessors.py``) has one ``Mapped[...]`` class per
 ontology class, joined-table inheritance following the class hierarchy, a typed column per
 single-valued property, a relationship per object property and a ``list`` relationship per
 link table. Its metadata is the same schema :mod:`generators.sql` emits (a test compares the
 DDL). Output is deterministic: the same ontology gives the same text.
 
-Regenerate with ``python -m generators.accessors -o kb/accessors_generated.py``.
+Regenerate with ``python -m generators.accessors -o kb/world/generated/accessors.py``.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ import argparse
 import re
 from typing import ClassVar
 
-from generators.base import Generator
+from kb.core.generators import Generator
 from generators.sql_model import (THING_TABLE, ColumnSpec, LinkSpec, Schema, TableSpec, ValueType, column_info,
                                   shipped_schema)
 
@@ -28,7 +28,7 @@ _HEADER = '''\
 """Typed accessors of the kitkb world-model database. GENERATED: do not edit by hand.
 
 Made by generators/accessors.py from {sources}.
-Regenerate: python -m generators.accessors -o kb/accessors_generated.py
+Regenerate: python -m generators.accessors -o kb/world/generated/accessors.py
 One class per ontology class (joined-table inheritance); see docs/database.md.
 """
 
@@ -229,7 +229,7 @@ class AccessorsGenerator(Generator):
 def main(argv: list[str] | None = None) -> int:
     """Write the accessors module (``python -m generators.accessors -o FILE``)."""
     parser = argparse.ArgumentParser(prog="python -m generators.accessors", description=__doc__.splitlines()[0])
-    parser.add_argument("-o", "--output", default="kb/accessors_generated.py")
+    parser.add_argument("-o", "--output", default="kb/world/generated/accessors.py")
     args = parser.parse_args(argv)
     AccessorsGenerator().write(args.output)
     return 0

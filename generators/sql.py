@@ -8,17 +8,19 @@ foreign keys are SQLAlchemy objects, compiled with ``CreateTable(...).compile(di
 from __future__ import annotations
 
 import re
-from contextlib import contextmanager
-from typing import Any, ClassVar, Iterator
+from typing import Any, ClassVar
 
 from sqlalchemy import (Boolean, CheckConstraint, Column, Date, DateTime, Float, ForeignKey,
-                        Integer, MetaData, Numeric, String, Table, Text)
+                        Integer, MetaData, Numeric, String, Table, Text, column, literal)
 from sqlalchemy.dialects import mysql, postgresql, sqlite
 from sqlalchemy.engine import Dialect
 from sqlalchemy.schema import AddConstraint, CreateIndex, CreateTable
 from sqlalchemy.types import TypeEngine
 
-from generators.base import Generator
+from kb.core.errors import InputError
+from kb.core.generators import Generator
+from kb.patches.sqlalchemy import ddl_scope
+
 from generators.sql_model import (THING_TABLE, ColumnSpec, LinkSpec, Schema, ValueType, column_info,
                                   shipped_schema)
 
@@ -68,8 +70,6 @@ def sql_type(value: ValueType) -> TypeEngine[Any]:
 
 
 def _checks(name: str, value: ValueType) -> list[CheckConstraint]:
-    from sqlalchemy import column, literal
-
     col = column(name)
     out = []
     if value.enum:
@@ -170,24 +170,10 @@ def _kitkb_tables(meta: MetaData) -> None:
           comment="Statements outside the model's tables (ontology header, annotations, foreign terms).")
 
 
-@contextmanager
-def ddl_scope(meta: MetaData) -> Iterator[MetaData]:
-    """Keep DDL from changing ``meta``: SQLAlchemy's ``AddConstraint`` (emitted by ``ddl`` and by
-    ``create_all`` on dialects with ALTER) marks a foreign key as "not part of CREATE TABLE" for
-    good; restore that mark afterwards so one metadata serves every dialect in one process."""
-    fks = [fk for table in meta.tables.values() for fk in table.foreign_key_constraints]
-    saved = [fk._create_rule for fk in fks]
-    try:
-        yield meta
-    finally:
-        for fk, rule in zip(fks, saved):
-            fk._create_rule = rule
-
-
 def ddl(meta: MetaData, dialect_name: str) -> str:
     """The ``CREATE TABLE`` / ``CREATE INDEX`` script of ``meta`` for one dialect."""
-    with ddl_scope(meta):
-        return _ddl(meta, _dialect(dialect_name))
+    with ddl_scope(meta) as scoped:
+        return _ddl(scoped, _dialect(dialect_name))
 
 
 def _ddl(meta: MetaData, dialect: Dialect) -> str:
@@ -205,8 +191,6 @@ def _ddl(meta: MetaData, dialect: Dialect) -> str:
 
 
 def _dialect(name: str) -> Dialect:
-    from kb.errors import InputError
-
     try:
         return DIALECTS[name]()
     except KeyError:

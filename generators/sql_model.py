@@ -2,7 +2,7 @@
 
 This is the typed layer between the ontology and the writers (:mod:`generators.sql`
 renders it as SQLAlchemy metadata and DDL, :mod:`generators.accessors` as a Python module);
-it reads the ontology through :class:`generators.owlmodel.OwlModel`.
+it reads the ontology through :class:`kb.model.owl.OwlModel`.
 The mapping (see docs/database.md):
 
 * one table per named class (joined-table inheritance): a class table holds the class's
@@ -31,8 +31,10 @@ from typing import Iterable, Sequence
 from rdflib import RDFS, XSD, Graph, URIRef
 from rdflib.term import Node
 
-from generators.owlmodel import UNBOUNDED, OwlModel
-from kb.namespaces import KTW, SOAP
+from kb.core.errors import InputError
+from kb.core.namespaces import KTW, SOAP
+from kb.core.resources import model_files
+from kb.model.owl import UNBOUNDED, OwlModel
 
 #: Namespaces whose classes and properties become tables and columns, with the table prefix.
 MODEL_NAMESPACES: dict[str, str] = {str(KTW): "ktw", str(SOAP): "soap"}
@@ -161,7 +163,7 @@ def _attribute(prop_local: str, domain_local: str | None) -> str:
 
 
 def column_info(spec: ColumnSpec | LinkSpec) -> dict[str, object]:
-    """What kb.db needs to know about a column: property IRI, kind and value type."""
+    """What kb.world.database needs to know about a column: property IRI, kind and value type."""
     info: dict[str, object] = {"iri": spec.property_iri, "kind": spec.kind}
     if spec.kind == "data":
         info["value"] = spec.value.kind
@@ -170,7 +172,7 @@ def column_info(spec: ColumnSpec | LinkSpec) -> dict[str, object]:
     return info
 
 
-# --- reading the ontology (through generators.owlmodel) ------------------------------------------
+# --- reading the ontology (through kb.model.owl) ------------------------------------------
 
 def _in_model(term: object) -> bool:
     return isinstance(term, URIRef) and split_iri(str(term))[0] in MODEL_NAMESPACES
@@ -373,13 +375,6 @@ def _parents_first(specs: list[TableSpec]) -> list[TableSpec]:
     return out
 
 
-def model_files() -> list[Path]:
-    """The shipped ontology files the schema is made from (kitting and SOAP models)."""
-    from kb.resources import ontology_path
-
-    return [p for p in (ontology_path("kitting.ttl"), ontology_path("soap.ttl")) if p.is_file()]
-
-
 def shipped_schema(files: Iterable[Path] | None = None) -> Schema:
     """The schema of the shipped kitting and SOAP ontologies (or of ``files``)."""
     paths = tuple(files) if files is not None else tuple(model_files())
@@ -389,8 +384,6 @@ def shipped_schema(files: Iterable[Path] | None = None) -> Schema:
 
 @lru_cache(maxsize=4)
 def _schema_of(stamps: tuple[tuple[str, int], ...]) -> Schema:
-    from kb.errors import InputError
-
     graph = Graph()
     for path in (Path(p) for p, _ in stamps):
         try:

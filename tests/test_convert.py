@@ -9,11 +9,11 @@ from rdflib import URIRef
 from rdflib import namespace as rns
 from rdflib.compare import isomorphic
 
-from kb import namespaces as ns
+from kb.core import namespaces as ns
 from kb.cli import main
-from kb.convert import convert
-from kb.errors import InputError
-from kb.loader import load_file
+from kb.io.convert import convert
+from kb.core.errors import InputError
+from kb.io.loader import load_file
 
 from shared_data import NIST_DIR
 
@@ -91,6 +91,10 @@ def test_cli_convert(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None
     out = tmp_path / "small.owl"
     assert main(["convert", str(DATA / "small.ttl"), "-o", str(out)]) == 0
     assert load_file(out).format == "rdfxml"
+    assert capsys.readouterr().err == f"kitkb: wrote {out} (RDF/XML, 18 statements)\n"
+    assert main(["--quiet", "convert", str(DATA / "small.ttl"), "-o", str(out)]) == 0
+    assert main(["convert", str(DATA / "small.ttl"), "-o", str(out), "-q"]) == 0
+    assert capsys.readouterr() == ("", "")
     assert main(["convert", str(DATA / "bad.ttl"), "-o", str(tmp_path / "x.ttl")]) == 2
     err = capsys.readouterr().err.strip()
     assert err.startswith(f"{DATA / 'bad.ttl'}:5: error: syntax error") and "\n" not in err

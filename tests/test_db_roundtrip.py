@@ -16,11 +16,11 @@ from sqlalchemy import Column, Integer, MetaData, Table, create_engine, insert
 
 from generators.sql import build_metadata
 from generators.sql_model import build_schema, model_files
-from kb import db
+from kb import world
 from kb.cli import main
-from kb.errors import InputError
-from kb.loader import load_file
-from kb.resources import ontology_path, scenario_dirs
+from kb.core.errors import InputError
+from kb.io.loader import load_file
+from kb.core.resources import ontology_path, scenario_dirs
 
 from shared_data import NIST_DIR
 
@@ -32,13 +32,13 @@ PG_URL = os.environ.get("KITKB_PG_URL")
 @pytest.fixture(params=["sqlite", pytest.param("postgresql", marks=pytest.mark.postgres)])
 def url(request, tmp_path):
     if request.param == "sqlite":
-        yield db.normalize_url(tmp_path / "world.sqlite")
+        yield world.normalize_url(tmp_path / "world.sqlite")
         return
     if not PG_URL:
         pytest.skip("KITKB_PG_URL is not set")
-    db.drop_all(PG_URL)
+    world.drop_all(PG_URL)
     yield PG_URL
-    db.drop_all(PG_URL)
+    world.drop_all(PG_URL)
 
 
 def _data_files() -> list[Path]:
@@ -59,10 +59,10 @@ def test_case_count():
 
 @pytest.mark.parametrize("path", DATA_FILES, ids=lambda p: f"{p.parent.name}/{p.name}")
 def test_round_trip_is_isomorphic(path, url, tmp_path):
-    report = db.load(path, url)
+    report = world.load(path, url)
     assert report.individuals > 50
     assert report.tables.get("ktw_point", 0) > 10 or report.tables.get("soap_action", 0) > 5
-    out = db.dump(url, tmp_path / "dump.ttl")
+    out = world.dump(url, tmp_path / "dump.ttl")
     original = load_file(path).graph
     dumped = Graph().parse(out, format="turtle")
     assert len(dumped) == len(original)
@@ -96,10 +96,10 @@ def _odd_graph() -> Graph:
 def test_odd_names_and_values_round_trip(url, tmp_path):
     src = tmp_path / "odd.ttl"
     _odd_graph().serialize(src, format="turtle")
-    db.load(src, url)
-    dumped = Graph().parse(db.dump(url, tmp_path / "back.ttl"))
+    world.load(src, url)
+    dumped = Graph().parse(world.dump(url, tmp_path / "back.ttl"))
     assert isomorphic(load_file(src).graph, dumped)
-    from kb.worldmodel import WorldModel
+    from kb.world.worldmodel import WorldModel
 
     with WorldModel(url) as wm:
         assert wm.object("sku_o'brien").iri == "https://example.org/odd'name;x/sku_o'brien"
@@ -119,13 +119,13 @@ def _bad_weight(tmp_path: Path) -> Path:
 
 def test_value_outside_datatype_names_the_line_and_changes_nothing(url, tmp_path):
     good = DATA_FILES[0]
-    db.load(good, url)
-    before = db.read_graph(url)
+    world.load(good, url)
+    before = world.read_graph(url)
     with pytest.raises(InputError) as err:
-        db.load(_bad_weight(tmp_path), url)
+        world.load(_bad_weight(tmp_path), url)
     assert str(err.value).startswith(f"{tmp_path / 'bad.ttl'}:5: error:")
     assert "> 0" in str(err.value)
-    assert isomorphic(before, db.read_graph(url))
+    assert isomorphic(before, world.read_graph(url))
 
 
 def test_missing_required_value_is_refused(url, tmp_path):
@@ -133,7 +133,7 @@ def test_missing_required_value_is_refused(url, tmp_path):
     f.write_text("@prefix ktw: <https://w3id.org/kitkb/kitting#> .\n"
                  "<https://example.org/p> a ktw:Point ;\n  ktw:hasPoint_X 1.0 ;\n  ktw:hasPoint_Y 2.0 .\n")
     with pytest.raises(InputError, match=r"p.ttl:2: error: p \(Point\) has no value for hasPoint_Z"):
-        db.load(f, url)
+        world.load(f, url)
 
 
 def test_cli_errors_are_one_line_exit_2(tmp_path, capsys):
@@ -160,7 +160,7 @@ def test_cli_errors_are_one_line_exit_2(tmp_path, capsys):
 def test_cli_load_and_dump(tmp_path, capsys):
     target, out = tmp_path / "w.sqlite", tmp_path / "out.ttl"
     assert main(["db", "load", str(DATA_FILES[0]), "--db", str(target)]) == 0
-    assert "individuals" in capsys.readouterr().out
+    assert "individuals" in capsys.readouterr().err
     assert main(["db", "dump", "--db", str(target), "-o", str(out)]) == 0
     assert isomorphic(Graph().parse(out), load_file(DATA_FILES[0]).graph)
 
@@ -172,7 +172,7 @@ def test_database_of_another_ontology_version_is_refused(url, tmp_path, capsys):
     g.add((KTW.hasPoint_W, RDF.type, URIRef("http://www.w3.org/2002/07/owl#DatatypeProperty")))
     g.add((KTW.hasPoint_W, URIRef("http://www.w3.org/2000/01/rdf-schema#domain"), KTW.Point))
     other = build_schema(g)
-    engine = db.open_engine(url)
+    engine = world.open_engine(url)
     meta = build_metadata(other)
     meta.create_all(engine)
     with engine.begin() as conn:
@@ -180,8 +180,8 @@ def test_database_of_another_ontology_version_is_refused(url, tmp_path, capsys):
             {"key": "schema_version", "value": other.fingerprint()},
             {"key": "ontologies", "value": json.dumps([["https://w3id.org/kitkb/kitting", "0.0.9"]])}])
     engine.dispose()
-    with pytest.raises(db.SchemaVersionError, match="another ontology version"):
-        db.read_graph(url)
+    with pytest.raises(world.SchemaVersionError, match="another ontology version"):
+        world.read_graph(url)
     assert main(["db", "dump", "--db", url, "-o", str(tmp_path / "x.ttl")]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "kitting 0.0.9" in err
@@ -190,10 +190,10 @@ def test_database_of_another_ontology_version_is_refused(url, tmp_path, capsys):
 
 def test_not_a_kitkb_database(tmp_path):
     path = tmp_path / "other.sqlite"
-    engine = create_engine(db.normalize_url(path))
+    engine = create_engine(world.normalize_url(path))
     meta = MetaData()
     Table("t", meta, Column("a", Integer))
     meta.create_all(engine)
     engine.dispose()
-    with pytest.raises(db.SchemaVersionError, match="not a kitkb database"):
-        db.read_graph(path)
+    with pytest.raises(world.SchemaVersionError, match="not a kitkb database"):
+        world.read_graph(path)

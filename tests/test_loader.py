@@ -11,10 +11,10 @@ from hypothesis import strategies as st
 from rdflib import BNode, Literal, URIRef
 from rdflib import namespace as rns
 
-from kb import namespaces as ns
-from kb.errors import InputError
-from kb.loader import catalog, load, load_file, resolve_import
-from kb.resources import ontology_path
+from kb.core import namespaces as ns
+from kb.core.errors import InputError
+from kb.io.loader import catalog, load, load_file, resolve_import
+from kb.core.resources import ontology_path
 
 from shared_data import NIST_DIR
 

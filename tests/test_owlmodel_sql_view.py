@@ -1,10 +1,10 @@
-"""The parts of generators.owlmodel the SQL mapping relies on: told parents, axiom of a restriction."""
+"""The parts of kb.model.owl the SQL mapping relies on: told parents, axiom of a restriction."""
 
 from __future__ import annotations
 
 from rdflib import OWL, RDFS, Graph
 
-from generators.owlmodel import OwlModel
+from kb.model.owl import OwlModel
 from generators.sql_model import build_schema
 
 TTL = """

@@ -46,7 +46,7 @@ def test_wheel_in_fresh_venv_validates_shipped_scenarios(wheel: Path, tmp_path: 
     assert "Traceback" not in done.stderr
     # it really read the packaged files, not the checkout
     where = subprocess.run(
-        [str(py), "-c", "import kb.resources as r; print(r.ontologies_dir())"],
+        [str(py), "-c", "import kb.core.resources as r; print(r.ontologies_dir())"],
         cwd=tmp_path, capture_output=True, text=True, check=True,
     ).stdout.strip()
     assert str(env_dir) in where and "_data" in where

@@ -12,8 +12,8 @@ from pathlib import Path
 
 import pytest
 
-from kb.errors import InputError, NotSolvableError
-from kb.resources import scenario_dirs
+from kb.core.errors import InputError, NotSolvableError
+from kb.core.resources import scenario_dirs
 
 from shared_data import NIST_DIR
 
@@ -29,10 +29,12 @@ def test_shipped_scenarios_are_the_expected_ones() -> None:
 
 @lru_cache(maxsize=None)
 def texts(scenario: str, encoding: str) -> tuple[str, str]:
-    from generators.pddl_problem import PddlProblemGenerator
+    from generators.pddl import PddlGenerator
 
     d = SCENARIOS[scenario]
-    return PddlProblemGenerator([d / "init.ttl"], [d / "goal.ttl"], encoding).texts()
+    domain, problem = PddlGenerator.from_files([d / "init.ttl"], [d / "goal.ttl"], encoding).texts()
+    assert problem is not None
+    return domain, problem
 
 
 def check_golden(name: str, text: str) -> None:
@@ -46,9 +48,11 @@ def check_golden(name: str, text: str) -> None:
 
 @pytest.mark.parametrize("encoding", ENCODINGS)
 def test_domain_matches_golden(encoding: str) -> None:
-    from generators.pddl_domain import PddlDomainGenerator
+    from generators.pddl import PddlGenerator
 
-    domain = PddlDomainGenerator(encoding).serialize()
+    gen = PddlGenerator.domain_only(encoding)
+    domain = gen.serialize()
+    assert gen.outputs() == {"domain.pddl": domain}  # no problem without state files
     check_golden(f"domain-{encoding}.pddl", domain)
     # the domain written with a problem is the same domain (only the requirements line
     # reflects the problem too: a numeric goal adds :equality)
@@ -61,7 +65,7 @@ def test_domain_matches_golden(encoding: str) -> None:
 @pytest.mark.parametrize("scenario", sorted(SCENARIOS))
 @pytest.mark.parametrize("encoding", ENCODINGS)
 def test_problem_matches_golden_and_rereads(scenario: str, encoding: str) -> None:
-    from generators.pddl.up_env import environment
+    from kb.patches.unified_planning import environment
 
     environment()
     from unified_planning.io import PDDLReader
@@ -113,9 +117,9 @@ def test_strips_tokens_take_the_goal_files_parts() -> None:
 
 @pytest.mark.skipif(not NIST.is_dir(), reason="NIST corpus not present")
 def test_nist_state_files_give_a_problem() -> None:
-    from generators.pddl.model import kitting_model
+    from kb.planning.model import kitting_model
 
-    m = kitting_model([NIST / "kittingInstancesInit1.owl"], [NIST / "kittingInstancesGoal1.owl"])
+    m = kitting_model([NIST / "kittingInstancesInit1.owl"], [NIST / "kittingInstancesGoal1.owl"], match_names=True)
     assert m.problem is not None
     assert ("kit-location-lbwk", "kit_1", "finished_kit_receiver") in m.problem.goal
     assert len([g for g in m.problem.goal if g[0] == "quantity-kit-counted"]) == 4
@@ -131,7 +135,7 @@ def _scenario_copy(tmp_path: Path, name: str, edit) -> tuple[Path, Path]:  # noq
 
 
 def test_unknown_class_names_file_and_line(tmp_path: Path) -> None:
-    from generators.pddl.model import kitting_model
+    from kb.planning.model import kitting_model
 
     init, goal = _scenario_copy(tmp_path, "small-kit",
                                 lambda t: t.replace("owl:NamedIndividual, ktw:Robot", "owl:NamedIndividual, ktw:Robott"))
@@ -142,7 +146,7 @@ def test_unknown_class_names_file_and_line(tmp_path: Path) -> None:
 
 
 def test_goal_object_missing_from_init_names_file_and_line(tmp_path: Path) -> None:
-    from generators.pddl.model import kitting_model
+    from kb.planning.model import kitting_model
 
     init, goal = _scenario_copy(tmp_path, "small-kit", lambda t: t.replace(":part_b_1 ", ":part_z_9 "))
     with pytest.raises(InputError) as err:
@@ -152,7 +156,7 @@ def test_goal_object_missing_from_init_names_file_and_line(tmp_path: Path) -> No
 
 
 def test_not_enough_parts_is_no_plan(tmp_path: Path) -> None:
-    from generators.pddl.model import kitting_model
+    from kb.planning.model import kitting_model
 
     def remove_b_parts(text: str) -> str:
         return text.replace("ktw:hasPartsVessel_Part :part_b_", "ktw:hasPartsVessel_Part :gone_b_")
@@ -169,7 +173,7 @@ def test_not_enough_parts_is_no_plan(tmp_path: Path) -> None:
 
 
 def test_unknown_encoding_is_an_input_error() -> None:
-    from generators.pddl.model import domain_model
+    from kb.planning.model import domain_model
 
     with pytest.raises(InputError, match="unknown encoding"):
         domain_model("fluent")
@@ -178,9 +182,9 @@ def test_unknown_encoding_is_an_input_error() -> None:
 def test_non_quota_comparison_cannot_be_compiled() -> None:
     from dataclasses import replace
 
-    from generators.pddl.model import load_domain
-    from generators.pddl.spec import Comparison, FTerm
-    from generators.pddl.strips import compile_domain
+    from kb.model.soap import load_domain
+    from kb.model.soap import Comparison, FTerm
+    from kb.planning.strips import compile_domain
 
     domain, _ = load_domain()
     put = next(a for a in domain.actions if a.name == "put-part")
@@ -189,15 +193,15 @@ def test_non_quota_comparison_cannot_be_compiled() -> None:
         compile_domain(replace(domain, actions=[odd]))
 
 
-def test_generators_are_registered() -> None:
-    from generators import get_generator
+def test_pddl_generator_is_found_by_name() -> None:
+    from generators.pddl import PddlGenerator
+    from kb.core.generators import get_generator
 
-    assert get_generator("pddl-domain").name == "pddl-domain"
-    assert get_generator("pddl-problem").name == "pddl-problem"
+    assert get_generator("pddl") is PddlGenerator
 
 
 def test_kit_without_design_names_file_and_line(tmp_path: Path) -> None:
-    from generators.pddl.model import kitting_model
+    from kb.planning.model import kitting_model
 
     init, goal = _scenario_copy(tmp_path, "small-kit", lambda t: t.replace("ktw:hasKit_Design", "rdfs:seeAlso"))
     with pytest.raises(InputError, match="kit kit_1 has no kit design") as err:
@@ -208,9 +212,9 @@ def test_kit_without_design_names_file_and_line(tmp_path: Path) -> None:
 def test_count_changed_outside_a_quota_cannot_be_compiled() -> None:
     from dataclasses import replace
 
-    from generators.pddl.model import load_domain
-    from generators.pddl.spec import FTerm, NumericEffect
-    from generators.pddl.strips import compile_domain
+    from kb.model.soap import load_domain
+    from kb.model.soap import FTerm, NumericEffect
+    from kb.planning.strips import compile_domain
 
     domain, _ = load_domain()
     take = next(a for a in domain.actions if a.name == "take-kit")

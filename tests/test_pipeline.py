@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from kb.cli import main
-from kb.resources import scenario_dirs
+from kb.core.resources import scenario_dirs
 
 
 @pytest.mark.slow
@@ -26,7 +26,7 @@ def test_main_job_builds_every_shipped_scenario(tmp_path: Path) -> None:
 
 def test_main_job_reports_a_broken_scenario(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     """A scenario that does not validate stops at validation and the job exits 1."""
-    import kb.pipeline as pipeline
+    import kb.cli.pipeline as pipeline
 
     bad = tmp_path / "scenarios" / "broken"
     bad.mkdir(parents=True)

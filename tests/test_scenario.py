@@ -15,11 +15,11 @@ from rdflib import OWL, RDF, RDFS, Graph, Literal, Namespace, URIRef
 from rdflib.compare import isomorphic
 
 import kb.scenario as scenario
-from kb.errors import InputError
-from kb.namespaces import KITTING_ONTOLOGY, KTW
-from kb.resources import ontology_path, scenario_dirs
-from kb.scenario import build_scenario, layout, write_scenario, write_shipped, write_spec
-from kb.scenario_spec import SHIPPED
+from kb.core.errors import InputError
+from kb.core.namespaces import KITTING_ONTOLOGY, KTW
+from kb.core.resources import ontology_path, scenario_dirs
+from kb.scenario import build_scenario, layout, state_graph, write_scenario, write_shipped, write_spec
+from kb.scenario.spec import SHIPPED
 
 XSD = Namespace("http://www.w3.org/2001/XMLSchema#")
 
@@ -69,7 +69,7 @@ def test_shipped_files_match_their_specs(tmp_path):
     for name in SHIPPED_NAMES:
         for state in STATES:
             assert filecmp.cmp(root / name / f"{state}.ttl", tmp_path / name / f"{state}.ttl", shallow=False), (
-                f"{name}/{state}.ttl differs from kb.scenario_spec.SHIPPED; run kb.scenario.write_shipped()"
+                f"{name}/{state}.ttl differs from kb.scenario.spec.SHIPPED; run kb.scenario.write_shipped()"
             )
 
 
@@ -95,7 +95,7 @@ def test_writer_output_is_isomorphic_to_rdflib_graph(tmp_path):
         write_spec(sc, tmp_path / sc.name)
         for state in STATES:
             parsed = _load(tmp_path / sc.name / f"{state}.ttl")
-            built = sc.graph(state)
+            built = state_graph(sc, state)
             assert len(parsed) == len(built)
             assert isomorphic(parsed, built), (sc.name, state)
 

@@ -1,4 +1,4 @@
-"""The fast SHACL engine (kb.shacl_engine) gives exactly pySHACL's results.
+"""The fast SHACL engine (kb.shacl) gives exactly pySHACL's results.
 
 Equivalence tests compare the multiset of (focus, component, source shape, path, value) with
 ``pyshacl.validate`` on the same data, shapes and model; unit tests pin each component's
@@ -18,11 +18,11 @@ import pytest
 from rdflib import Graph, Literal, Namespace, URIRef, BNode
 from rdflib.namespace import RDF, XSD
 
-from kb.errors import InputError
+from kb.core.errors import InputError
 from kb.shacl.fallback import results_from_report
-from kb.shacl.model import SH
+from kb.core.namespaces import SH
 from kb.shacl.terms import key_of, to_node
-from kb.shacl_engine import unsupported_shapes, validate_files, validate_graph
+from kb.shacl import unsupported_shapes, validate_files, validate_graph
 
 logging.getLogger("rdflib.term").setLevel(logging.CRITICAL)
 

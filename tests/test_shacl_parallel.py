@@ -11,9 +11,10 @@ from pathlib import Path
 
 import pytest
 
+from kb.core.jobs import Forked
 from kb.shacl import parallel
 from kb.shacl.engine import Evaluation, evaluate
-from kb.validate import validate
+from kb.validation import validate
 
 pytestmark = pytest.mark.skipif(not hasattr(os, "fork"), reason="needs os.fork")
 
@@ -40,12 +41,12 @@ def broken_workstation(tmp_path_factory) -> Path:
 
 def _index_and_program(path: Path):
     """The engine's inputs for ``path`` as ``kitkb validate`` builds them."""
-    from kb import validate as v
-    from kb.loader import load
+    from kb.io.loader import load
+    from kb.validation import validator as v
     from kb.shacl.engine import prefixes_of
     from kb.shacl.index import DataIndex
-    from kb.shacl.shapes import compile_program
-    from generators.owlmodel import OwlModel
+    from kb.shacl.compiler import compile_program
+    from kb.model.owl import OwlModel
 
     kb = load([path])
     data, model = kb.sources[0], kb.sources[1:]
@@ -118,13 +119,13 @@ def test_parent_redoes_the_work_of_a_failed_child(broken_workstation, monkeypatc
 def _record_forks(monkeypatch) -> list[int | None]:  # noqa: ANN001
     """Process ids of the Forked jobs this process starts."""
     forks: list[int | None] = []
-    real_init = parallel.Forked.__init__
+    real_init = Forked.__init__
 
     def init(self, fn):  # noqa: ANN001, ANN202
         real_init(self, fn)
         forks.append(self.pid)
 
-    monkeypatch.setattr(parallel.Forked, "__init__", init)
+    monkeypatch.setattr(Forked, "__init__", init)
     return forks
 
 
@@ -143,20 +144,20 @@ def test_kitkb_validate_reports_the_same_with_and_without_a_child(broken_worksta
 
 
 def test_kitkb_validate_survives_a_failed_helper(broken_workstation, monkeypatch):
-    from kb import validate as v
+    import kb.shacl as engine_api
 
     monkeypatch.setenv("KITKB_SHACL_PARALLEL", "0")
     expected = validate([broken_workstation]).diagnostics
     monkeypatch.setenv("KITKB_SHACL_PARALLEL", "force")
     parent = os.getpid()
-    real = v._start_in_process
+    real = engine_api._start_here
 
     def dying(*args, **kwargs):  # noqa: ANN002, ANN003, ANN202
         if os.getpid() != parent:
             os._exit(3)
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(v, "_start_in_process", dying)
+    monkeypatch.setattr(engine_api, "_start_here", dying)
     forks = _record_forks(monkeypatch)
     assert validate([broken_workstation]).diagnostics == expected
     assert forks and forks[0] is not None

@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 from rdflib import Graph
 
-from kb.reasoning import check_consistency, to_owlready
-from kb.resources import ontologies_dir, scenario_dirs
+from kb.validation.consistency import check_consistency, to_owlready
+from kb.core.resources import ontologies_dir, scenario_dirs
 
 MODEL = sorted(ontologies_dir().glob("*.ttl"))
 SCENARIO_FILES = [f for d in scenario_dirs() for f in (d / "init.ttl", d / "goal.ttl")]

@@ -9,12 +9,12 @@ import pytest
 from sqlalchemy import select
 from sqlalchemy.orm import Session, configure_mappers
 
-import kb.accessors_generated as gen
+import kb.world.generated.accessors as gen
 from generators.accessors import AccessorsGenerator
 from generators.sql import build_metadata, ddl
 from generators.sql_model import shipped_schema
-from kb import db
-from kb.resources import scenario_dirs
+from kb import world
+from kb.core.resources import scenario_dirs
 
 MODULE = Path(gen.__file__)
 
@@ -51,9 +51,9 @@ def test_mappers_configure_and_types():
 
 def test_orm_reads_a_loaded_scenario(tmp_path):
     scen = next(d for d in scenario_dirs() if (d / "init.ttl").is_file())
-    url = db.normalize_url(tmp_path / "w.sqlite")
-    db.load(scen / "init.ttl", url)
-    engine = db.open_engine(url)
+    url = world.normalize_url(tmp_path / "w.sqlite")
+    world.load(scen / "init.ttl", url)
+    engine = world.open_engine(url)
     try:
         with Session(engine) as session:
             parts = session.scalars(select(gen.Part)).all()
@@ -74,9 +74,9 @@ def test_orm_writes_are_dumped_and_checks_enforced(tmp_path):
     from sqlalchemy.exc import IntegrityError
 
     scen = next(d for d in scenario_dirs() if (d / "init.ttl").is_file())
-    url = db.normalize_url(tmp_path / "w.sqlite")
-    db.load(scen / "init.ttl", url)
-    engine = db.open_engine(url)
+    url = world.normalize_url(tmp_path / "w.sqlite")
+    world.load(scen / "init.ttl", url)
+    engine = world.open_engine(url)
     try:
         with Session(engine) as session:
             session.add(gen.Point(iri="https://example.org/new#p1", name="p1", x=1.0, y=2.0, z=3.5))
@@ -87,7 +87,7 @@ def test_orm_writes_are_dumped_and_checks_enforced(tmp_path):
                 session.commit()
     finally:
         engine.dispose()
-    g = db.read_graph(url)
+    g = world.read_graph(url)
     p1 = URIRef("https://example.org/new#p1")
     assert g.value(p1, URIRef("https://w3id.org/kitkb/kitting#hasPoint_Z")).eq(Literal(3.5))
     assert (URIRef("https://example.org/new#s"), None, None) not in g

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import argparse
 import os
 import re
 import sqlite3
@@ -11,10 +10,11 @@ from pathlib import Path
 import pytest
 from rdflib import OWL, RDF, Graph, URIRef
 
-from generators import get_generator
 from generators.sql import DIALECTS, SqlGenerator, build_metadata, ddl
-from generators.sql_model import MODEL_NAMESPACES, build_schema, model_files, shipped_schema
-from kb.errors import InputError
+from generators.sql_model import MODEL_NAMESPACES, build_schema, shipped_schema
+from kb.core.generators import generator_names, get_generator
+from kb.core.resources import model_files
+from kb.core.errors import InputError
 
 
 @pytest.fixture(scope="module")
@@ -48,6 +48,9 @@ def test_one_table_per_model_class(schema, scripts):
 def test_registry_knows_the_generators():
     assert get_generator("sql") is SqlGenerator
     assert get_generator("accessors").__name__ == "AccessorsGenerator"
+    assert {"accessors", "pddl", "shapes", "sql"} <= set(generator_names())
+    with pytest.raises(InputError, match="unknown generator 'owl2vec'"):
+        get_generator("owl2vec")
 
 
 def test_columns_types_and_checks(scripts):
@@ -107,7 +110,7 @@ def test_postgresql_script_runs(scripts):
         pytest.skip("KITKB_PG_URL is not set")
     from sqlalchemy import create_engine, inspect
 
-    from kb.db import model
+    from kb.world.database import model
 
     engine = create_engine(url)
     model().metadata.drop_all(engine)
@@ -123,13 +126,14 @@ def test_postgresql_script_runs(scripts):
 
 
 def test_generate_sql_function(tmp_path):
-    from kb.sqlgen_cli import generate_sql
+    from kb.cli.generate import generate_sql
+    from kb.cli.output import Output
 
     out = tmp_path / "schema.sql"
-    assert generate_sql(argparse.Namespace(dialect="postgresql", output=str(out))) == 0
+    assert generate_sql("postgresql", str(out), Output(quiet=True)) == 0
     assert out.read_text().startswith("-- kitkb schema ")
     with pytest.raises(InputError, match="unknown SQL dialect 'oracle'"):
-        generate_sql(argparse.Namespace(dialect="oracle", output=str(tmp_path / "x.sql")))
+        generate_sql("oracle", str(tmp_path / "x.sql"), Output(quiet=True))
     assert not (tmp_path / "x.sql").exists()
 
 
@@ -156,4 +160,7 @@ def test_cli_generate_sql(tmp_path):
     out = tmp_path / "pg.sql"
     assert main(["generate", "sql", "--dialect", "postgresql", "-o", str(out)]) == 0
     assert "CREATE TABLE ktw_kit_tray" in out.read_text()
-    assert main(["generate", "sql", "--dialect", "db2", "-o", str(tmp_path / "x.sql")]) == 2
+    with pytest.raises(SystemExit) as exit_:  # argparse names the choices
+        main(["generate", "sql", "--dialect", "db2", "-o", str(tmp_path / "x.sql")])
+    assert exit_.value.code == 2
+    assert not (tmp_path / "x.sql").exists()

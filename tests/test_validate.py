@@ -11,10 +11,12 @@ import pytest
 from rdflib import Graph
 
 from kb import cli
-from kb.errors import InputError
-from kb.suggest import closest, did_you_mean
-from kb.validate import default_files, run_validate, validate
-from kb.validate_rules import is_data_graph
+from kb.core.errors import InputError
+from kb.validation.suggest import closest, did_you_mean
+from kb.cli.output import Output
+from kb.cli.validation import validate as validate_command
+from kb.validation import default_files, validate
+from kb.validation.rules import is_data_graph
 
 from shared_data import NIST_DIR
 
@@ -135,7 +137,7 @@ def _mutated(tmp_path: Path) -> Path:
 def test_text_report_lines_sorted(tmp_path: Path) -> None:
     target = _mutated(tmp_path)
     out = io.StringIO()
-    assert run_validate([str(target)], fmt="text", out=out) == 1
+    assert validate_command([str(target)], "text", Output(stdout=out)) == 1
     lines = out.getvalue().splitlines()
     assert lines[-1].endswith("error") or "error" in lines[-1]
     body = lines[:-1]
@@ -147,10 +149,23 @@ def test_text_report_lines_sorted(tmp_path: Path) -> None:
 
 def test_json_report(tmp_path: Path) -> None:
     out = io.StringIO()
-    assert run_validate([str(_mutated(tmp_path))], fmt="json", out=out) == 1
-    items = json.loads(out.getvalue())
+    target = _mutated(tmp_path)
+    assert validate_command([str(target)], "json", Output(stdout=out)) == 1
+    report = json.loads(out.getvalue())
+    assert set(report) == {"conforms", "files", "counts", "diagnostics"}
+    assert report["conforms"] is False and report["files"] == [str(target)]
+    items = report["diagnostics"]
     assert items and set(items[0]) == {"file", "line", "severity", "message", "rule", "focus"}
+    assert report["counts"]["error"] == sum(i["severity"] == "error" for i in items) > 0
     assert any(i["rule"] == "unknown-property" and "did you mean ktw:hasPoint_X?" in i["message"] for i in items)
+
+
+def test_json_report_of_conforming_files() -> None:
+    out = io.StringIO()
+    assert validate_command([str(SCENARIO)], "json", Output(stdout=out)) == 0
+    report = json.loads(out.getvalue())
+    assert report == {"conforms": True, "files": [str(SCENARIO)],
+                      "counts": {"error": 0, "warning": 0, "info": 0}, "diagnostics": []}
 
 
 def test_exit_codes(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -10,13 +10,13 @@ import pytest
 from rdflib import BNode, Graph, Literal, URIRef
 from rdflib.namespace import RDF
 
-from kb import loader
-from kb.loader import load_file
-from kb.namespaces import KTW
-from kb.resources import ontology_path, scenario_dirs, shapes_path
+from kb.io import loader
+from kb.io.loader import load_file
+from kb.core.namespaces import KTW
+from kb.core.resources import ontology_path, scenario_dirs, shapes_path
 from kb.scenario import write_scenario
-from kb.sources import TripleView, UnionView
-from kb.validate import validate
+from kb.io.views import TripleView, UnionView
+from kb.validation.validator import validate
 
 
 @pytest.fixture(scope="module")
@@ -134,7 +134,7 @@ def test_triple_view_drops_duplicates() -> None:
 
 
 def test_shipped_shapes_need_no_pyshacl_fallback() -> None:
-    from kb.shacl_engine import unsupported_shapes
+    from kb.shacl import unsupported_shapes
 
     shapes = Graph()
     for name in ("kitting-shapes.ttl", "kitting-rules.ttl"):
@@ -144,7 +144,7 @@ def test_shipped_shapes_need_no_pyshacl_fallback() -> None:
 
 def test_pyshacl_results_are_top_level_only() -> None:
     """sh:node violations carry nested sh:detail results, which are not report lines."""
-    from kb.validate import _run_pyshacl
+    from kb.shacl import _pyshacl as _run_pyshacl
 
     shapes = Graph().parse(data="""
         @prefix sh: <http://www.w3.org/ns/shacl#> . @prefix ex: <http://e/> .

@@ -15,7 +15,7 @@ from typing import Callable
 
 import pytest
 
-from kb.validate import validate
+from kb.validation.validator import validate
 
 from shared_data import NIST_DIR
 

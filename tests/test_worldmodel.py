@@ -14,12 +14,12 @@ import numpy as np
 import pytest
 from rdflib import Namespace, URIRef
 
-from kb import db
-from kb.errors import InputError
-from kb.loader import load_file
-from kb.resources import scenario_dirs
-from kb.transforms import axes_of, from_xyz_rpy, invert, pose_matrix, updated_relative
-from kb.worldmodel import WorldModel
+from kb import world
+from kb.core.errors import InputError
+from kb.io.loader import load_file
+from kb.core.resources import scenario_dirs
+from kb.spatial.transforms import axes_of, from_xyz_rpy, invert, pose_matrix, updated_relative
+from kb.world.worldmodel import WorldModel
 
 from shared_data import NIST_DIR
 
@@ -33,16 +33,16 @@ REPO = Path(__file__).resolve().parent.parent
 @pytest.fixture(params=["sqlite", pytest.param("postgresql", marks=pytest.mark.postgres)])
 def url(request, tmp_path):
     if request.param == "sqlite":
-        u = db.normalize_url(tmp_path / "world.sqlite")
+        u = world.normalize_url(tmp_path / "world.sqlite")
     elif not PG_URL:
         pytest.skip("KITKB_PG_URL is not set")
     else:
         u = PG_URL
-        db.drop_all(u)
-    db.load(SCENARIO, u)
+        world.drop_all(u)
+    world.load(SCENARIO, u)
     yield u
     if request.param == "postgresql":
-        db.drop_all(u)
+        world.drop_all(u)
 
 
 @pytest.fixture
@@ -214,8 +214,8 @@ def test_batch_with_parent_and_child_reaches_both_targets(wm):
 
 _WORKER = textwrap.dedent("""
     import sys, numpy as np
-    from kb.worldmodel import WorldModel
-    from kb.transforms import from_xyz_rpy
+    from kb.world.worldmodel import WorldModel
+    from kb.spatial.transforms import from_xyz_rpy
     import os, time
     url, names, rounds, seed = sys.argv[1], sys.argv[2].split(","), int(sys.argv[3]), int(sys.argv[4])
     go = sys.argv[5]
@@ -260,8 +260,8 @@ def test_nist_init_file_global_poses(tmp_path):
     nist = NIST_DIR / "kittingInstancesInit1.owl"
     if not nist.is_file():
         pytest.skip("NIST files not present")
-    url = db.normalize_url(tmp_path / "nist.sqlite")
-    db.load(nist, url)
+    url = world.normalize_url(tmp_path / "nist.sqlite")
+    world.load(nist, url)
     graph = load_file(nist).graph
     with WorldModel(url) as wm:
         poses = wm.global_poses()

@@ -3,7 +3,7 @@
 Each constraint sees all (focus, value nodes) pairs of a shape at once and appends its
 results to a list, as the tuple ``(focus, path, value, source_shape, component, severity,
 message)`` with focus/value as keys; :mod:`kb.shacl.engine` turns them into
-:class:`~kb.shacl.model.ShaclResult`. Each component follows pySHACL 0.40's reading of the
+:class:`~kb.shacl.result.ShaclResult`. Each component follows pySHACL 0.40's reading of the
 SHACL spec (one result per value node and per rule value, sh:minCount/sh:hasValue without a
 value, sh:closed with the offending predicate as path).
 """
@@ -14,20 +14,16 @@ import re
 from functools import lru_cache
 from datetime import date, datetime, time
 from decimal import Decimal
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from rdflib import Literal, URIRef
 from rdflib.term import Node
 
+from kb.core.namespaces import SH
 from kb.shacl.index import RDF_TYPE
-from kb.shacl.model import SH
+from kb.shacl.shape import Constraint, Context, Hit, Pairs, PerValue, Shape
 from kb.shacl.terms import XSD_NS, XSD_STRING, key_of, split_literal, to_node
 
-if TYPE_CHECKING:
-    from kb.shacl.engine import Context
-    from kb.shacl.shapes import Shape
-
-Hit = tuple[str, Node | None, str | None, Node, URIRef, URIRef, "str | Constraint"]  # message or its maker
 
 RDF_LANGSTRING = "http://www.w3.org/1999/02/22-rdf-syntax-ns#langString"
 RDFS_LITERAL = "http://www.w3.org/2000/01/rdf-schema#Literal"
@@ -49,51 +45,6 @@ _VALUE_TYPES: dict[str, type | tuple[type, ...]] = {
     XSD_NS + "time": time,
     XSD_NS + "dateTime": datetime,
 }
-
-
-Pairs = list[tuple[str, list[str]]]
-
-
-class Constraint:
-    """Base: ``check`` appends the results for (focus, value nodes) pairs to ``out``."""
-
-    component: URIRef
-
-    def __init__(self, shape: Shape) -> None:
-        self.shape = shape
-
-    def check(self, ctx: Context, pairs: Pairs, out: list[Hit]) -> None:
-        raise NotImplementedError
-
-    def generic(self, value: str | None) -> str:
-        return f"{self.component.split('#')[-1]} failed"
-
-    def hit(self, focus: str, value: str | None, path: Node | None = None, message: str | None = None) -> Hit:
-        """A result tuple; the generic message is made later (``self`` stands in for it)."""
-        s = self.shape
-        return (
-            focus,
-            path if path is not None else s.path_node,
-            value,
-            s.node,
-            self.component,
-            s.severity,
-            message or s.message or self,  # type: ignore[return-value]
-        )
-
-
-class PerValue(Constraint):
-    """A constraint that judges each value node on its own (``ok(ctx, value)``)."""
-
-    def ok(self, ctx: Context, value: str) -> bool:
-        raise NotImplementedError
-
-    def check(self, ctx: Context, pairs: Pairs, out: list[Hit]) -> None:
-        ok = self.ok
-        for focus, values in pairs:
-            for v in values:
-                if not ok(ctx, v):
-                    out.append(self.hit(focus, v))
 
 
 class ClassC(PerValue):

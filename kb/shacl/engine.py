@@ -4,16 +4,18 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from rdflib import Graph, URIRef
 from rdflib.term import Node
 
-from kb.shacl.constraints import Hit
+from kb.core.namespaces import SH
+from kb.shacl import parallel as par
+from kb.shacl.compiler import Program, compile_program
 from kb.shacl.fallback import run_pyshacl
 from kb.shacl.index import DataIndex
-from kb.shacl.model import SH, ShaclResult
-from kb.shacl.shapes import Program, Shape, compile_program
+from kb.shacl.result import ShaclResult
+from kb.shacl.shape import Context, Hit, Shape
 from kb.shacl.sparql import SparqlC, SparqlRunner
 from kb.shacl.terms import to_node
 
@@ -25,15 +27,6 @@ STANDARD_PREFIXES = {
     "sh": "http://www.w3.org/ns/shacl#",
 }
 _PREFIX_NAME = re.compile(r"(?:[A-Za-z][\w\-.]*[\w\-])?|[A-Za-z]")
-
-
-@dataclass
-class Context:
-    """What constraints need while they run: the index and the SPARQL runner."""
-
-    index: DataIndex
-    rdf11_strings: bool
-    sparql: SparqlRunner = field(init=False)
 
 
 @dataclass
@@ -90,8 +83,6 @@ class Evaluation:
 
     def __init__(self, index: DataIndex, program: Program, *, rdf11_strings: bool, sparql: str = "oxigraph",
                  parallel: bool | None = None, share: float | None = None) -> None:
-        from kb.shacl import parallel as par
-
         ctx = self.ctx = Context(index, rdf11_strings)
         ctx.sparql = SparqlRunner(ctx, program.sparql_constraints(), sparql)  # type: ignore[arg-type]
         inverse = {s.path[1] for s in program.shapes.values() if s.path and s.path[0] == "inv"}

@@ -83,7 +83,7 @@ class DataIndex:
         self._reset()
 
     def add_triples(self, triples: Iterable[tuple[object, object, object]]) -> None:
-        """Add rdflib-term triples (a :class:`kb.sources.TripleView`, the loader's lists);
+        """Add rdflib-term triples (a :class:`kb.io.views.TripleView`, the loader's lists);
         each distinct term is spelled once, as :meth:`add_graph` spells it."""
         cache: dict[object, str] = {}
         get = cache.get
@@ -103,7 +103,7 @@ class DataIndex:
 
     def add_nested(self, spo: Mapping[object, Mapping[object, Iterable[object]]]) -> None:
         """Add rdflib-term triples given as subject -> predicate -> objects (without
-        duplicates, as :meth:`kb.sources.TripleView.by_subject` gives them).
+        duplicates, as :meth:`kb.io.views.TripleView.by_subject` gives them).
 
         Keys are cached by object identity (the terms live in ``spo`` while this runs):
         hashing an rdflib literal is a Python-level call, hashing its ``id`` is not."""

@@ -8,21 +8,19 @@ the remaining shapes meanwhile (and the caller may do other work between :meth:`
 and :meth:`Split.finish`). Results are merged per shape in the program's order, so they are
 the same, in the same order, as those of one sequential pass.
 
-Forking is used only where it is safe and worth it: a POSIX system, at least two usable
-cores, no other thread running in the parent at the time of the fork (a lock held by another
-thread would stay locked in the child), and an index of at least :data:`MIN_TRIPLES`
-triples. ``KITKB_SHACL_PARALLEL=0`` turns it off. If the child fails for any reason (killed,
+Forking is used only where it is safe and worth it: where :class:`kb.core.jobs.Forked` may
+fork (a POSIX system, no other thread running), at least two usable cores, and an index of
+at least :data:`MIN_TRIPLES` triples. ``KITKB_SHACL_PARALLEL=0`` turns it off. If the child fails for any reason (killed,
 out of memory, an exception), the parent evaluates the child's shapes itself.
 """
 
 from __future__ import annotations
 
 import os
-import pickle
-import threading
 from collections.abc import Callable
 
-from kb.shacl.constraints import Hit, PropertyC
+from kb.core.jobs import Forked, fork_is_safe, usable_cores
+from kb.shacl.shape import Hit, Shape
 
 #: Smallest index (triples, data and model) validated by two processes.
 MIN_TRIPLES = 100_000
@@ -38,20 +36,13 @@ HELPER_SHARE = 0.08
 Result = tuple  # a hit with its message spelled out (see :func:`_spelled`)
 
 
-def usable_cores() -> int:
-    try:
-        return len(os.sched_getaffinity(0))
-    except (AttributeError, OSError):
-        return os.cpu_count() or 1
-
-
 def can_fork(triples: int, *, min_triples: int | None = None) -> bool:
     """Is splitting a validation of ``triples`` triples between two processes safe and useful?"""
     setting = os.environ.get("KITKB_SHACL_PARALLEL", "").strip().lower()
     if setting in ("0", "no", "false", "off"):
         return False
     forced = setting in ("1", "yes", "true", "on", "force")
-    if not hasattr(os, "fork") or threading.active_count() > 1:
+    if not fork_is_safe():
         return False
     if forced:
         return True
@@ -65,7 +56,7 @@ def spelled(hit: Hit) -> Result:
     return f, path, v, src, comp, sev, msg if isinstance(msg, str) else msg.generic(v)
 
 
-def shape_weight(shape, seen: set[int] | None = None) -> int:  # noqa: ANN001
+def shape_weight(shape: Shape, seen: set[int] | None = None) -> int:
     """Constraints evaluated per focus node by ``shape`` (property shapes included)."""
     seen = set() if seen is None else seen
     if id(shape) in seen:
@@ -74,7 +65,7 @@ def shape_weight(shape, seen: set[int] | None = None) -> int:  # noqa: ANN001
     w = 0
     for c in shape.constraints:
         w += 1
-        if isinstance(c, PropertyC):
+        if c.prop is not None:
             w += shape_weight(c.prop, seen)
     return w
 
@@ -92,82 +83,6 @@ def plan(costs: list[float], sparql: list[bool], share: float = CHILD_SHARE) -> 
         child.add(i)
         taken += costs[i]
     return child
-
-
-class Forked:
-    """``fn()`` computed in a forked child process; :meth:`result` collects it.
-
-    The child sends the pickled value through a pipe and ends with ``os._exit`` (it never
-    returns into the caller's code). :meth:`result` gives ``(True, value)``, or
-    ``(False, None)`` when there was no child (the fork failed) or it failed in any way;
-    the caller then computes the value itself. A child is never left behind.
-    """
-
-    def __init__(self, fn: Callable[[], object]) -> None:
-        self.pid: int | None = None
-        self.fd: int | None = None
-        r, w = os.pipe()
-        try:
-            pid = os.fork()
-        except OSError:
-            os.close(r)
-            os.close(w)
-            return
-        if pid == 0:  # the child
-            code = 1
-            try:
-                os.close(r)
-                data = pickle.dumps(fn(), protocol=pickle.HIGHEST_PROTOCOL)
-                with os.fdopen(w, "wb") as out:
-                    out.write(data)
-                code = 0
-            except BaseException:  # noqa: BLE001 - the parent does the work again
-                pass
-            finally:
-                os._exit(code)
-        os.close(w)
-        self.pid, self.fd = pid, r
-
-    @property
-    def started(self) -> bool:
-        return self.pid is not None or self.fd is not None
-
-    def result(self) -> tuple[bool, object]:
-        """(True, the child's value) or (False, None) if there is none."""
-        if self.pid is None:
-            return False, None
-        try:
-            assert self.fd is not None
-            chunks = []
-            with os.fdopen(self.fd, "rb") as inp:
-                self.fd = None
-                while chunk := inp.read(1 << 20):
-                    chunks.append(chunk)
-            _, status = os.waitpid(self.pid, 0)
-            self.pid = None
-            if os.waitstatus_to_exitcode(status) != 0:
-                return False, None
-            try:
-                return True, pickle.loads(b"".join(chunks))
-            except Exception:  # noqa: BLE001 - a garbled answer: the caller does it
-                return False, None
-        finally:
-            self.cancel()
-
-    def cancel(self) -> None:
-        """Stop and reap the child if it is still there (the caller gave up on it)."""
-        if self.fd is not None:
-            os.close(self.fd)
-            self.fd = None
-        if self.pid is not None:
-            import signal
-
-            try:
-                os.kill(self.pid, signal.SIGKILL)
-                os.waitpid(self.pid, 0)
-            except OSError:
-                pass
-            self.pid = None
 
 
 class Split:

@@ -20,24 +20,21 @@ literal bound to ``?value`` is reported in canonical spelling (``"1"^^xsd:decima
 from __future__ import annotations
 
 import re
+import threading
 from collections.abc import Iterator
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import pyoxigraph as ox
-from rdflib import Literal, URIRef, Variable
+from rdflib import Graph, Literal, URIRef, Variable
 from rdflib.paths import AlternativePath, InvPath, MulPath, SequencePath
 from rdflib.plugins.sparql import prepareQuery
 from rdflib.plugins.sparql.parserutils import CompValue
 from rdflib.term import Node
 
-from kb.shacl.constraints import Constraint, Hit, Pairs
-from kb.shacl.model import SH
+from kb.core.namespaces import SH
 from kb.shacl.reorder import predicates_in, reorder
+from kb.shacl.shape import Constraint, Context, Hit, Pairs, Shape
 from kb.shacl.terms import key_of, to_node
-
-if TYPE_CHECKING:
-    from kb.shacl.engine import Context
-    from kb.shacl.shapes import Compiler, Shape
 
 _PATH_VAR = re.compile(r"([\s{}()])[$?]PATH")
 _UNSAFE = {
@@ -173,12 +170,11 @@ def _analyse(c: SparqlC) -> None:
     )
 
 
-def _prefix_block(comp: Compiler, cnode: Node, body: str) -> str:
+def _prefix_block(g: Graph, prefixes: dict[str, str], cnode: Node, body: str) -> str:
     """PREFIX declarations for ``body``: the shapes graph's prefixes and the constraint's
     sh:prefixes, those ``body`` can use (``name:`` occurs in it; an unused declaration
     means nothing, and parsing dozens of them was most of the time of compiling a query)."""
-    g = comp.g
-    found = dict(comp.prefixes)
+    found = dict(prefixes)
     for pnode in g.objects(cnode, SH.prefixes):
         for decl in g.objects(pnode, SH.declare):
             pre = next(iter(g.objects(decl, SH.prefix)), None)
@@ -194,9 +190,9 @@ def _path_text(path: Node | None) -> str | None:
     return None
 
 
-def compile_sparql(comp: Compiler, s: Shape, cnode: Node) -> tuple[SparqlC | None, str | None]:
-    """Compile one sh:sparql node; returns (constraint, problem); deactivated -> (None, None)."""
-    g = comp.g
+def compile_sparql(g: Graph, prefixes: dict[str, str], s: Shape, cnode: Node) -> tuple[SparqlC | None, str | None]:
+    """Compile one sh:sparql node of shapes graph ``g`` (``prefixes``: those of the shapes
+    graph); returns (constraint, problem); deactivated -> (None, None)."""
     deact = next(iter(g.objects(cnode, SH.deactivated)), None)
     if isinstance(deact, Literal) and deact.value is True:
         return None, None
@@ -211,7 +207,7 @@ def compile_sparql(comp: Compiler, s: Shape, cnode: Node) -> tuple[SparqlC | Non
             return None, f"SPARQL constraint {cnode} uses $PATH without a predicate path"
         body = _PATH_VAR.sub(r"\g<1>" + str(_path_text(s.path_node)), body)
     messages = sorted(str(m) for m in g.objects(cnode, SH.message))
-    c = SparqlC(s, cnode, _prefix_block(comp, cnode, body) + body, messages)
+    c = SparqlC(s, cnode, _prefix_block(g, prefixes, cnode, body) + body, messages)
     try:
         _analyse(c)
     except Exception as exc:  # a query rdflib cannot parse: let pySHACL report on it
@@ -264,8 +260,6 @@ class SparqlRunner:
         """
         if self.engine != "oxigraph" or self._pending is not None or not self.constraints:
             return
-        import threading
-
         # the Python part (spelling the triples) runs here: in the thread it would only
         # take turns with the caller for the GIL
         try:

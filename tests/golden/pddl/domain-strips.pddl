@@ -1,6 +1,6 @@
 ; kitkb PDDL domain (strips encoding), generated from the SOAP instances
 ; of <https://w3id.org/kitkb/kitting-domain> with unified-planning's PDDLWriter.
-; Counts are compiled into token objects (see generators/pddl/strips.py).
+; Counts are compiled into token objects (see kb/planning/strips.py).
 (define (domain kitting-domain)
  (:requirements :strips :typing)
 ; type datathing: <https://w3id.org/kitkb/kitting#DataThing>

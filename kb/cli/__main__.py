@@ -1,0 +1,5 @@
+"""``python -m kb.cli``: the kitkb command."""
+
+from kb.cli import run
+
+run()

@@ -1,0 +1,44 @@
+"""``kitkb generate pddl`` and ``kitkb plan``."""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+from pathlib import Path
+
+from kb import planning
+from kb.cli.output import Output
+from kb.core.generators import get_generator
+
+
+def generate_pddl(init: str, goal: str, output: str, encoding: str, match_names: bool, out: Output) -> int:
+    """Write ``domain.pddl`` and ``problem.pddl`` for INIT -> GOAL into the folder ``output``."""
+    model = planning.kitting_model([init], [goal], encoding, match_names=match_names)
+    written = get_generator("pddl")(model).write_outputs(Path(output))
+    out.done(f"wrote {' and '.join(map(str, written))} ({encoding} encoding)")
+    return 0
+
+
+def plan(first: str, second: str, output: str, planner: str | None, encoding: str, timeout: float | None,
+         engine_defaults: bool, match_names: bool, out: Output) -> int:
+    """Plan from INIT GOAL ontology files, or from DOMAIN PROBLEM PDDL files; write the plan."""
+    start = time.perf_counter()
+    if planning.is_pddl(first) and planning.is_pddl(second):
+        problem = planning.read_pddl(first, second, warn=out.warn)
+        source = "PDDL"
+    else:
+        problem = planning.kitting_model([first], [second], encoding, overlap=True,
+                                         match_names=match_names).up_problem
+        source = f"ontology, {encoding} encoding"
+    built = time.perf_counter() - start
+    result = planning.run(problem, output, planner, timeout, engine_defaults)
+    total = time.perf_counter() - start
+    out.done(f"wrote {output}: {len(result.lines)} actions by {result.planner} ({source}), validated by "
+             f"unified-planning, in {total:.2f} s")
+    if os.environ.get("KITKB_TIMING"):
+        cpu = os.times()
+        print(f"timing: model {built:.2f} s, solve {result.times['solve']:.2f} s, validate "
+              f"{result.times['validate']:.2f} s; cpu {cpu.user + cpu.system:.2f} s + child processes "
+              f"{cpu.children_user + cpu.children_system:.2f} s", file=sys.stderr)
+    return 0

@@ -1,0 +1,33 @@
+"""``kitkb validate`` and ``kitkb convert``."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from kb.cli.output import Output
+from kb.io.convert import OUTPUT_FORMATS, convert as convert_file
+from kb.validation import default_files, validate as validate_files
+
+_SYNTAX = {"turtle": "Turtle", "xml": "RDF/XML", "nt": "N-Triples"}
+
+
+def validate(files: list[str], format: str, out: Output) -> int:
+    """Print the report (text: a ``file:line`` line per problem and a summary; JSON: an
+    object with ``conforms``, ``files``, ``counts`` and ``diagnostics``); 0 conforms, 1 not."""
+    report = validate_files(files or default_files())
+    if format == "json":
+        print(json.dumps(report.as_dict(), indent=2), file=out.results)
+    else:
+        for d in report.diagnostics:
+            print(d.format(), file=out.results)
+        print(f"{len(report.files)} file(s): {report.summary()}", file=out.results)
+    return 0 if report.conforms else 1
+
+
+def convert(input: str, output: str, out: Output) -> int:
+    """Write ``input`` to ``output`` in the syntax of its extension."""
+    n = convert_file(Path(input), Path(output))
+    syntax = _SYNTAX[OUTPUT_FORMATS[Path(output).suffix.lower()]]
+    out.done(f"wrote {output} ({syntax}, {n} statements)")
+    return 0

@@ -1,0 +1,354 @@
+"""Load ontology files into rdflib graphs, resolve their imports, and find statements' lines.
+
+Formats (detected by content; the extension only breaks ties): Turtle, N-Triples, RDF/XML,
+OWL/XML and OWL functional syntax (the NIST ``.owl`` files). See :mod:`kb.io.parsing` for the
+parsers and :mod:`kb.sources` for the lazy ``file:line`` index.
+
+Import resolution (:func:`resolve_import`) never touches the network nor an arbitrary
+``file:`` path. In order, an ``owl:imports`` IRI resolves to:
+
+1. a shipped ontology whose IRI it is (:func:`catalog`);
+2. a file named on the command line whose ontology IRI it is;
+3. kitkb's ``kitting.ttl`` if the IRI ends with ``kittingWorkstationClasses.owl`` (the
+   NIST model; its namespace is mapped onto ours);
+4. a file named on the command line with the IRI's file name (``.../soapClasses.owl``);
+5. a file with the IRI's file name in the folder of the importing file (same-folder rule);
+otherwise it is a warning at the line of the import.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Iterable, Sequence
+from urllib.parse import unquote, urlsplit
+
+from rdflib import BNode, Graph, URIRef
+from rdflib.namespace import OWL, RDF, RDFS, XSD
+
+from kb.core import namespaces as ns
+from kb.core.diagnostics import Diagnostic
+from kb.core.errors import InputError
+from kb.core.memory import gc_paused
+from kb.core.resources import ontology_path
+from kb.io.lines import LineIndex, build_index
+from kb.io.lines.turtle import TargetedTurtleIndex
+from kb.io.parsing import Triple, decode, detect_format, new_graph, parse_text, strip_slash_comments
+from kb.io.views import TripleView
+
+_NIST_MODEL_FILE = "kittingWorkstationClasses.owl"
+_VOCABULARY = (str(RDF), str(RDFS), str(OWL), str(XSD))
+
+
+class Source:
+    """One loaded file: its triples (namespace-mapped), header, warnings, and line index.
+
+    ``graph`` is built on first use from the parsed triples (a knowledge base's union graph
+    is filled straight from them, so a per-file graph costs nothing until asked for).
+    """
+
+    def __init__(self, path: Path, format: str, graph: Graph | None = None, ontology_iri: str | None = None,
+                 imports: list[str] | None = None, warnings: list[Diagnostic] | None = None,
+                 *, triples: list[Triple] | None = None, prefixes: dict[str, str] | None = None):
+        self.path = Path(path)
+        self.format = format
+        self.ontology_iri = ontology_iri
+        self.imports = list(imports or [])
+        self.warnings = list(warnings or [])
+        self._graph = graph
+        self._triples = triples
+        self._view: TripleView | None = None
+        self._index: LineIndex | None = None
+        #: Targeted line index of big Turtle files: only the subjects asked for are indexed.
+        self._partial: LineIndex | None = None
+        self._covered: set = set()
+        self._mode: str | None = None  # "full" or "targeted", decided on the first lookup
+        self._target = None
+        #: The file's prefix declarations (namespace-mapped); bound in ``graph``.
+        self.prefixes = dict(prefixes or {})
+
+    def __repr__(self) -> str:
+        return f"Source({str(self.path)!r}, {self.format!r}, ontology_iri={self.ontology_iri!r})"
+
+    @property
+    def graph(self) -> Graph:
+        """This file's triples as an rdflib graph."""
+        if self._graph is None:
+            with gc_paused():
+                triples = self._triples if self._triples is not None else (self._view or ())
+                self._graph = new_graph(triples, self.prefixes)
+            self._triples = None
+        return self._graph
+
+    def triples(self) -> Iterable[Triple]:
+        """This file's triples (without building its graph)."""
+        if self._triples is not None:
+            return self._triples
+        return iter(self._view) if self._view is not None else iter(self.graph)
+
+    def view(self) -> TripleView:
+        """This file's triples as a :class:`kb.io.views.TripleView` (much cheaper to build than
+        ``graph``; what validation queries)."""
+        if self._view is None:
+            with gc_paused():
+                self._view = TripleView(self._triples if self._triples is not None else self.graph)
+            self._triples = None  # the view holds them (without duplicates)
+        return self._view
+
+    def line_of(self, subject, predicate=None, obj=None) -> int | None:  # noqa: ANN001
+        """1-based line of (s,p,o), else of (s,p), else of the first statement about s.
+
+        A blank node is located through the statement that refers to it. The index is
+        built on the first call.
+        """
+        line = self._lookup(subject, predicate, obj)
+        if line is None and isinstance(subject, BNode):
+            root = subject
+            for depth, parent in enumerate(self._referrers(subject)):
+                line = self._lookup(*parent)
+                root = parent[0]
+                if line is not None or depth > 20:
+                    break
+            if line is None and isinstance(root, BNode):
+                line = self._full_index().axiom_line(self._named_closure(root))
+        return line
+
+    #: Turtle files at least this big are indexed only for the subjects asked about.
+    TARGETED_BYTES = 4_000_000
+
+    def prepare_lines(self, subjects: Iterable) -> None:  # noqa: ANN001
+        """Index, in one pass over a big Turtle file, the statements of ``subjects`` (and of
+        the named nodes blank ones hang off), before asking their lines one by one."""
+        if self._index is not None or not self._targeted():
+            return
+        wanted = set()
+        for s in subjects:
+            if isinstance(s, BNode):
+                wanted.update(p[0] for p in self._referrers(s) if isinstance(p[0], URIRef))
+            elif isinstance(s, URIRef):
+                wanted.add(s)
+        self._scan(wanted - self._covered)
+
+    def warm_lines(self) -> None:
+        """Get ready for line look-ups without indexing anything yet (a big Turtle file is
+        read and its directives found; see :meth:`prepare_lines`)."""
+        if self._index is None:
+            self._targeted()
+
+    def _lookup(self, subject, predicate=None, obj=None) -> int | None:  # noqa: ANN001
+        if self._index is None and self._targeted():
+            if isinstance(subject, URIRef) and subject not in self._covered:
+                self._scan({subject})
+            return self._partial.lookup(subject, predicate, obj) if self._partial is not None else None
+        return self._full_index().lookup(subject, predicate, obj)
+
+    def _full_index(self) -> LineIndex:
+        if self._index is None:
+            with gc_paused():
+                self._index = self._build_index()
+        return self._index
+
+    def _targeted(self) -> bool:
+        """True for a big Turtle/N-Triples file (without @base, which the scan does not follow)."""
+        if self._mode is None:
+            self._mode = "full"
+            if self.format not in ("turtle", "ntriples"):
+                return False
+            try:
+                if self.path.stat().st_size < self.TARGETED_BYTES:
+                    return False
+                text = self.path.read_bytes().decode("utf-8-sig")
+            except (OSError, UnicodeDecodeError):
+                return False
+            target = TargetedTurtleIndex(text, self.path.resolve().as_uri())
+            if target.usable:
+                self._partial, self._target, self._mode = LineIndex(), target, "targeted"
+        return self._mode == "targeted"
+
+    def _scan(self, subjects: set) -> None:
+        if subjects:
+            with gc_paused():
+                self._target.index(subjects, self._partial)
+            self._covered |= subjects
+
+    def _named_closure(self, node: BNode, limit: int = 10_000) -> set[URIRef]:
+        """Named non-vocabulary terms reachable from a blank node (what its axiom mentions)."""
+        found: set[URIRef] = set()
+        seen, stack = {node}, [node]
+        while stack and len(seen) < limit:
+            for p, o in self.view().predicate_objects(stack.pop()):
+                if isinstance(o, BNode) and o not in seen:
+                    seen.add(o)
+                    stack.append(o)
+                for term in (p, o):
+                    if isinstance(term, URIRef) and not str(term).startswith(_VOCABULARY):
+                        found.add(term)
+        return found
+
+    def _referrers(self, node: BNode):  # noqa: ANN202
+        seen = {node}
+        while isinstance(node, BNode):
+            parent = next(iter(self.view().subject_predicates(node)), None)
+            if parent is None or parent[0] in seen:
+                return
+            seen.add(parent[0])
+            yield parent
+            node = parent[0]
+
+    def _build_index(self) -> LineIndex:
+        try:
+            text = self.path.read_bytes().decode("utf-8-sig")
+        except (OSError, UnicodeDecodeError):
+            return LineIndex()
+        if self.format == "ofn":
+            text, _ = strip_slash_comments(text, self.path)
+        return build_index(text, self.format, self.path.resolve().as_uri())
+
+
+class KnowledgeBase:
+    """Sources (named files first, then resolved imports) and the union of their triples.
+
+    ``graph`` is built on first use (validation never asks for it). With a single source it
+    is that source's graph (the same object, not a copy).
+    """
+
+    def __init__(self, sources: list[Source], graph: Graph | None = None) -> None:
+        self.sources = sources
+        self._graph = graph
+
+    def __repr__(self) -> str:
+        return f"KnowledgeBase({self.sources!r})"
+
+    @property
+    def graph(self) -> Graph:
+        """The union of all sources' triples as one rdflib graph."""
+        if self._graph is None:
+            with gc_paused():
+                self._graph = _union(self.sources)
+        return self._graph
+
+    def source_of(self, subject, predicate=None, obj=None) -> tuple[Source, int | None] | None:  # noqa: ANN001
+        """The source stating (s,p,o) / (s,p) / something about s, preferring named files."""
+        for source in self.sources:
+            if (subject, predicate, obj) in source.graph:
+                return source, source.line_of(subject, predicate, obj)
+        return None
+
+    @property
+    def warnings(self) -> list[Diagnostic]:
+        """Every source's warnings, in source order."""
+        return [w for s in self.sources for w in s.warnings]
+
+
+def catalog() -> dict[str, Path]:
+    """Ontology IRI (and known aliases) -> shipped file."""
+    kitting = ontology_path("kitting.ttl")
+    return {
+        ns.KITTING_ONTOLOGY: kitting,
+        ns.SOAP_ONTOLOGY: ontology_path("soap.ttl"),
+        ns.KITTING_DOMAIN_ONTOLOGY: ontology_path("kitting-domain.ttl"),
+        ns.NIST_ONTOLOGY: kitting,
+    }
+
+
+def load_file(path: str | Path) -> Source:
+    """Read one file (any supported format); InputError if it is missing or malformed."""
+    with gc_paused():
+        return _load_file(Path(path))
+
+
+def _load_file(path: Path) -> Source:
+    try:
+        data = path.read_bytes()
+    except FileNotFoundError:
+        raise InputError("no such file", path) from None
+    except IsADirectoryError:
+        raise InputError("is a folder, not a file", path) from None
+    except OSError as exc:
+        raise InputError(f"cannot read: {exc.strerror or exc}", path) from None
+    text = decode(data, path)
+    fmt = detect_format(text, path)
+    warnings: list[Diagnostic] = []
+    if fmt == "ofn":
+        text, warnings = strip_slash_comments(text, path)
+    terms: dict[str, URIRef] = {}
+    prefixes: dict[str, str] = {}
+    triples = parse_text(text, fmt, path, terms, prefixes, raw=data)
+    a, ontology, imports_ = (terms.get(str(t)) for t in (RDF.type, OWL.Ontology, OWL.imports))
+    onto = next((s for s, p, o in triples if o is ontology and p is a), None) if ontology is not None else None
+    imports = [str(o) for s, p, o in triples if p is imports_ and s == onto] if imports_ is not None else []
+    ontology_iri = str(onto) if isinstance(onto, URIRef) else None
+    return Source(path, fmt, None, ontology_iri, imports, warnings, triples=triples, prefixes=prefixes)
+
+
+def load(paths: Sequence[str | Path], *, resolve_imports: bool = True) -> KnowledgeBase:
+    """Load the named files and (transitively) their imports into one knowledge base."""
+    unique: dict[Path, Path] = {}
+    for p in paths:
+        unique.setdefault(Path(p).resolve(), Path(p))
+    sources = [load_file(p) for p in unique.values()]
+    named = list(sources)
+    if resolve_imports:
+        seen_paths = {s.path.resolve() for s in sources}
+        seen_iris = {s.ontology_iri for s in sources if s.ontology_iri}
+        queue = list(sources)
+        while queue:
+            importer = queue.pop(0)
+            for iri in importer.imports:
+                if iri in seen_iris:
+                    continue
+                target = resolve_import(iri, importer, named)
+                if target is None:
+                    importer.warnings.append(_unresolved(iri, importer))
+                    continue
+                if target.resolve() in seen_paths:
+                    continue
+                if not target.is_file():
+                    importer.warnings.append(_unresolved(iri, importer, f" (catalog file {target.name} missing)"))
+                    continue
+                seen_paths.add(target.resolve())
+                source = load_file(target)
+                seen_iris.update(i for i in (iri, source.ontology_iri) if i)
+                sources.append(source)
+                queue.append(source)
+    return KnowledgeBase(sources)
+
+
+def _union(sources: list[Source]) -> Graph:
+    if len(sources) == 1:
+        return sources[0].graph
+    return new_graph(t for source in sources for t in source.triples())
+
+
+def resolve_import(iri: str, importer: Source, named: Sequence[Source]) -> Path | None:
+    """The file an ``owl:imports`` IRI stands for (rules in the module docstring), or None."""
+    table = catalog()
+    bare = iri.rstrip("#/")
+    if bare in table:
+        return table[bare]
+    for source in named:
+        if source.ontology_iri and source.ontology_iri.rstrip("#/") == bare:
+            return source.path
+    name = _file_name(bare)
+    if name == _NIST_MODEL_FILE:
+        return table[ns.KITTING_ONTOLOGY]
+    if not name:
+        return None
+    for source in named:
+        if source.path.name == name:
+            return source.path
+    sibling = importer.path.parent / name
+    return sibling if sibling.is_file() else None
+
+
+def _file_name(iri: str) -> str:
+    """Last path segment of an IRI (no folders, no traversal), '' if there is none."""
+    path = unquote(urlsplit(iri).path)
+    name = path.rsplit("/", 1)[-1]
+    return "" if name in ("", ".", "..") or "\\" in name else name
+
+
+def _unresolved(iri: str, importer: Source, extra: str = "") -> Diagnostic:
+    line = importer.line_of(URIRef(importer.ontology_iri), OWL.imports, URIRef(iri)) if importer.ontology_iri else None
+    return Diagnostic(str(importer.path), line, "warning", f"import <{iri}> not resolved{extra}; "
+                      "only shipped ontologies and files named on the command line are used",
+                      rule="unresolved-import")

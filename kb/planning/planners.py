@@ -1,0 +1,172 @@
+"""Planners: choose one for a problem, run it, validate its plan, write the plan file.
+
+The planner is chosen by unified-planning's factory: the first engine of its preference list
+(Fast Downward first) that is installed, plans in one shot and declares support for the
+problem's kind, so a classical STRIPS problem goes to Fast Downward and a numeric one to
+ENHSP. ``name`` overrides the choice.
+
+A plan is written only after unified-planning's sequential plan validator accepted it,
+one action per line as in the seeds: ``(take-part robot_1 part_e1 ptr_e part_gripper)``.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from kb.core.errors import ConfigurationError, KitkbError, NotSolvableError
+from kb.core.files import write_atomic
+from kb.patches.unified_planning import environment, validator_speedups
+
+#: Which PyPI package provides a unified-planning engine.
+PACKAGES = {
+    "fast-downward": "up-fast-downward", "fast-downward-opt": "up-fast-downward",
+    "enhsp": "up-enhsp", "enhsp-opt": "up-enhsp", "enhsp-any": "up-enhsp",
+    "pyperplan": "up-pyperplan", "pyperplan-opt": "up-pyperplan",
+    "tamer": "up-tamer", "lpg": "up-lpg", "aries": "up-aries", "symk": "up-symk",
+}
+#: Engine parameters kitkb passes. Fast Downward: lazy greedy best-first search with one FF
+#: heuristic, also used for preferred operators (plans at or near the minimum length here, without
+#: LAMA's landmark generation, which costs seconds on large kits); the translator skips
+#: invariant synthesis and causal-graph variable reordering, which cost more than they
+#: save on this domain (see docs/benchmarks.md).
+PARAMS: dict[str, dict[str, Any]] = {
+    # ENHSP: greedy search with the MRP heuristic and helpful actions; its default
+    # configuration needs minutes on kitkb's numeric encoding of a two-kit scenario.
+    "enhsp": {"params": "-planner sat-hmrphj"},
+    "fast-downward": {
+        # ``let`` shares one FF heuristic between the open list and the preferred operators
+        # (``[ff()], preferred=[ff()]`` builds two and evaluates every state twice).
+        "fast_downward_search_config": "let(h,ff(),lazy_greedy([h],preferred=[h]))",
+        "fast_downward_translate_options": [
+            "--invariant-generation-max-candidates", "0", "--skip-variable-reordering"],
+    },
+}
+
+
+@dataclass
+class PlanResult:
+    """What a planning run produced: the plan's lines and where the time went."""
+
+    planner: str
+    lines: list[str]
+    status: str
+    times: dict[str, float] = field(default_factory=dict)
+
+
+def choose_planner(problem: Any, name: str | None = None) -> str:
+    """The engine to use for ``problem``: ``name`` if given (installed and able), else the
+    first engine unified-planning's factory finds applicable to the problem's kind."""
+    from unified_planning.engines import OperationMode
+
+    factory = environment().factory
+    applicable = factory.get_all_applicable_engines(problem.kind, OperationMode.ONESHOT_PLANNER)
+    if name is not None:
+        if name not in factory.engines:
+            raise _not_installed(name)
+        if name not in applicable:
+            raise ConfigurationError(f"planner {name} does not support this problem "
+                                     f"({_missing_features(factory.engine(name), problem.kind)})")
+        return name
+    if not applicable:
+        features = ", ".join(sorted(problem.kind.features))
+        raise ConfigurationError(f"no installed planner supports this problem ({features}); "
+                                 "install up-fast-downward (classical) or up-enhsp (numeric)")
+    return applicable[0]
+
+
+def _missing_features(engine: Any, kind: Any) -> str:
+    missing = sorted(set(kind.features) - set(engine.supported_kind().features))
+    return "it lacks " + ", ".join(missing) if missing else "it does not plan in one shot"
+
+
+def _not_installed(name: str) -> ConfigurationError:
+    package = PACKAGES.get(name)
+    hint = f"pip install {package}" if package else "see unified-planning's list of engines"
+    return ConfigurationError(f"planner {name} is not installed ({hint})")
+
+
+def solve(problem: Any, planner: str, timeout: float | None = None, engine_defaults: bool = False) -> Any:
+    """Run ``planner`` on ``problem``; the plan, or NotSolvableError with the planner's status.
+
+    kitkb's :data:`PARAMS` are passed to the engine unless ``engine_defaults``.
+    """
+    from unified_planning.engines import PlanGenerationResultStatus as Status
+
+    factory = environment().factory
+    try:
+        engine_cm = factory.OneshotPlanner(name=planner, params=None if engine_defaults else PARAMS.get(planner))
+    except Exception as exc:  # an engine that cannot start (missing binary, Java, ...)
+        raise ConfigurationError(f"planner {planner} cannot start: {exc} "
+                                 f"(package {PACKAGES.get(planner, '?')})") from None
+    with engine_cm as engine:
+        try:
+            result = engine.solve(problem, timeout=timeout)
+        except FileNotFoundError as exc:
+            raise ConfigurationError(f"planner {planner} cannot run: {exc} (is Java installed for ENHSP?)") from None
+    ok = (Status.SOLVED_SATISFICING, Status.SOLVED_OPTIMALLY)
+    if result.status not in ok or result.plan is None:
+        detail = _last_log(result)
+        raise NotSolvableError(f"no plan: {planner} says {result.status.name}{detail}")
+    return result.plan
+
+
+def _last_log(result: Any) -> str:
+    """The planner's own words about the failure, if its log has them."""
+    lines = [line.strip() for m in (getattr(result, "log_messages", None) or [])
+             for line in m.message.splitlines()]
+    telling = [line for line in lines if "solution" in line.lower() or "unsolvable" in line.lower()]
+    return f" ({telling[-1][:200]})" if telling else ""
+
+
+def validate(problem: Any, plan: Any) -> None:
+    """Raise unless unified-planning's plan validator accepts ``plan`` for ``problem``."""
+    from unified_planning.engines import ValidationResultStatus
+    from unified_planning.engines.plan_validator import SequentialPlanValidator
+    from unified_planning.exceptions import UPUsageError
+
+    missing = sorted(set(problem.kind.features) - set(SequentialPlanValidator.supported_kind().features))
+    if missing:
+        raise KitkbError("unified-planning's plan validator cannot check this problem "
+                         f"({', '.join(missing)}); no plan written")
+    try:
+        with validator_speedups():
+            result = SequentialPlanValidator().validate(problem, plan)
+    except UPUsageError as exc:
+        raise KitkbError(f"unified-planning's plan validator cannot check this problem: {exc}") from None
+    if result.status != ValidationResultStatus.VALID:
+        reason = getattr(result, "reason", None) or getattr(result, "inapplicable_action", None) or ""
+        raise KitkbError(f"the planner's plan does not validate: {result.status.name} {reason}".strip())
+
+
+def plan_lines(plan: Any) -> list[str]:
+    """One ``(action arg ...)`` line per action of a sequential plan."""
+    lines = []
+    for ai in plan.actions:
+        args = " ".join(str(p.object()) if p.is_object_exp() else str(p) for p in ai.actual_parameters)
+        lines.append(f"({ai.action.name}{' ' + args if args else ''})")
+    return lines
+
+
+def write_plan(lines: list[str], path: str | Path) -> Path:
+    """Write the plan lines to ``path`` (atomically)."""
+    return write_atomic(path, "".join(line + "\n" for line in lines))
+
+
+def run(problem: Any, out: str | Path | None, planner: str | None = None,
+        timeout: float | None = None, engine_defaults: bool = False) -> PlanResult:
+    """Choose a planner, solve, validate, and write the plan to ``out`` (if given)."""
+    times: dict[str, float] = {}
+    t0 = time.perf_counter()
+    name = choose_planner(problem, planner)
+    plan = solve(problem, name, timeout, engine_defaults)
+    times["solve"] = time.perf_counter() - t0
+    t1 = time.perf_counter()
+    validate(problem, plan)
+    times["validate"] = time.perf_counter() - t1
+    lines = plan_lines(plan)
+    if out is not None:
+        write_plan(lines, out)
+    return PlanResult(name, lines, "valid", times)

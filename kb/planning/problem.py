@@ -1,0 +1,248 @@
+"""Read a planning problem (:class:`ProblemSpec`) from an initial and a goal state file.
+
+Objects are the individuals whose class falls under a domain type; the initial facts and
+function values come from :mod:`kb.planning.facts`; the goal puts every kit of the goal
+file where the goal file puts it, with the parts its kit design asks for
+(``quantity = capacity`` for every SKU of the design).
+"""
+
+from __future__ import annotations
+
+import sys
+from dataclasses import dataclass, field
+from itertools import product
+from pathlib import Path
+from typing import Sequence
+
+from rdflib import Graph, URIRef
+from rdflib.namespace import RDF
+
+from kb.core.errors import InputError
+from kb.core.namespaces import local_name
+from kb.io.loader import load
+from kb.model.soap import DomainSpec
+from kb.planning import facts
+from kb.planning.state import ClassTree, World, pddl_name
+
+
+@dataclass
+class ProblemSpec:
+    """Objects, initial state and goal read from a workstation's init and goal files.
+
+    ``objects`` maps a PDDL object name to (domain type IRI, individual IRI).
+    ``facts`` are ground atoms true initially, ``values`` ground function values,
+    ``goal`` ground atoms, ``goal_equal`` pairs of ground terms that must be equal.
+    ``quota`` lists, per (function, args), the objects that may fill it (STRIPS tokens).
+    """
+
+    name: str
+    objects: dict[str, tuple[str, str]] = field(default_factory=dict)
+    facts: set[tuple[str, ...]] = field(default_factory=set)
+    values: dict[tuple[str, ...], float] = field(default_factory=dict)
+    goal: list[tuple[str, ...]] = field(default_factory=list)
+    goal_equal: list[tuple[tuple[str, ...], tuple[str, ...]]] = field(default_factory=list)
+    quota: dict[tuple[str, ...], list[str]] = field(default_factory=dict)
+    shortage: list[str] = field(default_factory=list)  # quotas that cannot be filled
+    sources: dict[str, str] = field(default_factory=dict)  # what -> file:line it came from
+
+
+
+def load_world(paths: Sequence[str | Path], tree: ClassTree, like: World | None = None) -> World:
+    """The :class:`World` of one state given as one or more files.
+
+    With ``like`` (the initial state), individuals are renamed to the IRIs ``like`` uses for
+    the same local names: for state files that describe one workstation in two namespaces,
+    as NIST's initial and goal files do.
+    """
+    kb = load(list(paths), resolve_imports=False)
+    first = kb.sources[0]
+    graph = kb.graph if like is None else _aligned(kb.graph, like)
+    return World(graph, first.path, tree, first.line_of)
+
+
+def _aligned(graph: Graph, like: World) -> Graph:
+    """``graph`` with subjects renamed to ``like``'s IRIs of the same local name, if any differ."""
+    typed = {s for s in graph.subjects(RDF.type) if isinstance(s, URIRef)}
+    known_subjects = set(like.g.subjects(RDF.type))
+    strangers = typed - known_subjects
+    if not strangers:
+        return graph
+    known = {pddl_name(s): s for s in known_subjects if isinstance(s, URIRef)}
+    alias = {s: known[pddl_name(s)] for s in strangers if pddl_name(s) in known}
+    if not alias:
+        return graph
+    out = Graph()
+    for s, p, o in graph:
+        out.add((alias.get(s, s), p, alias.get(o, o)))
+    return out
+
+
+def used_types(domain: DomainSpec) -> set[str]:
+    """Types that appear in parameters, predicates or functions (objects are typed with these)."""
+    out = {t for a in domain.actions for _n, t in a.params}
+    out |= {t for s in domain.predicates.values() for t in s.arg_types}
+    out |= {t for s in domain.functions.values() for t in s.arg_types}
+    return out
+
+
+def read_problem(domain: DomainSpec, init: World, goal: World, name: str = "kitting") -> ProblemSpec:
+    """The problem of going from ``init`` to ``goal`` in ``domain`` (numeric form)."""
+    spec = ProblemSpec(name)
+    names = _objects(spec, init, goal)
+    for pred in domain.predicates.values():
+        rule = facts.PREDICATES.get(pred.name)
+        if rule is None:
+            print(f"warning: no rule reads predicate {pred.name} from a state file; false initially",
+                  file=sys.stderr)
+            continue
+        for args in rule(init, goal):
+            spec.facts.add((pred.name, *(_named(names, a, goal, pred.name) for a in args)))
+    for fn in domain.functions.values():
+        rule_f = facts.FUNCTIONS.get(fn.name)
+        if rule_f is None:
+            raise InputError(f"no rule reads function {fn.name} from a state file")
+        for args, value in rule_f(init, goal):
+            spec.values[(fn.name, *(_named(names, a, goal, fn.name) for a in args))] = value
+        _zero_fill(spec, domain, fn.name, fn.arg_types)
+    _goal(spec, domain, init, goal, names)
+    return spec
+
+
+def _named(names: dict[URIRef, str], node: URIRef, goal: World, used_by: str) -> str:
+    """The object name of ``node``; InputError if it is not an object of either state."""
+    try:
+        return names[node]
+    except KeyError:
+        raise InputError(f"{pddl_name(node)} (needed for {used_by}) is not an object of the initial "
+                         "state", goal.path, goal.line_of(node)) from None
+
+
+def _zero_fill(spec: ProblemSpec, domain: DomainSpec, function: str, arg_types: tuple[str, ...]) -> None:
+    """Give every other grounding of a numeric function the value 0.
+
+    PDDL leaves unset numeric fluents undefined, and unified-planning's simulator (hence its
+    plan validator) refuses problems with undefined numeric values; the functions of the
+    kitting domain range over kits, SKUs and trays, so this adds few values.
+    """
+    def is_a(cls: str | None, target: str) -> bool:
+        while cls is not None and cls != target:
+            cls = domain.types.get(cls)
+        return cls == target
+
+    pools = [[n for n, (cls, _iri) in spec.objects.items() if is_a(cls, t)] for t in arg_types]
+    for args in product(*pools):
+        spec.values.setdefault((function, *args), 0)
+
+
+def _objects(spec: ProblemSpec, init: World, goal: World) -> dict[URIRef, str]:
+    """Object names for the individuals of both states.
+
+    An individual of the goal file is the object of the initial state with the same IRI;
+    only kits may be new in the goal (a kit is made from a kit tray during the plan).
+    """
+    names: dict[URIRef, str] = {}
+    taken: set[str] = set()
+
+    def add(s: URIRef, kind: str, state: World) -> None:
+        name = pddl_name(s)
+        if name.lower() in taken:
+            raise InputError(f"two individuals are both called {name}", state.path, state.line_of(s))
+        taken.add(name.lower())
+        names[s] = name
+        spec.objects[name] = (kind, str(s))
+
+    for s, kind in sorted(init.kind.items(), key=lambda kv: str(kv[0])):
+        add(s, kind, init)
+    for s, kind in sorted(goal.kind.items(), key=lambda kv: str(kv[0])):
+        if s in names:
+            known = spec.objects[names[s]][0]
+            if known != kind:
+                raise InputError(f"{names[s]} is a {local_name(kind)} in the goal state but a "
+                                 f"{local_name(known)} in the initial state", goal.path, goal.line_of(s))
+        elif kind == facts.KIT:
+            add(s, kind, goal)
+        else:
+            raise InputError(f"{pddl_name(s)} is in the goal state but not in the initial state (no <{s}> "
+                             "there); if both files describe one workstation in two namespaces, as NIST's "
+                             "do, match individuals by local name (--match-names)",
+                             goal.path, goal.line_of(s))
+    return names
+
+
+def _goal(spec: ProblemSpec, domain: DomainSpec, init: World, goal: World,
+          names: dict[URIRef, str]) -> None:
+    kits = goal.of(facts.KIT)
+    if not kits:
+        raise InputError("the goal state has no kit (nothing to build)", goal.path)
+    for pred in ("kit-location-lbwk", "kit-location-worktable"):
+        if pred in domain.predicates:
+            for kit, where in facts.PREDICATES[pred](goal, goal):
+                spec.goal.append((pred, names[kit], names[where]))
+    counted = [f for f in domain.functions.values() if f.kind == "CountExpression"]
+    designs = [f for f in domain.functions.values() if f.kind == "DesignCountExpression"]
+    free, used = _free_parts(init), set()
+    for f in counted:
+        for cap in (d for d in designs if d.arg_types == f.arg_types):
+            for kit in kits:
+                need = facts.design_counts(init, goal, kit)
+                if not need:
+                    raise InputError(f"kit {names[kit]} has no kit design with parts (hasKit_Design)",
+                                     goal.path, goal.line_of(kit))
+                for sku in sorted(need, key=str):
+                    args = (names[kit], names[sku])
+                    spec.goal_equal.append(((f.name, *args), (cap.name, *args)))
+                    tokens = _tokens(init, goal, kit, sku, need[sku], names, free, used)
+                    spec.quota[(f.name, *args)] = tokens
+                    if len(tokens) < need[sku] - len(_already(init, kit, sku)):
+                        spec.shortage.append(f"kit {args[0]} needs {need[sku]} part(s) of {args[1]}; "
+                                             f"only {len(tokens)} more can be found in parts trays")
+
+
+def _already(init: World, kit: URIRef, sku: URIRef) -> list[URIRef]:
+    return facts.parts_in(init, kit, sku) if kit in init.kind else []
+
+
+def _tokens(init: World, goal: World, kit: URIRef, sku: URIRef, need: int, names: dict[URIRef, str],
+            free: dict[URIRef, list[URIRef]], used: set[URIRef]) -> list[str]:
+    """The parts that will fill (kit, sku): the goal file's choice first, then other parts.
+
+    Only parts lying in a parts tray in the initial state can be taken, so only those are
+    candidates; a part the goal file names but that is elsewhere is replaced by another of
+    the same SKU (parts of one SKU are interchangeable).
+    """
+    already = _already(init, kit, sku)
+    wanted = [p for p in _goal_parts(goal, kit).get(sku, []) if p not in already]
+    missing = need - len(already)
+    available = free.get(sku, [])
+    in_trays = set(available)
+    out: list[str] = []
+    for p in [p for p in wanted if p in in_trays] + available:
+        if len(out) >= missing:
+            break
+        if p in names and p not in used:
+            out.append(names[p])
+            used.add(p)
+    return out
+
+
+def _goal_parts(goal: World, kit: URIRef) -> dict[URIRef, list[URIRef]]:
+    """SKU -> parts the goal state puts in ``kit`` (placed in it, or listed by hasKit_Part)."""
+    cache = goal.memo.setdefault("goal_parts", {})
+    if kit not in cache:
+        by_sku: dict[URIRef, list[URIRef]] = {}
+        seen: set[URIRef] = set()
+        for p in facts.parts_in(goal, kit) + goal.values(kit, facts.KTW.hasKit_Part):
+            if p not in seen:
+                seen.add(p)
+                by_sku.setdefault(goal.value(p, facts.KTW.hasSkuObject_Sku), []).append(p)
+        cache[kit] = by_sku
+    return cache[kit]
+
+
+def _free_parts(init: World) -> dict[URIRef, list[URIRef]]:
+    """SKU -> parts lying in parts trays in the initial state, in tray and name order."""
+    free: dict[URIRef, list[URIRef]] = {}
+    for tray in init.of(facts.TRAY):
+        for p in facts.parts_in(init, tray):
+            free.setdefault(init.value(p, facts.KTW.hasSkuObject_Sku), []).append(p)
+    return free

@@ -1,0 +1,228 @@
+"""Compile a SHACL shapes graph into Shape objects the engine evaluates in bulk.
+
+A shape the engine cannot evaluate exactly like pySHACL (an unknown SHACL parameter, a
+complex property path, a custom constraint component, ``$shapesGraph``/``$currentShape`` in
+a SPARQL query) is recorded in :attr:`Program.unsupported` with the reason; the engine hands
+every top-level shape that reaches such a shape to pySHACL instead.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+
+from rdflib import RDF, RDFS, BNode, Graph, Literal, URIRef
+from rdflib.collection import Collection
+from rdflib.term import Node
+
+from kb.core.namespaces import SH
+from kb.shacl import constraints as C
+from kb.shacl.shape import Constraint, Shape
+from kb.shacl.sparql import SparqlC, compile_sparql
+from kb.shacl.terms import key_of
+TARGET_PREDICATES = (SH.targetClass, SH.targetNode, SH.targetSubjectsOf, SH.targetObjectsOf)
+
+#: SHACL predicates that may appear on a shape and that the engine understands.
+KNOWN = {
+    RDF.type, SH.path, SH.deactivated, SH.severity, SH.message, SH.name, SH.description,
+    SH.order, SH.group, SH.defaultValue, SH.prefixes, SH.ignoredProperties, SH.flags,
+    SH.property, SH.node, SH["not"], SH["and"], SH["or"], SH.xone, SH["class"], SH.datatype,
+    SH.nodeKind, SH.minCount, SH.maxCount, SH.minExclusive, SH.minInclusive, SH.maxExclusive,
+    SH.maxInclusive, SH.minLength, SH.maxLength, SH.pattern, SH["in"], SH.hasValue, SH.closed,
+    SH.sparql, *TARGET_PREDICATES,
+}
+
+
+@dataclass
+class Program:
+    """Compiled shapes: the target-bearing shapes and what the engine cannot do itself."""
+
+    shapes: dict[Node, Shape]
+    top: list[tuple[Shape, dict[URIRef, list[str]]]]
+    unsupported: dict[Node, str]
+
+    def sparql_constraints(self) -> list[Constraint]:
+        return [c for s in self.shapes.values() for c in s.constraints if isinstance(c, SparqlC)]
+
+
+def _list(g: Graph, head: Node) -> list[Node]:
+    try:
+        return list(Collection(g, head))
+    except Exception:  # malformed list: nothing to compare against
+        return []
+
+
+def _custom_parameters(g: Graph) -> set[Node]:
+    params: set[Node] = set()
+    for comp in g.subjects(RDF.type, SH.ConstraintComponent):
+        for p in g.objects(comp, SH.parameter):
+            params.update(g.objects(p, SH.path))
+    return params
+
+
+class Compiler:
+    """Turns shape nodes of one shapes graph into :class:`Shape` objects (memoised)."""
+
+    def __init__(self, g: Graph, *, rdf11_strings: bool, prefixes: dict[str, str]) -> None:
+        self.g = g
+        self.rdf11 = rdf11_strings
+        self.prefixes = prefixes
+        self.shapes: dict[Node, Shape] = {}
+        self.custom = _custom_parameters(g)
+
+    def key(self, term: Node) -> str:
+        return key_of(term, rdf11_strings=self.rdf11)
+
+    def shape(self, node: Node) -> Shape:
+        found = self.shapes.get(node)
+        if found is not None:
+            return found
+        s = self.shapes[node] = Shape(node)
+        self._fill(s)
+        return s
+
+    def _one(self, node: Node, pred: URIRef) -> Node | None:
+        vals = list(self.g.objects(node, pred))
+        return vals[0] if vals else None
+
+    def _fill(self, s: Shape) -> None:
+        g, n = self.g, s.node
+        for p in set(g.predicates(n)):
+            if p in self.custom:
+                s.problems.append(f"custom constraint component parameter {p}")
+            elif str(p).startswith(str(SH)) and p not in KNOWN:
+                s.problems.append(f"unsupported SHACL parameter {p}")
+        deact = self._one(n, SH.deactivated)
+        s.deactivated = isinstance(deact, Literal) and deact.value is True
+        sev = self._one(n, SH.severity)
+        if isinstance(sev, URIRef):
+            s.severity = sev
+        msgs = sorted(str(m) for m in g.objects(n, SH.message))
+        s.message = msgs[0] if msgs else None
+        path = self._one(n, SH.path)
+        if path is not None:
+            s.path_node = path
+            if isinstance(path, URIRef):
+                s.path = ("pred", self.key(path))
+            else:
+                inv = self._one(path, SH.inversePath)
+                if isinstance(inv, URIRef) and len(set(g.predicates(path))) == 1:
+                    s.path = ("inv", self.key(inv))
+                else:
+                    s.problems.append(f"property path {path} is neither a predicate nor an inverse predicate")
+                    s.path = ("pred", "<urn:kitkb:unsupported-path>")
+        self._constraints(s)
+
+    def _constraints(self, s: Shape) -> None:
+        g, n, add = self.g, s.node, s.constraints.append
+        for cls in g.objects(n, SH["class"]):
+            add(C.ClassC(s, self.key(cls)))
+        for dt in g.objects(n, SH.datatype):
+            add(C.DatatypeC(s, self.key(dt)))
+        for kind in g.objects(n, SH.nodeKind):
+            add(C.NodeKindC(s, kind))
+        for which in ("min", "max"):
+            for v in g.objects(n, SH[which + "Count"]):
+                limit = C.literal_int(v)
+                if limit is None:
+                    s.problems.append(f"sh:{which}Count {v} is not an integer")
+                else:
+                    add(C.CountC(s, which, limit))
+            for v in g.objects(n, SH[which + "Length"]):
+                limit = C.literal_int(v)
+                if limit is None:
+                    s.problems.append(f"sh:{which}Length {v} is not an integer")
+                else:
+                    add(C.LengthC(s, which, limit))
+        for which in ("minExclusive", "minInclusive", "maxExclusive", "maxInclusive"):
+            for v in g.objects(n, SH[which]):
+                add(C.RangeC(s, which, v))
+        flags = self._one(n, SH.flags)
+        for pat in g.objects(n, SH.pattern):
+            add(C.PatternC(s, str(pat), str(flags) if flags is not None else None))
+        for head in g.objects(n, SH["in"]):
+            add(C.InC(s, [self.key(m) for m in _list(g, head)]))
+        for hv in g.objects(n, SH.hasValue):
+            add(C.HasValueC(s, self.key(hv)))
+        for other in g.objects(n, SH.node):
+            add(C.NodeC(s, self._ref(s, other)))
+        for other in g.objects(n, SH["not"]):
+            add(C.NotC(s, self._ref(s, other)))
+        for which in ("and", "or", "xone"):
+            for head in g.objects(n, SH[which]):
+                add(C.ListC(s, which, [self._ref(s, m) for m in _list(g, head)]))
+        props = list(g.objects(n, SH.property))
+        closed = self._one(n, SH.closed)
+        if isinstance(closed, Literal) and closed.value is True:
+            allowed = {self.key(p) for p in (self._one(ps, SH.path) for ps in props) if isinstance(p, URIRef)}
+            for head in g.objects(n, SH.ignoredProperties):
+                allowed.update(self.key(m) for m in _list(g, head))
+            add(C.ClosedC(s, allowed))
+        for ps in props:
+            add(C.PropertyC(s, self._ref(s, ps)))
+        if (n, SH.sparql, None) in g:
+            for cnode in g.objects(n, SH.sparql):
+                c, problem = compile_sparql(g, self.prefixes, s, cnode)
+                if problem:
+                    s.problems.append(problem)
+                elif c is not None:
+                    add(c)
+
+    def _ref(self, s: Shape, other: Node) -> Shape:
+        ref = self.shape(other)
+        s.refs.append(ref)
+        return ref
+
+
+def _reachable_problems(s: Shape) -> list[str]:
+    """Problems of ``s`` and of the shapes it reaches; a reference cycle is one too."""
+    found: list[str] = []
+    done: set[int] = set()
+    on_path: set[int] = set()
+
+    def visit(cur: Shape) -> None:
+        if id(cur) in on_path:
+            found.append(f"{cur.node}: recursive shape reference (pySHACL's recursion rule applies)")
+            return
+        if id(cur) in done:
+            return
+        on_path.add(id(cur))
+        found.extend(f"{cur.node}: {p}" for p in cur.problems)
+        for ref in cur.refs:
+            visit(ref)
+        on_path.discard(id(cur))
+        done.add(id(cur))
+
+    visit(s)
+    return found
+
+
+def _implicit_class_target(g: Graph, n: Node) -> bool:
+    if not ((n, RDF.type, SH.NodeShape) in g or (n, RDF.type, SH.PropertyShape) in g):
+        return False
+    classes = set(g.subjects(RDFS.subClassOf, RDFS.Class)) | {RDFS.Class}
+    return any(t in classes for t in g.objects(n, RDF.type))
+
+
+def compile_program(g: Graph, *, rdf11_strings: bool, prefixes: dict[str, str]) -> Program:
+    """Compile every shape of ``g`` that has a target (and the shapes they reach)."""
+    comp = Compiler(g, rdf11_strings=rdf11_strings, prefixes=prefixes)
+    heads: set[Node] = set()
+    for p in TARGET_PREDICATES:
+        heads.update(g.subjects(p, None))
+    for n in set(g.subjects(RDF.type, None)):
+        if _implicit_class_target(g, n):
+            heads.add(n)
+    top: list[tuple[Shape, dict[URIRef, list[str]]]] = []
+    unsupported: dict[Node, str] = {}
+    for head in sorted(heads, key=lambda h: (isinstance(h, BNode), str(h))):
+        s = comp.shape(head)
+        problems = _reachable_problems(s)
+        if problems:
+            unsupported[head] = "; ".join(problems)
+            continue
+        targets = {p: [comp.key(o) for o in g.objects(head, p)] for p in TARGET_PREDICATES}
+        if _implicit_class_target(g, head):
+            targets[SH.targetClass].append(comp.key(head))
+        top.append((s, targets))
+    return Program(comp.shapes, top, unsupported)

@@ -1,0 +1,272 @@
+"""From SHACL results and rule findings to the report: messages, lines, compact names.
+
+:func:`diagnostics` turns the results of one SHACL run over one file into
+:class:`kb.core.diagnostics.Diagnostic` objects (rule names, messages that name the offending
+node, source lines), dropping results that repeat or only follow from another finding;
+:func:`dedupe` makes the report one line per problem; :class:`Namer` spells terms the way
+the file does (``:part_a_1``, ``ktw:Point``).
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+from typing import Any, Iterable
+
+from rdflib import OWL, RDF, RDFS, XSD, Graph, Literal, URIRef
+from rdflib.collection import Collection
+from rdflib.term import Node
+
+from kb.core.diagnostics import Diagnostic
+from kb.core.namespaces import NAMESPACE_MAP, NIST_SOAP, PREFIXES, SH
+from kb.model.owl import is_w3c
+from kb.shacl import ShaclResult
+from kb.validation import rules
+from kb.validation.shapes import EXPECTS, SHAPES_NS
+from kb.validation.suggest import closest
+
+RULE = URIRef(SHAPES_NS + "rule")
+
+
+_COMPONENT_RULES = {
+    "MinCount": "min-count", "QualifiedMinCount": "min-count", "MaxCount": "max-count",
+    "QualifiedMaxCount": "max-count", "Datatype": "datatype", "In": "enumeration", "Class": "class",
+    "NodeKind": "node-kind", "Closed": "closed", "Not": "disjoint-classes", "MinExclusive": "value-range",
+    "MinInclusive": "value-range", "MaxExclusive": "value-range", "MaxInclusive": "value-range",
+    "Pattern": "pattern", "SPARQL": "sparql", "Or": "datatype",
+}
+
+
+def diagnostics(results: Iterable[ShaclResult], src: Any, data: Graph, shapes: Graph,
+                 namer: "Namer", ctx: rules.RuleContext) -> list[Diagnostic]:
+    """The report lines of the SHACL ``results`` for ``src`` (``data``: what was validated)."""
+    out = []
+    for r in _one_closed_result_each(results, data, shapes):
+        comp = str(r.component).rpartition("#")[2].removesuffix("ConstraintComponent")
+        rule = str(shapes.value(r.source_shape, RULE) or _COMPONENT_RULES.get(comp, comp.lower()))
+        if comp == "Or" and _or_has_class(shapes, r.source_shape):
+            rule = "class"
+        if isinstance(r.path, Node) and shapes.value(r.path, SH.inversePath) is not None:
+            rule = "inverse-functional"
+        if _suppressed(rule, r, ctx, namer, src, data) or not _mentions(rules.graph_of(src), r.focus):
+            continue
+        message = _message(rule, r, src, data, shapes, namer)
+        severity = "warning" if r.severity in (SH.Warning, SH.Info) else "error"
+        out.append(Diagnostic(str(src.path), _result_line(rule, r, src, data), severity,  # type: ignore[arg-type]
+                              message, rule, namer.name(r.focus, src)))
+    return out
+
+
+def _one_closed_result_each(results: Iterable[ShaclResult], data: Graph, shapes: Graph) -> list[ShaclResult]:
+    """Keep one sh:closed result per (focus, path, value): the shape of an asserted class if any.
+
+    An individual of a subclass is a focus of each superclass's shape, so a stray property is
+    reported by several of them; the report names the individual's own class.
+    """
+    out: list[ShaclResult] = []
+    closed: dict[tuple, ShaclResult] = {}
+    for r in results:
+        if not str(r.component).endswith("ClosedConstraintComponent"):
+            out.append(r)
+            continue
+        key = (r.focus, r.path, r.value)
+        asserted = shapes.value(r.source_shape, SH.targetClass) in set(data.objects(r.focus, RDF.type))
+        if key not in closed or asserted:
+            closed[key] = r
+    return out + list(closed.values())
+
+
+def _mentions(g: Any, node: Node) -> bool:
+    """True when ``node`` occurs in ``g`` (results about other files' nodes belong there)."""
+    return (node, None, None) in g or (None, None, node) in g
+
+
+def _or_has_class(shapes: Graph, shape: Node) -> bool:
+    """True when the shape's sh:or alternatives are sh:class constraints (an object range)."""
+    for head in shapes.objects(shape, SH["or"]):
+        if any(shapes.value(alt, SH["class"]) is not None for alt in Collection(shapes, head)):
+            return True
+    return False
+
+
+def _suppressed(rule: str, r: ShaclResult, ctx: rules.RuleContext, namer: "Namer", src: Any,
+                data: Graph) -> bool:
+    """Drop a SHACL result that only repeats or follows from a Python rule's finding.
+
+    A stray property is already an ``unknown-property``; a reference to an unknown individual
+    or to one typed with an unknown class is already reported; a required property that is
+    missing because it is misspelt (``hasPoint_x`` for ``hasPoint_X``) is the typo's report.
+    """
+    known = ctx.model.properties.keys() | ctx.model.annotation_properties
+    if rule == "closed" and isinstance(r.path, URIRef):
+        return r.path not in known
+    if rule == "class" and isinstance(r.value, URIRef):
+        types = {t for _, t in _types_of(data, r.value)}
+        return r.value not in ctx.individuals or any(t not in ctx.model.classes for t in types)
+    if rule == "min-count" and isinstance(r.path, URIRef):
+        stray = [p for p in set(data.predicates(r.focus, None)) if not is_w3c(p) and p not in known]
+        want = namer.name(r.path, src)
+        return any(closest(namer.name(p, src), [want]) == want for p in stray)
+    return False
+
+
+def _types_of(data: Graph, node: Node) -> list[tuple[Node, URIRef]]:
+    return [(node, t) for t in data.objects(node, RDF.type)
+            if isinstance(t, URIRef) and t not in rules.META_TYPES and not is_w3c(t)]
+
+
+def _message(rule: str, r: ShaclResult, src: Any, data: Graph, shapes: Graph, namer: "Namer") -> str:
+    f = namer.name(r.focus, src)
+    p = namer.name(r.path, src) if isinstance(r.path, URIRef) else ""
+    v = namer.name(r.value, src) if r.value is not None else ""
+    expects = str(shapes.value(r.source_shape, EXPECTS) or "")
+    classes = _classes_of(shapes, r.source_shape)
+    if rule == "class" and classes:  # spelled with the file's prefixes
+        expects = "an individual of " + " or ".join(namer.name(c, src) for c in classes)
+    if rule == "min-count":
+        n = shapes.value(r.source_shape, SH.minCount) or shapes.value(r.source_shape, SH.qualifiedMinCount)
+        want = f" ({expects})" if expects else ""
+        return f"{f} lacks {p}: at least {n or 1} value(s) required{want}"
+    if rule == "max-count":
+        n = shapes.value(r.source_shape, SH.maxCount) or shapes.value(r.source_shape, SH.qualifiedMaxCount)
+        k = len(set(data.objects(r.focus, r.path))) if isinstance(r.path, URIRef) else "too many"
+        return f"{f} has {k} values of {p}, at most {n} allowed"
+    if rule == "inverse-functional":
+        inv = shapes.value(r.path, SH.inversePath)
+        owners = sorted(namer.name(s, src) for s in data.subjects(inv, r.focus))
+        return f"{f} is the {namer.name(inv, src)} of more than one individual ({', '.join(owners)})"
+    if rule in ("datatype", "enumeration", "value-range", "class", "node-kind", "pattern"):
+        extra = ""
+        if rule == "class" and isinstance(r.value, URIRef):
+            types = sorted(namer.name(t, src) for t in data.objects(r.value, RDF.type)
+                           if not is_w3c(t))
+            extra = f" (it is {', '.join(types)})" if types else ""
+        return f"{p} of {f} is {v}{extra}, expected {expects or rule}"
+    if rule == "closed":
+        cls = namer.name(shapes.value(r.source_shape, SH.targetClass), src)
+        return f"{f} may not have {p}: not a property of {cls} (nor of its superclasses or subclasses)"
+    if rule == "disjoint-classes":
+        types = sorted(namer.name(t, src) for t in data.objects(r.focus, RDF.type) if not is_w3c(t))
+        return f"{f} is typed with disjoint classes ({', '.join(types)})"
+    template = _sparql_message(shapes, r.source_shape)
+    if template:
+        return template.replace("{$this}", f).replace("{?this}", f).replace("{?value}", v) \
+            .replace("{$value}", v)
+    return f"{f}: {r.message}"
+
+
+def _classes_of(shapes: Graph, shape: Node) -> list[Node]:
+    """The sh:class values of a shape, directly or as sh:or alternatives."""
+    found = list(shapes.objects(shape, SH["class"]))
+    for head in shapes.objects(shape, SH["or"]):
+        found += [c for alt in Collection(shapes, head) for c in shapes.objects(alt, SH["class"])]
+    return found
+
+
+def _sparql_message(shapes: Graph, shape: Node) -> str:
+    for c in shapes.objects(shape, SH.sparql):
+        msg = shapes.value(c, SH.message)
+        if msg is not None:
+            return str(msg)
+    msg = shapes.value(shape, SH.message)
+    return str(msg) if msg is not None else ""
+
+
+def _result_line(rule: str, r: ShaclResult, src: Any, data: Graph) -> int | None:
+    if rule == "inverse-functional":
+        lines = [line_of(src, s, None, None) for s in data.subjects(None, r.focus)]
+        found = [n for n in lines if n]
+        return max(found) if found else line_of(src, r.focus, None, None)
+    if rule == "max-count" and isinstance(r.path, URIRef):  # point at the last (extra) value
+        found = [n for o in data.objects(r.focus, r.path) if (n := line_of(src, r.focus, r.path, o))]
+        if found:
+            return max(found)
+    if rule in ("min-count", "disjoint-classes") or not isinstance(r.path, URIRef):
+        return line_of(src, r.focus, RDF.type, None) or line_of(src, r.focus, None, None)
+    return line_of(src, r.focus, r.path, r.value) or line_of(src, r.focus, r.path, None) \
+        or line_of(src, r.focus, None, None)
+
+
+def line_of(src: Any, s: Node, p: Node | None, o: Node | None) -> int | None:
+    try:
+        return src.line_of(s, p, o)
+    except Exception:  # a loader that cannot place a node: file only
+        return None
+
+
+def dedupe(diags: list[Diagnostic]) -> list[Diagnostic]:
+    """One line per problem: the same rule, focus and message once; sorted by file and line."""
+    seen: dict[tuple, Diagnostic] = {}
+    for d in diags:
+        key = (d.file, d.rule, d.focus, d.message)
+        if key not in seen or (d.line or 0) < (seen[key].line or 0):
+            seen[key] = d
+    return sorted(seen.values(), key=lambda d: (d.file, d.line or 0, d.severity, d.message))
+
+
+# --- naming -----------------------------------------------------------------------------
+
+_NUMERIC = {XSD.decimal, XSD.integer, XSD.double, XSD.float, XSD.nonNegativeInteger, XSD.positiveInteger,
+            XSD.nonPositiveInteger, XSD.negativeInteger, XSD.long, XSD.int, XSD.short, XSD.byte}
+
+
+class Namer:
+    """Compact names: the file's own prefixes first (``:part_a_1``), then kitkb's (``ktw:Point``)."""
+
+    def __init__(self) -> None:
+        self._cache: dict[str, list[tuple[str, str]]] = {}
+        self._spaces = [(ns, p) for p, ns in sorted(PREFIXES.items(), key=lambda kv: -len(kv[1]))]
+        self._spaces += [(NIST_SOAP, "nistsoap"), (str(RDF), "rdf"), (str(RDFS), "rdfs"), (str(OWL), "owl"),
+                         ("http://www.w3.org/2001/XMLSchema#", "xsd")]
+
+    def name(self, term: Node | None, src: Any = None) -> str:
+        """``:local``, ``prefix:local``, a literal in Turtle, or ``<iri>``."""
+        if term is None:
+            return ""
+        if isinstance(term, Literal):
+            if term.datatype in _NUMERIC and term.value is not None:
+                return str(term)
+            if term.datatype is not None and term.datatype != XSD.string:
+                return f'"{term}"^^{self.name(term.datatype, src)}'
+            return f'"{term}"' + (f"@{term.language}" if term.language else "")
+        if not isinstance(term, URIRef):
+            return "[]"
+        text = str(term)
+        for ns, prefix in self._file_spaces(src) + self._spaces:
+            if text.startswith(ns) and len(text) > len(ns):
+                return f"{prefix}:{text[len(ns):]}"
+        return f"<{text}>"
+
+    def _file_spaces(self, src: Any) -> list[tuple[str, str]]:
+        if src is None or not hasattr(src, "path"):
+            return []
+        key = str(src.path)
+        if key not in self._cache:
+            self._cache[key] = _declared_prefixes(Path(key))
+        return self._cache[key]
+
+
+_PREFIX_PATTERNS = [re.compile(r"@prefix\s+([\w.-]*):\s*<([^>]*)>", re.I),
+                    re.compile(r"PREFIX\s+([\w.-]*):\s*<([^>]*)>", re.I),
+                    re.compile(r"Prefix\(\s*([\w.-]*):=\s*<([^>]*)>\s*\)"),
+                    re.compile(r"xmlns(?::([\w.-]+))?\s*=\s*\"([^\"]*)\"")]
+
+
+def _declared_prefixes(path: Path) -> list[tuple[str, str]]:
+    """The prefixes a file declares (last one wins), namespaces mapped as the loader maps them."""
+    try:
+        with path.open("rb") as f:  # the head only: a data file can be hundreds of megabytes
+            text = f.read(200_000).decode("utf-8", errors="replace")
+    except OSError:
+        return []
+    found: dict[str, str] = {}
+    for pattern in _PREFIX_PATTERNS:
+        for m in pattern.finditer(text):
+            prefix, ns = m.group(1) or "", m.group(2)
+            if ns and ns[-1] in "#/" and not is_w3c(URIRef(ns + "x")):
+                found[prefix] = NAMESPACE_MAP.get(ns, ns)
+    by_ns: dict[str, str] = {}
+    for prefix, ns in found.items():
+        if by_ns.get(ns) != "":  # prefer the default prefix for a namespace
+            by_ns[ns] = prefix
+    return sorted(((ns, p) for ns, p in by_ns.items()), key=lambda sp: -len(sp[0]))

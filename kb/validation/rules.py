@@ -1,0 +1,351 @@
+"""The validation rules that are not per-class SHACL shapes, as Python checks.
+
+Model-file rules: every property used is declared and has a domain and a range; the
+``has<Domain>_<Attribute>`` / ``hadBy<Attribute>_<Range>`` naming convention; every class
+sits in a declared hierarchy; datatypes used as ranges exist.
+
+Data-file rules: a data file declares no classes, properties or datatypes and adds no axioms
+to them; every ``rdf:type`` names a declared class; every property is declared; every
+reference names a declared individual; no individual is typed with an abstract class.
+
+Each check yields :class:`kb.core.diagnostics.Diagnostic` objects through a
+:class:`RuleContext`,
+which knows how to name terms compactly and where a triple sits in its file.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from typing import Any, Callable, Iterator
+
+from rdflib import OWL, RDF, RDFS, XSD, Graph, Literal, URIRef
+from rdflib.term import Node
+
+from kb.core.diagnostics import Diagnostic
+from kb.core.namespaces import KTW, local_name
+from kb.model.owl import OwlModel, is_w3c
+from kb.validation.suggest import closest
+
+#: Types that declare a vocabulary term (a file asserting them is defining the model).
+DECLARING_TYPES = {OWL.Class, RDFS.Class, OWL.ObjectProperty, OWL.DatatypeProperty,
+                   OWL.AnnotationProperty, RDFS.Datatype, RDF.Property}
+#: Predicates that state axioms about vocabulary terms.
+AXIOM_PREDICATES = {RDFS.subClassOf, RDFS.subPropertyOf, RDFS.domain, RDFS.range, OWL.equivalentClass,
+                    OWL.equivalentProperty, OWL.inverseOf, OWL.disjointWith, OWL.disjointUnionOf,
+                    OWL.hasKey, OWL.propertyChainAxiom}
+#: rdf:type values that do not make a subject an individual of a model class.
+META_TYPES = DECLARING_TYPES | {OWL.NamedIndividual, OWL.Ontology, OWL.Restriction, OWL.AllDifferent,
+                                OWL.AllDisjointClasses, OWL.AllDisjointProperties, OWL.Axiom,
+                                OWL.FunctionalProperty, OWL.InverseFunctionalProperty,
+                                OWL.TransitiveProperty, OWL.SymmetricProperty, OWL.AsymmetricProperty,
+                                OWL.ReflexiveProperty, OWL.IrreflexiveProperty, OWL.Thing}
+ABSTRACT = KTW.abstractClass
+
+_HAS = re.compile(r"^has([A-Z][A-Za-z0-9]*)_([A-Za-z0-9]+)$")
+_HADBY = re.compile(r"^hadBy([A-Z][A-Za-z0-9]*)_([A-Za-z0-9]+)$")
+
+
+def graph_of(src: Any) -> Any:
+    """What the checks query for ``src``: its :class:`kb.io.views.TripleView` when the source
+    offers one (cheap to build for big data files), else its rdflib graph."""
+    view = getattr(src, "view", None)
+    return view() if callable(view) else src.graph
+
+
+def individual_types(graph: Graph) -> Iterator[tuple[URIRef, URIRef]]:
+    """(individual, class) for every rdf:type triple naming a non-built-in class."""
+    model_class: dict[Node, bool] = {}
+    for s, o in graph.subject_objects(RDF.type):
+        ok = model_class.get(o)
+        if ok is None:
+            ok = model_class[o] = isinstance(o, URIRef) and o not in META_TYPES and not is_w3c(o)
+        if ok and isinstance(s, URIRef):
+            yield s, o
+
+
+def declared_terms(graph: Graph) -> dict[URIRef, URIRef]:
+    """Vocabulary terms a graph declares: term -> declaring type."""
+    out: dict[URIRef, URIRef] = {}
+    for t in DECLARING_TYPES:
+        for s in graph.subjects(RDF.type, t):
+            if isinstance(s, URIRef) and not is_w3c(s):
+                out.setdefault(s, t)
+    return out
+
+
+def is_data_graph(graph: Graph) -> bool:
+    """A data file holds an individual of a class it does not declare itself."""
+    declared = declared_terms(graph)
+    return any(c not in declared for _, c in individual_types(graph))
+
+
+@dataclass
+class RuleContext:
+    """What the checks need: the model, the names known, and where things are."""
+
+    model: OwlModel
+    individuals: set[URIRef]
+    name: Callable[[Node, Any], str]            # (term, source) -> compact name
+    locate: Callable[[Any, Node, Node | None, Node | None], int | None]  # (source, s, p, o) -> line
+    out: list[Diagnostic] = field(default_factory=list)
+
+    def report(self, source: Any, line: int | None, severity: str, message: str, rule: str,
+               focus: Node) -> None:
+        """Add one diagnostic about ``focus`` in ``source``."""
+        self.out.append(Diagnostic(str(source.path), line, severity, message, rule,  # type: ignore[arg-type]
+                                   self.name(focus, source)))
+
+
+# --- model files ------------------------------------------------------------------------
+
+def check_model_source(ctx: RuleContext, src: Any) -> None:
+    """Rules for a file that defines vocabulary."""
+    g: Graph = src.graph
+    declared = declared_terms(g)
+    for p, kind in sorted(declared.items()):
+        if kind in (OWL.ObjectProperty, OWL.DatatypeProperty):
+            _check_property(ctx, src, p)
+        elif kind in (OWL.Class, RDFS.Class):
+            _check_class(ctx, src, p)
+    _check_used_properties(ctx, src)
+    for node, pred, value, message in ctx.model.problems:
+        if (node, pred, value) in g:
+            ctx.report(src, ctx.locate(src, node, pred, value), "error", message, "malformed-axiom", node)
+
+
+def _check_property(ctx: RuleContext, src: Any, p: URIRef) -> None:
+    info = ctx.model.properties.get(p)
+    if info is None:
+        return
+    line = ctx.locate(src, p, RDF.type, None)
+    n = ctx.name(p, src)
+    if not info.domains:
+        ctx.report(src, line, "error", f"property {n} has no rdfs:domain", "property-domain", p)
+    if not info.ranges:
+        ctx.report(src, line, "error", f"property {n} has no rdfs:range", "property-range", p)
+    for c in info.domains:
+        if c not in ctx.model.classes and c != OWL.Thing:
+            ctx.report(src, ctx.locate(src, p, RDFS.domain, c), "error",
+                       f"domain of {n} is {ctx.name(c, src)}, which is not a declared class"
+                       + _hint(ctx, c, ctx.model.classes, src), "undeclared-class", p)
+    for r in info.ranges:
+        _check_range(ctx, src, p, info.kind, r)
+    _check_naming(ctx, src, p, line)
+
+
+def _check_range(ctx: RuleContext, src: Any, p: URIRef, kind: str, r: Node) -> None:
+    n = ctx.name(p, src)
+    if kind == "object" and r not in ctx.model.classes and r != OWL.Thing:
+        ctx.report(src, ctx.locate(src, p, RDFS.range, r), "error",
+                   f"range of {n} is {ctx.name(r, src)}, which is not a declared class"
+                   + _hint(ctx, r, ctx.model.classes, src), "undeclared-class", p)
+    if kind == "datatype" and isinstance(r, URIRef) and r not in ctx.model.datatypes \
+            and not str(r).startswith((str(XSD), str(RDF), str(RDFS))):
+        ctx.report(src, ctx.locate(src, p, RDFS.range, r), "error",
+                   f"range of {n} is {ctx.name(r, src)}, which is not a declared datatype"
+                   + _hint(ctx, r, ctx.model.datatypes, src), "undeclared-datatype", p)
+    if kind == "datatype" and isinstance(r, URIRef) and str(r).startswith(str(XSD)) \
+            and local_name(r) not in _XSD_TYPES:
+        ctx.report(src, ctx.locate(src, p, RDFS.range, r), "error",
+                   f"range of {n} is {ctx.name(r, src)}, which is not an XSD datatype"
+                   + _did(local_name(r), _XSD_TYPES, "xsd:"), "undeclared-datatype", p)
+
+
+_XSD_TYPES = ["string", "boolean", "decimal", "integer", "double", "float", "date", "time", "dateTime",
+              "dateTimeStamp", "duration", "NMTOKEN", "token", "normalizedString", "Name", "NCName",
+              "anyURI", "nonNegativeInteger", "positiveInteger", "negativeInteger", "nonPositiveInteger",
+              "long", "int", "short", "byte", "unsignedLong", "unsignedInt", "unsignedShort",
+              "unsignedByte", "hexBinary", "base64Binary", "language", "gYear", "gYearMonth"]
+
+
+def _check_naming(ctx: RuleContext, src: Any, p: URIRef, line: int | None) -> None:
+    """``hasD_A`` needs domain ``D``; ``hadByA_R`` needs range ``R`` and inverse ``hasR_A``."""
+    info = ctx.model.properties[p]
+    local, n = local_name(p), ctx.name(p, src)
+    m = _HAS.match(local)
+    if m and info.domains and m.group(1) not in {local_name(d) for d in info.domains}:
+        ctx.report(src, line, "error",
+                   f"{n} is named for domain {m.group(1)} but its domain is "
+                   f"{', '.join(ctx.name(d, src) for d in info.domains)}", "naming-convention", p)
+    m = _HADBY.match(local)
+    if not m:
+        return
+    attr, rng = m.group(1), m.group(2)
+    if info.ranges and rng not in {local_name(r) for r in info.ranges}:
+        ctx.report(src, line, "error",
+                   f"{n} is named for range {rng} but its range is "
+                   f"{', '.join(ctx.name(r, src) for r in info.ranges)}", "naming-convention", p)
+    if info.inverse_of is not None and local_name(info.inverse_of) != f"has{rng}_{attr}":
+        ctx.report(src, line, "error",
+                   f"{n} should be the inverse of has{rng}_{attr}, "
+                   f"but is the inverse of {ctx.name(info.inverse_of, src)}", "naming-convention", p)
+
+
+def _check_class(ctx: RuleContext, src: Any, c: URIRef) -> None:
+    info = ctx.model.classes.get(c)
+    if info is None:
+        return
+    for sup in sorted(info.supers):
+        if sup not in ctx.model.classes:
+            ctx.report(src, ctx.locate(src, c, RDFS.subClassOf, sup), "error",
+                       f"superclass {ctx.name(sup, src)} of {ctx.name(c, src)} is not a declared class"
+                       + _hint(ctx, sup, ctx.model.classes, src), "class-hierarchy", c)
+    if c in ctx.model.ancestors(c) or any(c in ctx.model.ancestors(s) for s in info.supers):
+        ctx.report(src, ctx.locate(src, c, RDF.type, None), "error",
+                   f"{ctx.name(c, src)} is its own superclass (a cycle in rdfs:subClassOf)",
+                   "class-hierarchy", c)
+
+
+def _check_used_properties(ctx: RuleContext, src: Any) -> None:
+    """Properties named in axioms (restrictions, inverses, keys) must be declared."""
+    g: Graph = src.graph
+    known = set(ctx.model.properties) | ctx.model.annotation_properties
+    used: list[tuple[Node, Node, URIRef]] = []
+    for s, o in g.subject_objects(OWL.onProperty):
+        used.append((s, OWL.onProperty, o))
+    for pred in (OWL.inverseOf, RDFS.subPropertyOf, OWL.equivalentProperty):
+        for s, o in g.subject_objects(pred):
+            used.append((s, pred, o))
+    for s, p, o in used:
+        if isinstance(o, URIRef) and o not in known and not is_w3c(o):
+            line = ctx.locate(src, s, p, o)
+            owner = s if isinstance(s, URIRef) else _owner(g, s)
+            ctx.report(src, line, "error",
+                       f"property {ctx.name(o, src)} is used but not declared"
+                       + _hint(ctx, o, known, src), "undeclared-property", owner or o)
+
+
+def _owner(g: Graph, node: Node) -> Node | None:
+    """The named class a blank restriction hangs off (for naming the focus)."""
+    for _ in range(6):
+        subjects = list(g.subjects(None, node))
+        if not subjects:
+            return None
+        node = subjects[0]
+        if isinstance(node, URIRef):
+            return node
+    return None
+
+
+# --- data files -------------------------------------------------------------------------
+
+def pairs_by_predicate(graph: Any, predicates: set[Node]) -> dict[Node, list[tuple[Node, Node]]]:
+    """(subject, object) pairs of each of ``predicates``; one pass over a
+    :class:`kb.io.views.TripleView` (no predicate index is built for a big data file)."""
+    out: dict[Node, list[tuple[Node, Node]]] = {p: [] for p in predicates}
+    spo = graph.by_subject() if hasattr(graph, "by_subject") else None
+    if spo is None:
+        for p in predicates:
+            out[p].extend(graph.subject_objects(p))
+        return out
+    wanted = frozenset(predicates)
+    for s, preds in spo.items():
+        if wanted.isdisjoint(preds):
+            continue
+        for p in wanted.intersection(preds):
+            pairs = out[p]
+            for o in preds[p]:
+                pairs.append((s, o))
+    return out
+
+
+def predicate_set(graph: Any) -> set[Node]:
+    """The predicates ``graph`` uses."""
+    spo = graph.by_subject() if hasattr(graph, "by_subject") else None
+    if spo is None:
+        return set(graph.predicates())
+    return set().union(*spo.values())
+
+
+def check_data_source(ctx: RuleContext, src: Any) -> None:
+    """Rules for a file that holds individuals of an imported model."""
+    g = graph_of(src)
+    for term, kind in sorted(declared_terms(g).items()):
+        ctx.report(src, ctx.locate(src, term, RDF.type, kind), "error",
+                   f"data file declares {ctx.name(kind, src)} {ctx.name(term, src)}: "
+                   "classes and properties belong in a model file", "data-declares-term", term)
+    object_props = {p for p, info in ctx.model.properties.items() if info.kind == "object"}
+    pairs = pairs_by_predicate(g, set(AXIOM_PREDICATES) | object_props)
+    for pred in sorted(AXIOM_PREDICATES):
+        for s, o in sorted(pairs[pred]):
+            if isinstance(s, URIRef):
+                what = "changes" if s in ctx.model.classes or s in ctx.model.properties else "states"
+                ctx.report(src, ctx.locate(src, s, pred, o), "error",
+                           f"data file {what} {ctx.name(s, src)} {ctx.name(pred, src)} {ctx.name(o, src)}: "
+                           "axioms belong in a model file", "data-declares-term", s)
+    _check_types(ctx, src)
+    _check_predicates(ctx, src)
+    _check_references(ctx, src, pairs)
+
+
+def _check_types(ctx: RuleContext, src: Any) -> None:
+    by_class: dict[URIRef, list[URIRef]] = {}
+    for s, c in individual_types(graph_of(src)):
+        by_class.setdefault(c, []).append(s)
+    true = Literal(True)
+    offenders = [(s, c) for c, members in by_class.items()
+                 if c not in ctx.model.classes or (c, ABSTRACT, true) in ctx.model.graph for s in members]
+    for s, c in sorted(offenders):
+        if c not in ctx.model.classes:
+            ctx.report(src, ctx.locate(src, s, RDF.type, c), "error",
+                       f"{ctx.name(s, src)} is typed {ctx.name(c, src)}, which is not a declared class"
+                       + _hint(ctx, c, ctx.model.classes, src), "unknown-class", s)
+        elif (c, ABSTRACT, Literal(True)) in ctx.model.graph:
+            ctx.report(src, ctx.locate(src, s, RDF.type, c), "warning",
+                       f"{ctx.name(s, src)} is typed {ctx.name(c, src)}, an abstract class: "
+                       "use one of its subclasses", "abstract-class", s)
+
+
+def _check_predicates(ctx: RuleContext, src: Any) -> None:
+    g = graph_of(src)
+    known = set(ctx.model.properties) | ctx.model.annotation_properties
+    headers = set(g.subjects(RDF.type, OWL.Ontology))
+    for p in sorted(predicate_set(g)):
+        if is_w3c(p) or p in known:
+            continue
+        for s in sorted(set(g.subjects(p, None)) - headers):
+            o = next(iter(g.objects(s, p)))
+            ctx.report(src, ctx.locate(src, s, p, o), "error",
+                       f"unknown property {ctx.name(p, src)} on {ctx.name(s, src)}"
+                       + _hint(ctx, p, known, src), "unknown-property", s)
+
+
+def _check_references(ctx: RuleContext, src: Any, pairs: dict[Node, list[tuple[Node, Node]]]) -> None:
+    for p, info in sorted(ctx.model.properties.items()):
+        if info.kind != "object":
+            continue
+        unknown = [(s, o) for s, o in pairs[p]
+                   if isinstance(o, URIRef) and o not in ctx.individuals and not _punned(ctx, o)]
+        for s, o in sorted(unknown):
+            ctx.report(src, ctx.locate(src, s, p, o), "error",
+                       f"unknown individual {ctx.name(o, src)} (object of {ctx.name(p, src)} on "
+                       f"{ctx.name(s, src)})" + _hint(ctx, o, ctx.individuals, src),
+                       "unknown-individual", s)
+
+
+def _punned(ctx: RuleContext, term: URIRef) -> bool:
+    """A class, property or datatype IRI used as an individual (OWL 2 punning) is declared."""
+    m = ctx.model
+    return term in m.classes or term in m.properties or term in m.datatypes
+
+
+# --- suggestions ------------------------------------------------------------------------
+
+def _hint(ctx: RuleContext, wrong: Node, pool: Any, src: Any) -> str:
+    """``, did you mean X?`` comparing compact names; same-namespace candidates first."""
+    names = {ctx.name(t, src): t for t in pool if isinstance(t, URIRef)}
+    want = ctx.name(wrong, src)
+    ns = str(wrong)[: len(str(wrong)) - len(local_name(wrong))]
+    same = [n for n, t in names.items() if str(t).startswith(ns)]
+    best = closest(want, same) or closest(want, names)
+    return f", did you mean {best}?" if best else ""
+
+
+def _did(name: str, pool: list[str], prefix: str) -> str:
+    best = closest(name, pool)
+    return f", did you mean {prefix}{best}?" if best else ""
+
+
+__all__ = ["RuleContext", "check_model_source", "check_data_source", "is_data_graph", "declared_terms",
+           "individual_types"]

@@ -1,0 +1,310 @@
+"""Closed-world validation of ontology files: ``kitkb validate FILE...``.
+
+:func:`validate` loads the files (with their imports), tells model files from data files,
+runs the Python rules of :mod:`kb.validation.rules`, generates SHACL shapes from the loaded
+OWL model (the shipped kitting model's shapes are checked in and cached), adds the
+hand-written rules of ``shapes/kitting-rules.ttl``, runs SHACL over each data file together
+with the model, and turns every finding into a :class:`kb.core.diagnostics.Diagnostic` with a
+file and line, in a :class:`ValidationReport` (which the command line prints; unusable input
+raises :class:`kb.core.errors.InputError`). See docs/validation.md for the rules.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import hashlib
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Iterable, NamedTuple, Sequence
+
+from rdflib import OWL, RDF, Graph, URIRef
+
+from kb import shacl
+from kb.core.diagnostics import Diagnostic
+from kb.core.errors import InputError
+from kb.core.memory import gc_paused
+from kb.core.namespaces import KTW, SH
+from kb.core.resources import ontologies_dir, ontology_path, scenario_dirs, shapes_path
+from kb.io.loader import load, load_file
+from kb.io.views import UnionView
+from kb.model.owl import OwlModel
+from kb.shacl import ShaclResult
+from kb.validation import rules
+from kb.validation.report import Namer, dedupe, diagnostics, line_of
+from kb.validation.shapes import DerivedShapes
+
+#: Hand-written shapes applied when the model holds the kitting vocabulary.
+KITTING_RULES = "kitting-rules.ttl"
+KITTING_SHAPES = "kitting-shapes.ttl"
+
+
+@dataclass
+class ValidationReport:
+    """What :func:`validate` found: diagnostics sorted by file and line."""
+
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    files: list[str] = field(default_factory=list)
+    seconds: float = 0.0
+
+    @property
+    def errors(self) -> list[Diagnostic]:
+        """The diagnostics of severity error."""
+        return [d for d in self.diagnostics if d.severity == "error"]
+
+    @property
+    def conforms(self) -> bool:
+        """True when nothing worse than a warning was found."""
+        return not self.errors
+
+    def summary(self) -> str:
+        """One phrase: ``conforms`` or ``3 errors, 1 warning``."""
+        n_err, n_warn = len(self.errors), len(self.diagnostics) - len(self.errors)
+        if not self.diagnostics:
+            return "conforms"
+        parts = [f"{n_err} error{'s' * (n_err != 1)}"] if n_err else ["conforms"]
+        if n_warn:
+            parts.append(f"{n_warn} warning{'s' * (n_warn != 1)}")
+        return ", ".join(parts)
+
+    def as_dict(self) -> dict[str, Any]:
+        """The report as plain data: ``conforms``, ``files``, ``counts`` by severity,
+        ``diagnostics`` (what ``kitkb validate --format json`` prints)."""
+        counts = {severity: 0 for severity in ("error", "warning", "info")}
+        for d in self.diagnostics:
+            counts[d.severity] = counts.get(d.severity, 0) + 1
+        return {"conforms": self.conforms, "files": list(self.files), "counts": counts,
+                "diagnostics": [dataclasses.asdict(d) for d in self.diagnostics]}
+
+
+def default_files() -> list[str]:
+    """The shipped model files and scenario files (what ``kitkb validate`` checks by default)."""
+    files = sorted(str(p) for p in ontologies_dir().glob("*.ttl"))
+    for d in scenario_dirs():
+        files += [str(p) for p in sorted(d.glob("*.ttl"))]
+    return files
+
+
+# --- validation -------------------------------------------------------------------------
+
+def validate(paths: Sequence[str | Path], *, shapes_files: Sequence[str | Path] | None = None
+             ) -> ValidationReport:
+    """Validate ``paths`` (model and data files) closed-world; see the module docstring.
+
+    ``shapes_files`` replaces the hand-written rule files (for tests); an empty shapes
+    graph raises :class:`InputError`.
+    """
+    started = time.perf_counter()
+    if not paths:
+        raise InputError("nothing to validate: no files given")
+    # millions of long-lived acyclic objects (terms, index dictionaries): the cyclic garbage
+    # collector would walk them all again and again, for nothing
+    with gc_paused():
+        return _validate(paths, shapes_files, started)
+
+
+def _validate(paths: Sequence[str | Path], shapes_files: Sequence[str | Path] | None,
+              started: float) -> ValidationReport:
+    kb = load([str(p) for p in paths])
+    given = {_key(p) for p in paths}
+    sources = [s for s in kb.sources if _key(s.path) in given] or list(kb.sources)
+    data = [s for s in kb.sources if rules.is_data_graph(rules.graph_of(s))]
+    model_graph = _merge(*(s.graph for s in kb.sources if s not in data))
+    model = OwlModel(model_graph)
+    namer = Namer()
+    later = _Deferred()
+    checked = {id(src): g for src in sources if (g := _shacl_data(src, data, model_graph)) is not None}
+    found: dict[int, list[ShaclResult]] = {}
+    shapes = None
+    pending: list[tuple[int, shacl.Finish]] = []
+    if checked or shapes_files is not None:
+        shapes = _shapes(model, shapes_files)
+        # the first file's SHACL run starts now (on a big file, part of it in a forked
+        # process), the Python rules run meanwhile; the other files follow one by one
+        todo = [src for src in sources if id(src) in checked]
+        if todo:
+            pending.append((id(todo[0]), shacl.start(checked[id(todo[0])], shapes)))
+        pending += [(id(src), functools.partial(_later_shacl, checked[id(src)], shapes)) for src in todo[1:]]
+    ctx = rules.RuleContext(model, _individuals(kb.sources), namer.name, later.locate)
+    for src in sources:
+        ctx.out.extend(getattr(src, "warnings", []) or [])
+        (rules.check_data_source if src in data else rules.check_model_source)(ctx, src)
+    for key, finish in pending:
+        # while a forked child is still evaluating, the big files get ready for line look-ups
+        found[key] = finish(functools.partial(later.warm, sources))
+    # every line asked for is looked up in one pass over each (big) file
+    for src in sources:
+        later.want(src, (r.focus for r in found.get(id(src), ())))
+        later.want(src, (s for r in found.get(id(src), ()) if r.path is not None and not isinstance(r.path, URIRef)
+                         for s in checked[id(src)].subjects(None, r.focus)))
+    later.prepare()
+    ctx.out = [later.resolve(d) for d in ctx.out]
+    ctx.locate = line_of
+    shacl_diags: list[Diagnostic] = []
+    for src in sources:
+        if id(src) in found:
+            g = checked[id(src)]
+            shacl_diags += diagnostics(found[id(src)], src, g, shapes, namer, ctx)
+    diags = dedupe(ctx.out + shacl_diags)
+    return ValidationReport(diags, [str(s.path) for s in sources], time.perf_counter() - started)
+
+
+class _Line(NamedTuple):
+    """A line not looked up yet: (source, s, p, o) of :func:`line_of`."""
+
+    src: Any
+    s: Any
+    p: Any
+    o: Any
+
+
+class _Deferred:
+    """Collects the line look-ups of the rules, so a big file is scanned once for all of them."""
+
+    def __init__(self) -> None:
+        self.subjects: dict[int, tuple[Any, set]] = {}
+
+    def locate(self, src: Any, s: Any, p: Any = None, o: Any = None) -> _Line:
+        self.want(src, [s])
+        return _Line(src, s, p, o)
+
+    def want(self, src: Any, subjects: Iterable[Any]) -> None:
+        self.subjects.setdefault(id(src), (src, set()))[1].update(subjects)
+
+    @staticmethod
+    def warm(sources: Iterable[Any]) -> None:
+        """Get the sources ready for line look-ups (read a big file, find its directives)."""
+        for src in sources:
+            warm = getattr(src, "warm_lines", None)
+            if warm is not None:
+                try:
+                    warm()
+                except Exception:  # only an optimisation, as in prepare()
+                    pass
+
+    def prepare(self) -> None:
+        for src, subjects in self.subjects.values():
+            prepare = getattr(src, "prepare_lines", None)
+            if prepare is not None:
+                try:
+                    prepare(subjects)
+                except Exception:  # only an optimisation: line_of looks up one by one
+                    pass
+
+    @staticmethod
+    def resolve(d: Diagnostic) -> Diagnostic:
+        if isinstance(d.line, _Line):
+            return dataclasses.replace(d, line=line_of(*d.line))
+        return d
+
+
+def _shacl_data(src: Any, data: list[Any], model_graph: Graph) -> Any:
+    """The graph SHACL checks for ``src``: a data file with the model (and data files it
+    imports); a model file holding individuals: the model; otherwise None (nothing to check)."""
+    if src in data:
+        imported = {str(i) for i in (getattr(src, "imports", None) or [])}
+        others = [rules.graph_of(d) for d in data if d is not src and str(getattr(d, "ontology_iri", "")) in imported]
+        return _union_view(model_graph, rules.graph_of(src), *others)
+    if any(True for _ in rules.individual_types(rules.graph_of(src))):
+        return model_graph
+    return None
+
+
+def _key(path: Any) -> str:
+    return str(Path(str(path)).resolve())
+
+
+def _merge(*graphs: Graph) -> Graph:
+    out = Graph()
+    for g in graphs:
+        for t in g:
+            out.add(t)
+    return out
+
+
+def _union_view(*graphs: Any) -> UnionView:
+    """A read-only union of graphs without copying them (queried by the reporter)."""
+    return UnionView(list(graphs))
+
+
+def _later_shacl(data: Any, shapes: Graph, meanwhile: Any = None) -> list[ShaclResult]:
+    """SHACL over ``data``, started when its results are wanted (``meanwhile`` runs first)."""
+    return shacl.start(data, shapes)(meanwhile)
+
+
+def _individuals(sources: Iterable[Any]) -> set[URIRef]:
+    """Individuals of all sources: subjects typed with a model class or owl:NamedIndividual."""
+    out: set[URIRef] = set()
+    for src in sources:
+        g = rules.graph_of(src)
+        out.update(s for s, _ in rules.individual_types(g))
+        out.update(s for s in g.subjects(RDF.type, OWL.NamedIndividual) if isinstance(s, URIRef))
+    return out
+
+
+# --- shapes -----------------------------------------------------------------------------
+
+def _signature(model: OwlModel) -> str:
+    terms = sorted(str(t) for t in [*model.classes, *model.properties, *model.datatypes])
+    return hashlib.sha1("\n".join(terms).encode()).hexdigest()
+
+
+@functools.lru_cache(maxsize=1)
+def _shipped_signature() -> str:
+    return _signature(OwlModel(load_file(ontology_path("kitting.ttl")).graph))
+
+
+@functools.lru_cache(maxsize=8)
+def _parse_shapes(path: str, mtime: float) -> Graph:
+    """A shapes file as an rdflib graph, read by kitkb's loader (pyoxigraph: a fifth of
+    the time of rdflib's Turtle parser; syntax errors come with their line)."""
+    try:
+        return load_file(path).graph
+    except InputError as exc:
+        raise InputError(f"cannot read shapes: {exc.message}", exc.file or path, exc.line) from None
+
+
+_generated: dict[str, Graph] = {}
+
+
+def _shapes(model: OwlModel, shapes_files: Sequence[str | Path] | None) -> Graph:
+    """Derived shapes for ``model`` plus the hand-written rule files; never empty."""
+    if not model.classes:
+        raise InputError("no model to validate against: the files declare no classes and import no "
+                         "model (add owl:imports <https://w3id.org/kitkb/kitting>)")
+    sig = _signature(model)
+    shipped = shapes_path(KITTING_SHAPES)
+    if sig == _shipped_signature() and shipped.exists():
+        generated = _parse_shapes(str(shipped), shipped.stat().st_mtime)
+    else:
+        if sig not in _generated:
+            _generated[sig] = DerivedShapes(model).graph()
+        generated = _generated[sig]
+    _require_shapes(generated, str(shipped))
+    extra = [Path(p) for p in shapes_files] if shapes_files is not None else (
+        [shapes_path(KITTING_RULES)] if any(str(c).startswith(str(KTW)) for c in model.classes) else [])
+    graphs = [generated]
+    for p in extra:
+        g = _parse_shapes(str(p), p.stat().st_mtime if p.exists() else 0.0)
+        _require_shapes(g, str(p))
+        graphs.append(g)
+    key = tuple(id(g) for g in graphs)
+    if key not in _merged:
+        _merged[key] = _merge(*graphs) if len(graphs) > 1 else generated
+    return _merged[key]
+
+
+_merged: dict[tuple[int, ...], Graph] = {}
+
+
+def _require_shapes(g: Graph, where: str) -> None:
+    shapes = set(g.subjects(RDF.type, SH.NodeShape)) | set(g.subjects(SH.targetClass, None)) \
+        | set(g.subjects(SH.targetNode, None)) | set(g.subjects(SH.targetSubjectsOf, None)) \
+        | set(g.subjects(SH.targetObjectsOf, None))
+    if not shapes:
+        raise InputError("no SHACL shapes found (is the sh: prefix right?); refusing to validate "
+                         "against an empty shapes graph", where)
+
+
+__all__ = ["ValidationReport", "validate", "default_files"]

@@ -1,0 +1,182 @@
+"""The world-model database: opening it (SQLite file or PostgreSQL URL), its version stamp,
+and how terms are keyed in it.
+
+A database carries the fingerprint of the schema it was made with (``kitkb_meta``); one made
+from another ontology version is refused with :class:`SchemaVersionError`. SQLite runs with
+real transactions (``BEGIN IMMEDIATE`` for writers), foreign keys on and WAL for files.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+from rdflib import BNode, URIRef
+from rdflib.term import Node
+from sqlalchemy import Engine, MetaData, create_engine, delete, event, insert, inspect, select
+from sqlalchemy.engine import Connection, make_url
+from sqlalchemy.exc import ArgumentError, DBAPIError, NoSuchModuleError, SQLAlchemyError
+
+from kb import __version__
+from kb.core.errors import InputError
+from kb.world.generated import accessors as gen
+from kb.world.schema import model
+
+#: Name of the SQLite file used when no database is given.
+DEFAULT_DB = "kitkb.sqlite"
+
+
+class SchemaVersionError(InputError):
+    """The database was made from another version of the ontology (or is not kitkb's)."""
+
+
+# --- opening a database -------------------------------------------------------------------------
+
+def normalize_url(url: str | Path) -> str:
+    """An SQLAlchemy URL; a plain path means an SQLite file."""
+    text = str(url)
+    if "://" in text or text.startswith("sqlite:"):
+        return text
+    return f"sqlite:///{Path(text).resolve()}"
+
+
+def safe_url(url: str) -> str:
+    """``url`` with any password hidden, for messages."""
+    try:
+        return make_url(url).render_as_string(hide_password=True)
+    except ArgumentError:
+        return url
+
+
+def open_engine(url: str | Path, must_exist: bool = False) -> Engine:
+    """An engine on ``url`` (SQLAlchemy URL or SQLite path); one-line :class:`InputError` if unusable.
+
+    ``must_exist``: refuse an SQLite file that does not exist (instead of creating it).
+    """
+    url = normalize_url(url)
+    path = sqlite_file(url) if "://" in url else None
+    if must_exist and path is not None and not path.is_file():
+        raise InputError(f"no such database file: {path}")
+    try:
+        parsed = make_url(url)
+        if parsed.get_backend_name() == "sqlite":
+            engine = create_engine(url, connect_args={"timeout": 60})
+            _sqlite_transactions(engine, parsed.database or "")
+        else:
+            engine = create_engine(url, pool_pre_ping=True)
+        with engine.connect():
+            pass
+    except (ArgumentError, NoSuchModuleError, ValueError) as exc:
+        raise InputError(f"bad database URL {safe_url(url)!r}: {first_line(exc)}") from None
+    except (DBAPIError, SQLAlchemyError) as exc:
+        raise InputError(f"cannot open database {safe_url(url)}: {first_line(exc)}") from None
+    except ImportError as exc:
+        raise InputError(f"cannot open database {safe_url(url)}: missing driver ({exc.name})") from None
+    return engine
+
+
+def first_line(exc: BaseException) -> str:
+    """The first line of a driver error (what a one-line message shows)."""
+    orig = getattr(exc, "orig", None) or exc
+    text = str(orig).strip().splitlines()
+    return text[0] if text else type(orig).__name__
+
+
+def _sqlite_transactions(engine: Engine, database: str) -> None:
+    """Real transactions on SQLite: BEGIN before DDL too, foreign keys on, WAL for files."""
+
+    @event.listens_for(engine, "connect")
+    def _connect(dbapi_conn: Any, _record: Any) -> None:
+        dbapi_conn.isolation_level = None  # we issue BEGIN ourselves (below)
+        cur = dbapi_conn.cursor()
+        cur.execute("PRAGMA foreign_keys = ON")
+        cur.execute("PRAGMA busy_timeout = 60000")
+        if database and database != ":memory:":
+            cur.execute("PRAGMA journal_mode = WAL")
+            cur.execute("PRAGMA synchronous = NORMAL")
+        cur.close()
+
+    @event.listens_for(engine, "begin")
+    def _begin(conn: Connection) -> None:
+        # A writer takes the write lock at BEGIN, so two writers queue instead of deadlocking.
+        conn.exec_driver_sql("BEGIN IMMEDIATE" if conn.get_execution_options().get("kitkb_write") else "BEGIN")
+
+
+def writing(conn: Connection) -> Connection:
+    """``conn`` marked as a writer (SQLite takes the write lock when it begins)."""
+    return conn.execution_options(kitkb_write=True)
+
+
+# --- version stamp ------------------------------------------------------------------------------
+
+def stamp(conn: Connection, **extra: str) -> None:
+    """Write the schema fingerprint and ontology versions into ``kitkb_meta``."""
+    values = {"schema_version": gen.SCHEMA_VERSION, "ontologies": json.dumps(gen.ONTOLOGIES),
+              "kitkb_version": __version__, "stable_state": "0", **extra}
+    meta = model().table("kitkb_meta")
+    conn.execute(delete(meta))
+    conn.execute(insert(meta), [{"key": k, "value": v} for k, v in sorted(values.items())])
+
+
+def read_meta(conn: Connection) -> dict[str, str]:
+    """The ``kitkb_meta`` entries."""
+    meta = model().table("kitkb_meta")
+    return {k: v for k, v in conn.execute(select(meta.c.key, meta.c.value))}
+
+
+def check_version(conn: Connection, url: str) -> None:
+    """Refuse a database that is not kitkb's or was made from another ontology version."""
+    names = set(inspect(conn).get_table_names())
+    if "kitkb_meta" not in names:
+        what = "is empty (load a data file first: kitkb db load FILE --db URL)" if not names else \
+            "is not a kitkb database (it has no kitkb_meta table)"
+        raise SchemaVersionError(f"database {safe_url(url)} {what}")
+    meta = read_meta(conn)
+    m = model()
+    if meta.get("schema_version") != m.version:
+        made = _versions(meta.get("ontologies", "[]"))
+        now = ", ".join(f"{i.rsplit('/', 1)[-1]} {v}" for i, v in gen.ONTOLOGIES)
+        raise SchemaVersionError(
+            f"database {safe_url(url)} was made from another ontology version ({made}, schema "
+            f"{meta.get('schema_version', '?')}); this kitkb uses {now} (schema {m.version}): "
+            f"load the data again into a new database")
+
+
+def _versions(text: str) -> str:
+    try:
+        return ", ".join(f"{i.rsplit('/', 1)[-1]} {v}" for i, v in json.loads(text)) or "unknown ontologies"
+    except (ValueError, TypeError):
+        return "unknown ontologies"
+
+
+def sqlite_file(url: str) -> Path | None:
+    """The file of an SQLite URL (None for another database or an in-memory one)."""
+    try:
+        parsed = make_url(url)
+    except ArgumentError:
+        return None
+    if parsed.get_backend_name() == "sqlite" and parsed.database not in (None, "", ":memory:"):
+        return Path(parsed.database)
+    return None
+
+
+def drop_all(url: str | Path) -> None:
+    """Drop every table of database ``url`` (kitkb's and any other): a clean slate for tests."""
+    engine = open_engine(url)
+    meta = MetaData()
+    meta.reflect(engine)
+    meta.drop_all(engine)
+    engine.dispose()
+
+
+# --- terms ------------------------------------------------------------------------------------
+
+def term_key(node: Node) -> str:
+    """How a node is written in IRI columns: the IRI, or ``_:label`` for a blank node."""
+    return f"_:{node}" if isinstance(node, BNode) else str(node)
+
+
+def key_term(key: str) -> URIRef | BNode:
+    """The node of a :func:`term_key` string."""
+    return BNode(key[2:]) if key.startswith("_:") else URIRef(key)
