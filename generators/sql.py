@@ -171,7 +171,8 @@ def _kitkb_tables(meta: MetaData) -> None:
 
 
 def ddl(meta: MetaData, dialect_name: str) -> str:
-    """The ``CREATE TABLE`` / ``CREATE INDEX`` script of ``meta`` for one dialect."""
+    """The ``CREATE TABLE`` / ``CREATE INDEX`` script of ``meta`` for one dialect, leaving
+    ``meta`` usable for other dialects (:func:`kb.patches.sqlalchemy.ddl_scope`)."""
     with ddl_scope(meta) as scoped:
         return _ddl(scoped, _dialect(dialect_name))
 
@@ -212,5 +213,6 @@ class SqlGenerator(Generator):
         """The DDL script (deterministic)."""
         header = (f"-- kitkb schema {self.schema.fingerprint()} for {self.dialect}, generated from "
                   + ", ".join(f"{iri} {ver}".strip() for iri, ver in self.schema.ontologies) + "\n\n")
+        # a metadata of its own: nothing else sees what DDL compilation does to it
         meta = build_metadata(self.schema, deferrable=self.dialect != "mysql")
-        return header + ddl(meta, self.dialect)
+        return header + _ddl(meta, _dialect(self.dialect))

@@ -1,7 +1,9 @@
 """kitkb: a knowledge base and reasoning framework for robotic kit building.
 
-The library is organised by what each module owns; see docs/architecture.md.
-Submodules are imported on use so that the ``kitkb`` command starts quickly.
+One package per concern, in layers that only import downwards (docs/architecture.md):
+``core`` < ``patches`` < ``io`` < ``model`` < ``shacl``, ``scenario``, ``spatial`` <
+``planning``, ``validation``, ``world`` < ``cli``. The emitters of derived files live in the
+separate ``generators`` package, which kb finds by name and never imports.
 """
 
 __version__ = "0.1.0"

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Idempotent set-up on a fresh clone: Java (HermiT, ENHSP), a venv with kitkb and its
-# dependencies. With --postgres also the PostgreSQL server package (started by test.sh).
+# dependencies at the versions of constraints.txt. With --postgres also the PostgreSQL server
+# package (started by test.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -30,9 +31,10 @@ if [ ! -x .venv/bin/python ]; then
     "$PY" -m venv .venv
 fi
 stamp=.venv/.kitkb-installed
-if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ]; then
+if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ] || [ constraints.txt -nt "$stamp" ]; then
     .venv/bin/python -m pip install -q --upgrade pip
-    .venv/bin/python -m pip install -q -e ".[test,postgres]"
+    # exact versions from constraints.txt (the ones kitkb's tests and patches were checked on)
+    .venv/bin/python -m pip install -q -c constraints.txt -e ".[test,postgres]"
     touch "$stamp"
 fi
 # byte-compile kitkb's own modules (PYTHONDONTWRITEBYTECODE=1 environments never cache

@@ -140,13 +140,14 @@ def test_cli_errors_are_one_line_exit_2(tmp_path, capsys):
     target = tmp_path / "w.sqlite"
     syntax = tmp_path / "broken.ttl"
     syntax.write_text("@prefix ktw: <https://w3id.org/kitkb/kitting#> .\n<a> ktw:x [ .\n")
+    (tmp_path / "a_file").write_text("")
     cases = [
         ["db", "load", str(tmp_path / "missing.ttl"), "--db", str(target)],
         ["db", "load", str(syntax), "--db", str(target)],
         ["db", "load", str(_bad_weight(tmp_path)), "--db", str(target)],
         ["db", "load", str(DATA_FILES[0]), "--db", "nosuchdialect://x/y"],
         ["db", "load", str(DATA_FILES[0]), "--db", "postgresql+psycopg2://nobody@127.0.0.1:9/none"],
-        ["db", "load", str(DATA_FILES[0]), "--db", str(tmp_path / "no" / "such" / "dir.sqlite")],
+        ["db", "load", str(DATA_FILES[0]), "--db", str(tmp_path / "a_file" / "under" / "w.sqlite")],
         ["db", "dump", "--db", str(tmp_path / "absent.sqlite"), "-o", str(tmp_path / "o.ttl")],
     ]
     for argv in cases:
@@ -158,7 +159,7 @@ def test_cli_errors_are_one_line_exit_2(tmp_path, capsys):
 
 
 def test_cli_load_and_dump(tmp_path, capsys):
-    target, out = tmp_path / "w.sqlite", tmp_path / "out.ttl"
+    target, out = tmp_path / "new" / "folder" / "w.sqlite", tmp_path / "out.ttl"  # folders are made
     assert main(["db", "load", str(DATA_FILES[0]), "--db", str(target)]) == 0
     assert "individuals" in capsys.readouterr().err
     assert main(["db", "dump", "--db", str(target), "-o", str(out)]) == 0

@@ -57,13 +57,9 @@ def _common() -> argparse.ArgumentParser:
     return common
 
 
-class _Formatter(argparse.RawDescriptionHelpFormatter):
-    pass
-
-
 def _sub(sub: Any, name: str, command: str, help: str, **kw: Any) -> argparse.ArgumentParser:
     p = sub.add_parser(name, help=help, description=kw.pop("description", help[:1].upper() + help[1:] + "."),
-                       epilog=EXIT_CODES, parents=[_common()], formatter_class=_Formatter, **kw)
+                       epilog=EXIT_CODES, parents=[_common()], **kw)
     p.set_defaults(command=command)
     return p
 
@@ -158,8 +154,7 @@ def _add_run(sub: Any) -> None:
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``kitkb`` command."""
-    parser = argparse.ArgumentParser(prog="kitkb", description=DESCRIPTION, epilog=EXIT_CODES,
-                                     formatter_class=_Formatter)
+    parser = argparse.ArgumentParser(prog="kitkb", description=DESCRIPTION, epilog=EXIT_CODES)
     parser.add_argument("-q", "--quiet", action="store_true", help="print no line on success")
     parser.add_argument("--traceback", action="store_true", help="show the Python traceback of an error")
     sub = parser.add_subparsers(dest="subcommand", required=True, metavar="COMMAND")

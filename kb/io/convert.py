@@ -36,8 +36,6 @@ def convert(in_path: Path, out_path: Path) -> int:
         raise InputError(f"unknown output extension '{out_path.suffix}' (use one of {known})", out_path)
     source = load_file(in_path)
     graph = output_graph(source)
-    if not out_path.parent.is_dir():
-        raise InputError("output folder does not exist", out_path)
     write_atomic(out_path, graph.serialize(format=fmt, encoding="utf-8"))
     return len(graph)
 

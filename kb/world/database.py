@@ -58,6 +58,11 @@ def open_engine(url: str | Path, must_exist: bool = False) -> Engine:
     path = sqlite_file(url) if "://" in url else None
     if must_exist and path is not None and not path.is_file():
         raise InputError(f"no such database file: {path}")
+    if path is not None and not path.parent.exists():
+        try:
+            path.parent.mkdir(parents=True)
+        except OSError as exc:
+            raise InputError(f"cannot create the folder of {path}: {exc.strerror or exc}") from None
     try:
         parsed = make_url(url)
         if parsed.get_backend_name() == "sqlite":
