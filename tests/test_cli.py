@@ -76,3 +76,26 @@ def test_goal_of_another_scenario_is_an_input_error_at_its_line(tmp_path: Path, 
         assert m, err
         assert f":{m.group(2)} " in goal.read_text().splitlines()[int(m.group(1)) - 1] + " "
     assert not (tmp_path / "p.txt").exists() and not (tmp_path / "pddl").exists()
+
+
+def test_quiet_main_job_prints_only_problems(tmp_path: Path, monkeypatch) -> None:
+    import io
+
+    import kb.cli.pipeline as pipeline
+
+    good = SCENARIOS["small-kit"]
+    bad = tmp_path / "scenarios" / "broken"
+    bad.mkdir(parents=True)
+    (bad / "init.ttl").write_text((good / "init.ttl").read_text().replace("hasPoint_X", "hasPoint_x", 1))
+    (bad / "goal.ttl").write_text((good / "goal.ttl").read_text())
+    for dirs, code in (([good], 0), ([good, bad], 1)):
+        monkeypatch.setattr(pipeline, "scenario_dirs", lambda dirs=dirs: dirs)
+        out = io.StringIO()
+        assert pipeline.run_main_job(out, tmp_path / "out", quiet=True) == code
+        lines = out.getvalue().splitlines()
+        if code == 0:
+            assert lines == []
+        else:
+            assert lines[-1] == "kitkb: main job found problems"
+            assert lines[:-1] and all(line.startswith("    broken: ") and ": error: " in line for line in lines[:-1])
+    assert (tmp_path / "out" / "small-kit" / "plan.txt").is_file()

@@ -27,68 +27,72 @@ from kb.world import WorldModel, load
 
 
 def run(output: str, out: Output) -> int:
-    """``kitkb run``: the main job, its progress on standard output (nothing with ``--quiet``
-    but the problems found)."""
-    return run_main_job(out.results if not out.quiet else _Problems(out.results), output)
+    """``kitkb run``: the main job, its progress on standard output (with ``--quiet`` only
+    the problems it finds)."""
+    return run_main_job(out.results, output, quiet=out.quiet)
 
 
-class _Problems:
-    """A stream that passes on only the lines about problems."""
+class _Progress:
+    """The main job's lines: stages (unless quiet) and problems (always)."""
 
-    def __init__(self, target: TextIO) -> None:
-        self.target = target
+    def __init__(self, out: TextIO, quiet: bool) -> None:
+        self.out, self.quiet = out, quiet
 
-    def write(self, text: str) -> None:
-        if ": error:" in text or ": warning:" in text or "found problems" in text:
-            self.target.write(text)
+    def say(self, text: str) -> None:
+        if not self.quiet:
+            print(text, file=self.out)
 
-    def flush(self) -> None:
-        self.target.flush()
+    def stage(self, label: str, started: float) -> None:
+        self.say(f"  {label} ({time.perf_counter() - started:.2f} s)")
+
+    def problem(self, text: str) -> None:
+        print(text, file=self.out)
 
 
-def _stage(out: TextIO, label: str, started: float) -> None:
-    print(f"  {label} ({time.perf_counter() - started:.2f} s)", file=out)
-
-
-def run_main_job(out: TextIO, out_dir: str | Path = "out") -> int:
+def run_main_job(out: TextIO, out_dir: str | Path = "out", quiet: bool = False) -> int:
     """Run every stage on the shipped scenarios; 0 when all succeeded, 1 otherwise."""
+    progress = _Progress(out, quiet)
     status = 0
     model = sorted(ontologies_dir().glob("*.ttl"))
     scenarios = scenario_dirs()
-    print(f"kitkb: main job on {len(scenarios)} shipped scenarios, outputs in {out_dir}/", file=out)
+    progress.say(f"kitkb: main job on {len(scenarios)} shipped scenarios, outputs in {out_dir}/")
     t = time.perf_counter()
     report = validate([str(p) for p in model])
-    _stage(out, f"model: {len(model)} files, {report.summary()}", t)
+    progress.stage(f"model: {len(model)} files, {report.summary()}", t)
+    for diag in report.diagnostics:
+        progress.problem("    " + diag.format())
     status |= 0 if report.conforms else 1
     for scenario in scenarios:
-        print(f"{scenario.name}:", file=out)
-        status |= _scenario(scenario, Path(out_dir) / scenario.name, out)
-    print("kitkb: main job " + ("succeeded" if status == 0 else "found problems"), file=out)
+        progress.say(f"{scenario.name}:")
+        status |= _scenario(scenario, Path(out_dir) / scenario.name, progress)
+    if status:
+        progress.problem("kitkb: main job found problems")
+    else:
+        progress.say("kitkb: main job succeeded")
     return status
 
 
-def _scenario(scenario: Path, target: Path, out: TextIO) -> int:
+def _scenario(scenario: Path, target: Path, progress: _Progress) -> int:
     init, goal = scenario / "init.ttl", scenario / "goal.ttl"
     t = time.perf_counter()
     report = validate([str(init), str(goal)])
-    _stage(out, f"validate: {report.summary()}", t)
+    progress.stage(f"validate: {report.summary()}", t)
     for diag in report.diagnostics:
-        print("    " + diag.format(), file=out)
+        progress.problem(f"    {scenario.name}: {diag.format()}")
     if not report.conforms:
         return 1
-    target.mkdir(parents=True, exist_ok=True)
     t = time.perf_counter()
     model = planning.kitting_model([init], [goal], "strips")
     get_generator("pddl")(model).write_outputs(target)
-    _stage(out, f"pddl: {target / 'domain.pddl'}, {target / 'problem.pddl'}", t)
+    progress.stage(f"pddl: {target / 'domain.pddl'}, {target / 'problem.pddl'}", t)
     t = time.perf_counter()
     result = planning.run(model.up_problem, target / "plan.txt")
-    _stage(out, f"plan: {len(result.lines)} actions by {result.planner}, validated -> {target / 'plan.txt'}", t)
+    progress.stage(f"plan: {len(result.lines)} actions by {result.planner}, validated -> {target / 'plan.txt'}", t)
     t = time.perf_counter()
     db_file = target / "world.sqlite"
     db_file.unlink(missing_ok=True)
     loaded = load(init, db_file)
     with WorldModel(db_file) as world:
         poses = world.global_poses()
-    _stage(out, f"world model: {loaded.individuals} individuals, {len(poses)} global poses -> {db_file}", t)
+    progress.stage(f"world model: {loaded.individuals} individuals, {len(poses)} global poses -> {db_file}", t)
     return 0
