@@ -152,10 +152,21 @@ def measure(label: str, parts: int, kits: int, args: argparse.Namespace, work: P
             "runs": len(walls), "plan_length": length,
             "minimum_length": minimum_length(parts, kits, per_part), "timing": timing,
             "load_before": os.getloadavg()[0], "date": dt.datetime.now(dt.timezone.utc).isoformat(timespec="seconds"),
-            "run": args.run,
+            "run": args.run, "cpu": cpu_model(),
         }
         print(json.dumps(results[key]), flush=True)
         save(results)
+
+
+def cpu_model() -> str:
+    """The processor's model name (``/proc/cpuinfo``), else the architecture."""
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.machine()
 
 
 def save(results: dict) -> None:
@@ -170,7 +181,8 @@ def fmt(value: float | None) -> str:
 def _cell(entry: dict | None, latest: str = "") -> str:
     if entry is None:
         return "not run"
-    earlier = f" ({entry['date'][:10]}, earlier run)" if latest and entry.get("run") != latest else ""
+    earlier = (f" ({entry['date'][:10]}, earlier run, {entry.get('cpu', 'AMD EPYC')})"
+               if latest and entry.get("run") != latest else "")
     if entry["wall_median"] is None:
         return entry["status"] + earlier
     return f"{fmt(entry['wall_median'])} ({fmt(entry['cpu_median'])}){earlier}"
@@ -235,7 +247,8 @@ cells marked "earlier run" were not re-run in the latest run (their date is give
 NIST's encoding with ENHSP under kitkb's ENHSP settings (`-planner sat-hmrphj`), and kitkb's own
 numeric encoding (`--encoding numeric`, ENHSP with kitkb's settings).
 
-Machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()};
+Machine of the latest run: {cpu_model()}, {os.cpu_count()} cores, Python {platform.python_version()} (an earlier
+run names its CPU: compare figures of one CPU);
 latest run {day}, shared with other jobs (1-minute load average {loads[0]:.1f} to {loads[-1]:.1f} on 2 cores when runs started):
 wall times are pessimistic and noisy, CPU times are the steadier measure.
 

@@ -428,9 +428,8 @@ def render(store: dict, info: dict) -> str:
             e2e_table(store),
             "",
         ]
-        notes = sorted({f"{n}: {v.get('date', '?')}, load average {v.get('load_average', '?')}"
-                        for n, v in store.items() if n.startswith("e2e:")})
-        parts += ["Runs (date, 1-minute load average when the run started):", ""]
+        notes = sorted({_run_note(n, v) for n, v in store.items() if n.startswith("e2e:")})
+        parts += ["Runs (date, 1-minute load average when the run started, CPU):", ""]
         parts += [f"- {n}" for n in notes] + [""]
         if store.get("e2e-note"):
             parts += [store["e2e-note"], ""]
@@ -440,12 +439,12 @@ def render(store: dict, info: dict) -> str:
                            ("synthetic", "Synthetic workstation (benchmarks/synthetic_kitting.py, 10 node shapes)")):
         if any(k.startswith(dataset + ":") for k in store):
             parts += [f"### {title}", "", table(store, dataset), ""]
-            notes = sorted({f"{n}: {v.get('date', '?')}, load average {v.get('load_average', '?')}"
-                            for n, v in store.items() if n.startswith(dataset + ":")})
-            parts += ["Runs (date, 1-minute load average when the run started):", ""]
+            notes = sorted({_run_note(n, v) for n, v in store.items() if n.startswith(dataset + ":")})
+            parts += ["Runs (date, 1-minute load average when the run started, CPU):", ""]
             parts += [f"- {n}" for n in notes] + [""]
     parts += [
-        f"Machine: {info['nproc']} cores, {info['memory_gb']} GB RAM, {info['cpu']}; Python {info['python']},",
+        f"Machines: {info['nproc']} cores, {info['memory_gb']} GB RAM (the CPU of each run is listed with it); "
+        f"Python {info['python']},",
         f"rdflib {info['rdflib']}, pySHACL {info['pyshacl']}, pyoxigraph {info['pyoxigraph']}.",
         "The machine was shared with other jobs while these ran (see the load averages): wall times",
         "are pessimistic and depend on the load at the time, so compare engines by the CPU columns",
@@ -453,6 +452,10 @@ def render(store: dict, info: dict) -> str:
         "",
     ]
     return "\n".join(parts)
+
+
+def _run_note(name: str, run: dict) -> str:
+    return f"{name}: {run.get('date', '?')}, load average {run.get('load_average', '?')}, {run.get('cpu', '?')}"
 
 
 def write_doc(section: str) -> None:
@@ -513,7 +516,7 @@ def main(argv: list[str] | None = None) -> None:
         out.mkdir(parents=True, exist_ok=True)
         spec = make_e2e(n, out)
         print(f"\n{n} parts end to end: {spec['data']} (injected {spec['injected']})")
-        stamp = {"date": dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+        stamp = {"cpu": info["cpu"], "date": dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
                  "load_average": round(os.getloadavg()[0], 1)}
         runs = [run_e2e(spec["data"]) for _ in range(3 if n <= 10000 else 1)]
         for r in runs:
@@ -528,7 +531,7 @@ def main(argv: list[str] | None = None) -> None:
         out.mkdir(parents=True, exist_ok=True)
         spec = make_real(n, out) if real else make_synthetic(n, out)
         print(f"\n{n} parts: {spec['data']} (injected {spec['injected']})")
-        stamp = {"date": dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+        stamp = {"cpu": info["cpu"], "date": dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
                  "load_average": round(os.getloadavg()[0], 1)}
         if "kitkb" in args.engines:
             runs = [run_child("kitkb", spec, None) for _ in range(args.repeat)]
