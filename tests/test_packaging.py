@@ -28,10 +28,15 @@ def wheel(tmp_path_factory: pytest.TempPathFactory) -> Path:
 @pytest.mark.slow
 def test_wheel_contains_ontologies_and_shapes(wheel: Path) -> None:
     names = zipfile.ZipFile(wheel).namelist()
-    shipped = [p.relative_to(REPO).as_posix() for d in ("ontologies", "shapes") for p in (REPO / d).rglob("*.ttl")]
-    assert shipped, "no shipped .ttl files found in the repository"
-    for rel in shipped:
-        assert f"kb/_data/{rel}" in names, f"{rel} missing from the wheel"
+    shipped = sorted(p.relative_to(REPO).as_posix() for d in ("ontologies", "shapes") for p in (REPO / d).rglob("*.ttl"))
+    assert shipped == sorted(
+        ["ontologies/kitting-domain.ttl", "ontologies/kitting.ttl", "ontologies/soap.ttl",
+         "shapes/kitting-rules.ttl", "shapes/kitting-shapes.ttl"]
+        + [f"ontologies/scenarios/{n}/{s}.ttl" for n in ("kit-a2b3c3d1e1", "small-kit", "two-designs")
+           for s in ("init", "goal")])
+    # the wheel carries exactly these (none missing, no stale extra)
+    assert sorted(n for n in names if n.startswith("kb/_data/") and n.endswith(".ttl")) == \
+        [f"kb/_data/{rel}" for rel in shipped]
 
 
 @pytest.mark.slow

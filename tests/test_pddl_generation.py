@@ -28,11 +28,15 @@ def test_shipped_scenarios_are_the_expected_ones() -> None:
 
 
 @lru_cache(maxsize=None)
-def texts(scenario: str, encoding: str) -> tuple[str, str]:
+def generator(scenario: str, encoding: str):  # noqa: ANN201
     from generators.pddl import PddlGenerator
 
     d = SCENARIOS[scenario]
-    domain, problem = PddlGenerator.from_files([d / "init.ttl"], [d / "goal.ttl"], encoding).texts()
+    return PddlGenerator.from_files([d / "init.ttl"], [d / "goal.ttl"], encoding)
+
+
+def texts(scenario: str, encoding: str) -> tuple[str, str]:
+    domain, problem = generator(scenario, encoding).texts()
     assert problem is not None
     return domain, problem
 
@@ -74,9 +78,11 @@ def test_problem_matches_golden_and_rereads(scenario: str, encoding: str) -> Non
     check_golden(f"{scenario}-{encoding}.pddl", problem)
     reread = PDDLReader().parse_problem_string(domain, problem)
     assert len(reread.actions) == 10
-    assert reread.goals
-    names = {o.name for o in reread.all_objects}
-    assert {"robot_1", "work_table_1", "part_gripper"} <= names
+    # UP reads back every object of kitkb's model and every goal atom written (as one conjunction)
+    assert sorted(o.name for o in reread.all_objects) == sorted(generator(scenario, encoding).model.problem.objects)
+    written = [line.strip() for line in problem.split("(:goal (and", 1)[1].splitlines() if line.strip().startswith("(")]
+    (goal,) = reread.goals
+    assert len(goal.args) == len(written)
 
 
 def test_domain_has_every_element_with_its_source() -> None:

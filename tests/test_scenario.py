@@ -19,7 +19,7 @@ from kb.core.errors import InputError
 from kb.core.namespaces import KITTING_ONTOLOGY, KTW
 from kb.core.resources import ontology_path, scenario_dirs
 from kb.scenario import build_scenario, layout, state_graph, write_scenario, write_shipped, write_spec
-from kb.scenario.spec import SHIPPED
+from kb.scenario.spec import SHIPPED, ScenarioSpec, random_spec
 
 XSD = Namespace("http://www.w3.org/2001/XMLSchema#")
 
@@ -39,11 +39,24 @@ def shipped() -> dict[tuple[str, str], Graph]:
     return {(n, s): _load(root / n / f"{s}.ttl") for n in SHIPPED_NAMES for s in STATES}
 
 
+GENERATED = dict(parts=60, kits=3, seed=11)
+
+
 @pytest.fixture(scope="module")
 def generated(tmp_path_factory) -> dict[str, Graph]:
     out = tmp_path_factory.mktemp("gen")
-    write_scenario(out, parts=60, kits=3, seed=11)
+    write_scenario(out, **GENERATED)
     return {s: _load(out / f"{s}.ttl") for s in STATES}
+
+
+def _spec(key: tuple[str, str]) -> ScenarioSpec:
+    """The specification a graph of _all_graphs was written from."""
+    return SHIPPED[key[0]] if key[0] in SHIPPED else random_spec(**GENERATED)
+
+
+def _part_count(spec: ScenarioSpec) -> int:
+    """Parts of a workstation: those its kits need, plus ``spare`` of every part type."""
+    return sum(n for d in spec.kits for _, n in spec.designs[d].counts) + spec.spare * len(spec.part_types)
 
 
 def _all_graphs(shipped, generated):
@@ -83,7 +96,7 @@ def test_ontology_header_and_import(shipped):
 def test_every_individual_is_declared_with_a_kitting_class(shipped, generated):
     for key, g in _all_graphs(shipped, generated):
         subjects = {s for s in g.subjects() if isinstance(s, URIRef) and "/scenario/" in str(s) and "#" in str(s)}
-        assert subjects
+        assert subjects == set(g.subjects(RDF.type, OWL.NamedIndividual)), key
         for s in subjects:
             assert (s, RDF.type, OWL.NamedIndividual) in g, (key, s)
             assert any(str(c).startswith(str(KTW)) for c in g.objects(s, RDF.type)), (key, s)
@@ -122,9 +135,9 @@ def test_small_kit_counts(shipped):
     assert len(_ind(init, "Kit")) == 0 and len(_ind(goal, "Kit")) == 1
     (kit,) = _ind(goal, "Kit")
     assert _slot_skus(goal, kit) == Counter({"sku_part_a": 2, "sku_part_b": 1})
-    for tray in _ind(init, "PartsTray"):  # more parts than needed
+    for tray in _ind(init, "PartsTray"):  # the parts needed and two spares (the spec's spare=2)
         need = _slot_skus(goal, kit)[str(init.value(tray, KTW.hasPartsVessel_PartSku)).split("#")[1]]
-        assert len(list(init.objects(tray, KTW.hasPartsVessel_Part))) > need
+        assert len(list(init.objects(tray, KTW.hasPartsVessel_Part))) == need + SHIPPED["small-kit"].spare == need + 2
     holders = _ind(init, "EndEffectorHolder")
     assert len(holders) == 2
     effectors = {init.value(h, KTW.hasEndEffectorHolder_EndEffector) for h in holders}
@@ -235,7 +248,10 @@ def test_axes_unit_and_orthogonal(shipped, generated):
                 assert abs(np.linalg.norm(x) - 1) < TOL and abs(np.linalg.norm(z) - 1) < TOL, (key, s)
                 assert abs(float(x @ z)) < TOL, (key, s)
                 n += 1
-        assert n > 20
+        # every pose location and every part reference and pose has its axes
+        poses = {s for c in ("PoseLocation", "PoseLocationIn", "PoseLocationOn", "PoseOnlyLocation", "PartRefAndPose")
+                 for s in _ind(g, c)}
+        assert n == len(poses), key
 
 
 def test_generated_trays_have_small_yaw(tmp_path):
@@ -258,7 +274,7 @@ def test_parts_partially_in_their_trays(shipped, generated):
             assert abs(corners[:, 2].min()) < TOL  # resting on the tray floor
             assert corners[:, 2].max() > tray_dims[2]  # sticking out of the tray
             checked += 1
-        assert checked >= 3
+        assert checked == _part_count(_spec(key)), key
 
 
 def test_parts_in_a_tray_do_not_overlap(shipped, generated):
@@ -414,8 +430,10 @@ def test_model_check_can_fail(shipped, model):
     robot = URIRef("https://w3id.org/kitkb/scenario/small-kit#robot_1")
     g.add((robot, KTW.hasPoint_X, Literal("1.0", datatype=XSD.decimal)))
     errors = _check_against_model(g, model)
-    assert any("hasKitTray_SerialNumber" in e for e in errors)
-    assert any("outside its domain" in e for e in errors)
+    tray = URIRef("https://w3id.org/kitkb/scenario/small-kit#kit_tray_1")  # the one kit tray
+    assert sorted(errors) == sorted([
+        f"{robot}: {KTW.hasPoint_X} outside its domain {KTW.Point}",
+        f"{tray}: {KTW.hasKitTray_SerialNumber} has 0 values, {KTW.KitTray} wants [1, 1]"])
 
 
 # ------------------------------------------------------------------ generator
@@ -445,7 +463,8 @@ def test_parts_and_kits_honoured(tmp_path, parts, kits):
     assert len(_ind(goal, "Slot")) == parts
     assert len(list(goal.subject_objects(KTW.hasKit_Part))) == parts
     assert len(_ind(init, "KitTray")) == kits
-    assert len(_ind(init, "Part")) > parts  # spares
+    spec = random_spec(parts, kits, parts + kits)
+    assert len(_ind(init, "Part")) == parts + spec.spare * len(spec.part_types)  # the spares of each type
     for kit in _ind(goal, "Kit"):
         design = goal.value(kit, KTW.hasKit_Design)
         prps = set(goal.objects(design, KTW.hasKitDesign_PartRefAndPose))
@@ -456,14 +475,17 @@ def test_parts_and_kits_honoured(tmp_path, parts, kits):
             assert goal.value(part, KTW.hasSkuObject_Sku) == goal.value(
                 goal.value(s, KTW.hasSlot_PartRefAndPose), KTW.hasPartRefAndPose_Sku
             )
-    if kits > 3:
-        assert len(_ind(goal, "KitDesign")) > 1
+    # one design per kit size and kit number modulo 3 (random_spec): kits of equal size share
+    # at most three designs
+    sizes = [parts // kits + (1 if k < parts % kits else 0) for k in range(kits)]
+    assert len(_ind(goal, "KitDesign")) == len({(size, k % min(kits, 3)) for k, size in enumerate(sizes)})
 
 
 def test_many_part_types_get_letter_pairs():
     sc = build_scenario(1000, 2, 0)
     keys = [t.key for t in sc.spec.part_types]
-    assert len(keys) > 26 and "aa" in keys and len(set(keys)) == len(keys)
+    # ceil(sqrt(1000)) = 32 part types: a..z, then aa..af
+    assert keys == list("abcdefghijklmnopqrstuvwxyz") + ["aa", "ab", "ac", "ad", "ae", "af"]
 
 
 def test_parallel_write_gives_the_same_bytes(tmp_path, monkeypatch):
@@ -505,7 +527,9 @@ def test_cli_generate_and_bad_input(tmp_path):
         capture_output=True, text=True, cwd=REPO,
     )
     assert ok.returncode == 0, ok.stderr
-    assert (out / "init.ttl").exists() and (out / "goal.ttl").exists()
+    write_scenario(tmp_path / "lib", parts=8, kits=2, seed=4)
+    for state in STATES:  # what the library writes for the same arguments
+        assert (out / f"{state}.ttl").read_bytes() == (tmp_path / "lib" / f"{state}.ttl").read_bytes()
     bad = subprocess.run(
         [sys.executable, "-m", "kb.cli", "scenario", "generate", "--parts", "2", "--kits", "3", "-o", str(out)],
         capture_output=True, text=True, cwd=REPO,
@@ -517,7 +541,11 @@ def test_cli_generate_and_bad_input(tmp_path):
 def test_boxy_shapes_have_length_at_least_width(shipped, generated):
     for key, g in _all_graphs(shipped, generated):
         shapes = _ind(g, "BoxyShape")
-        assert shapes
+        # every shape the file uses is a boxy one
+        used = {o for p in (KTW.hasStockKeepingUnit_InternalShape, KTW.hasNoSkuObject_InternalShape,
+                            KTW.hasStockKeepingUnit_ExternalShape, KTW.hasNoSkuObject_ExternalShape)
+                for o in g.objects(None, p)}
+        assert set(shapes) == used, key
         for s in shapes:
             assert float(g.value(s, KTW.hasBoxyShape_Length)) >= float(g.value(s, KTW.hasBoxyShape_Width)), (key, s)
 
@@ -529,4 +557,5 @@ def test_goal_keeps_every_object_of_init(shipped, generated):
         after = set(goal.subjects(RDF.type, OWL.NamedIndividual))
         assert before <= after
         new_classes = {c for s in after - before for c in goal.objects(s, RDF.type)} - {OWL.NamedIndividual}
-        assert new_classes <= {KTW.Kit, KTW.Slot, KTW.PoseLocationIn, KTW.Point, KTW.Vector}
+        # the kits, their slots, and the kits' poses in their boxes
+        assert new_classes == {KTW.Kit, KTW.Slot, KTW.PoseLocationIn, KTW.Point, KTW.Vector}

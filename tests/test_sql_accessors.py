@@ -50,21 +50,35 @@ def test_mappers_configure_and_types():
 
 
 def test_orm_reads_a_loaded_scenario(tmp_path):
+    from rdflib import RDF, Graph, Namespace, URIRef
+
+    ktw = Namespace("https://w3id.org/kitkb/kitting#")
     scen = next(d for d in scenario_dirs() if (d / "init.ttl").is_file())
     url = world.normalize_url(tmp_path / "w.sqlite")
     world.load(scen / "init.ttl", url)
+    data = Graph().parse(scen / "init.ttl", format="turtle")  # what the ORM must give back
+    (ws_node,) = data.subjects(RDF.type, ktw.KittingWorkstation)
     engine = world.open_engine(url)
     try:
         with Session(engine) as session:
             parts = session.scalars(select(gen.Part)).all()
-            assert parts and all(isinstance(p, gen.Part) for p in parts)
+            assert sorted(p.iri for p in parts) == sorted(str(s) for s in data.subjects(RDF.type, ktw.Part))
+            assert all(isinstance(p, gen.Part) for p in parts)
             part = parts[0]
             loc = part.primary_location
+            assert loc.iri == str(data.value(URIRef(part.iri), ktw.hasSolidObject_PrimaryLocation))
             assert isinstance(loc, gen.PhysicalLocation) and isinstance(loc.ref_object, gen.SolidObject)
+            assert loc.ref_object.iri == str(data.value(URIRef(loc.iri), ktw.hasPhysicalLocation_RefObject))
             assert isinstance(loc, gen.PoseLocation) and isinstance(loc.point.x, float)
+            point = data.value(URIRef(loc.iri), ktw.hasPoseLocation_Point)
+            assert loc.point.x == float(data.value(point, ktw.hasPoint_X))
             ws = session.scalars(select(gen.KittingWorkstation)).one()
-            assert ws.length_unit in ("meter", "millimeter", "inch")
-            assert ws.object and all(isinstance(o, gen.SolidObject) for o in ws.object)  # a link table
+            assert ws.iri == str(ws_node)
+            assert ws.length_unit == str(data.value(ws_node, ktw.hasKittingWorkstation_LengthUnit))  # "meter"
+            # a link table
+            objects = sorted(str(o) for o in data.objects(ws_node, ktw.hasKittingWorkstation_Object))
+            assert sorted(o.iri for o in ws.object) == objects
+            assert all(isinstance(o, gen.SolidObject) for o in ws.object)
     finally:
         engine.dispose()
 

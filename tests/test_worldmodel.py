@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from rdflib import Namespace, URIRef
+from rdflib import RDF, RDFS, Namespace, URIRef
 
 from kb import world
 from kb.core.errors import InputError
@@ -97,12 +97,23 @@ def _rdf_global(graph, node):
     return m
 
 
+def _solid_objects(graph) -> set[str]:
+    """IRIs of the individuals of SolidObject and its subclasses in ``graph`` (rdflib)."""
+    model = load_file(REPO / "ontologies" / "kitting.ttl").graph
+    classes, todo = set(), [KTW.SolidObject]
+    while todo:
+        c = todo.pop()
+        classes.add(c)
+        todo += [s for s in model.subjects(RDFS.subClassOf, c) if s not in classes]
+    return {str(s) for s, c in graph.subject_objects(RDF.type) if c in classes}
+
+
 def test_objects_by_class_and_name(wm):
     graph = load_file(SCENARIO).graph
     parts = wm.objects("Part")
-    assert len(parts) == len(set(graph.subjects(predicate=None, object=KTW.Part)))
-    assert len(parts) > 3 and all(p.class_name == "Part" for p in parts)
-    assert len(wm.objects("SolidObject")) > len(parts)  # subclasses included
+    assert {p.iri for p in parts} == {str(s) for s in graph.subjects(RDF.type, KTW.Part)}
+    assert len(parts) == 7 and all(p.class_name == "Part" for p in parts)  # small-kit: 3 in the kit, 4 spares
+    assert {o.iri for o in wm.objects("SolidObject")} == _solid_objects(graph)  # subclasses included
     first = parts[0]
     assert wm.object(first.name) == wm.object(first.iri) == first
     with pytest.raises(InputError, match="no object named 'nothing_here'"):
@@ -153,7 +164,8 @@ def test_sensed_pose_update_keeps_reference_and_moves_children(wm):
     assert np.allclose(wm.global_pose(child), sensed @ child_local)
     after = wm.global_poses()
     moved = {n for n in others if not np.allclose(after[n], others[n])}
-    assert all(_under(tree, n, parent) for n in moved)
+    # exactly what hangs below the parent moved with it
+    assert moved == {n for n in others if _under(tree, n, parent)}
 
 
 def _under(tree, node, ancestor):
@@ -265,7 +277,8 @@ def test_nist_init_file_global_poses(tmp_path):
     graph = load_file(nist).graph
     with WorldModel(url) as wm:
         poses = wm.global_poses()
-        assert len(poses) == len(wm.objects("SolidObject")) > 15
+        assert set(poses) == {o.name for o in wm.objects("SolidObject")}
+        assert {o.iri for o in wm.objects("SolidObject")} == _solid_objects(graph)
         for obj in wm.objects("SolidObject"):
             assert np.allclose(poses[obj.name], _rdf_global(graph, URIRef(obj.iri)), atol=1e-9), obj.name
         assert wm.transformation_tree()["kitting_workstation_1"] is None
