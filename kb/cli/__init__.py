@@ -41,6 +41,7 @@ HANDLERS = {
     "db load": "kb.cli.world:load",
     "db dump": "kb.cli.world:dump",
     "run": "kb.cli.pipeline:run",
+    "crcl convert": "kb.cli.crcl:convert",
 }
 DIALECTS = ["sqlite", "postgresql", "mysql"]
 DB_HELP = "SQLite file or SQLAlchemy URL such as postgresql://user@host/db (default kitkb.sqlite)"
@@ -152,13 +153,27 @@ def _add_run(sub: Any) -> None:
     p.add_argument("-o", "--output", default="out", metavar="DIR", help="output folder (default out/)")
 
 
+def _add_crcl(sub: Any) -> None:
+    p = sub.add_parser("crcl", help="CRCL robot command files (text form and CRCL XML)",
+                       description="CRCL robot command files: the text form (.crcl) and CRCL.xsd XML (.xml).")
+    csub = p.add_subparsers(dest="crcl_command", required=True, metavar="SUBCOMMAND")
+    g = _sub(csub, "convert", "crcl convert", "convert a CRCL program between text (.crcl) and XML (.xml)")
+    g.add_argument("input", metavar="IN", help="a .crcl (text form) or .xml (CRCL XML) file")
+    g.add_argument("-o", "--output", required=True, metavar="OUT",
+                   help="output file; the extension chooses the form: .crcl text, .xml CRCL XML")
+    g.add_argument("--xsd", metavar="PATH",
+                   help="CRCL.xsd to check XML against (default: $KITKB_NIST_DIR/CRCL.xsd, else "
+                        "../shared/nist/CRCL.xsd beside the checkout; without one, XML is checked by "
+                        "kitkb's own reader only)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``kitkb`` command."""
     parser = argparse.ArgumentParser(prog="kitkb", description=DESCRIPTION, epilog=EXIT_CODES)
     parser.add_argument("-q", "--quiet", action="store_true", help="print no line on success")
     parser.add_argument("--traceback", action="store_true", help="show the Python traceback of an error")
     sub = parser.add_subparsers(dest="subcommand", required=True, metavar="COMMAND")
-    for add in (_add_files, _add_scenario, _add_generate, _add_plan, _add_db, _add_run):
+    for add in (_add_files, _add_scenario, _add_generate, _add_plan, _add_db, _add_run, _add_crcl):
         add(sub)
     return parser
 
@@ -169,7 +184,8 @@ def handler(command: str) -> Callable[..., int]:
     return getattr(importlib.import_module(module), function)
 
 
-_PARSER_ONLY = {"subcommand", "scenario_command", "generate_command", "db_command", "command", "quiet", "traceback"}
+_PARSER_ONLY = {"subcommand", "scenario_command", "generate_command", "db_command", "crcl_command",
+                "command", "quiet", "traceback"}
 
 
 def main(argv: Sequence[str] | None = None) -> int:

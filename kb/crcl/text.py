@@ -1,0 +1,260 @@
+"""The text form of CRCL (the first paper's Fig. 11, the third paper's Table 1): one command
+per line, ``Name(arguments)`` in C++ call syntax.
+
+Reading: names are case-sensitive (``initCannon()`` does not parse); spaces may stand
+between a name and its ``(``; numbers are C literals (``5``, ``-0.03``, ``1e-3``); strings
+are in double quotes (``\\"``, ``\\\\``, ``\\n``, ``\\r``, ``\\t`` escaped; typographic
+quotes “…” are read too); a pose is ``{{x, y, z}, {i, j, k}, {i, j, k}}``: point, Z axis,
+X axis. A command may go on over the next lines while its parentheses are open (as
+``MoveThroughTo`` in Fig. 11) until a line that starts another command. Blank lines and
+comment lines (first non-blank characters ``#`` or ``//``) are skipped. What does not parse
+becomes an :class:`~kb.crcl.commands.Unreadable` with its text and first line.
+
+Writing: one command per line, ``EndCanon`` with its reason, millimeters as ``"mm"``;
+an unreadable command is written back as it was read.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from dataclasses import fields
+from pathlib import Path
+from typing import Any, Iterator
+
+from kb.core.errors import InputError
+from kb.crcl.commands import (COMMANDS, Command, EndCanon, MoveThroughTo, Program, SetLengthUnits,
+                              Unreadable)
+from kb.crcl.pose import Pose
+
+_START = re.compile(r"\s*[A-Za-z_]\w*\s*\(")
+_TOKEN = re.compile(r"""
+    \s*(?:
+      (?P<number>[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)
+    | (?P<name>[A-Za-z_]\w*)
+    | "(?P<string>(?:[^"\\\n]|\\.)*)"
+    | \u201c(?P<curly>[^\u201d\n]*)\u201d
+    | (?P<punct>[(){},])
+    )""", re.VERBOSE)
+_ESCAPES = {"n": "\n", "r": "\r", "t": "\t", '"': '"', "\\": "\\"}
+_UNESCAPE = re.compile(r"\\(.)", re.DOTALL)
+#: The text form's name of a length unit, where it differs from CRCL.xsd's.
+_TEXT_UNITS = {"millimeter": "mm"}
+_READ_UNITS = {"mm": "millimeter"}
+
+
+class _Bad(Exception):
+    """A statement does not parse; the message says why."""
+
+
+# --- reading ----------------------------------------------------------------------------------
+
+def read_text(source: str | os.PathLike[str], *, name: str | None = None) -> Program:
+    """The program of CRCL text: ``source`` is the text itself (a ``str``) or a file path
+    (a :class:`~pathlib.Path` or other path object). ``name`` is the program's source name
+    (default: the path). An unreadable file is an :class:`~kb.core.errors.InputError`;
+    unparsable lines are :class:`~kb.crcl.commands.Unreadable` commands, not errors."""
+    if isinstance(source, str):
+        return Program(tuple(_commands(source)), source=name)
+    path = Path(source)
+    try:
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise InputError(f"cannot read: {exc.strerror or exc}", path) from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = raw.count(b"\n", 0, exc.start) + 1
+        raise InputError("not UTF-8 text", path, line) from None
+    return Program(tuple(_commands(text)), source=name or str(path))
+
+
+def _commands(text: str) -> Iterator[Command]:
+    for line, statement in _statements(text):
+        try:
+            yield _command(statement, line)
+        except _Bad as bad:
+            yield Unreadable(statement, reason=str(bad), line=line)
+
+
+def _skipped(line: str) -> bool:
+    stripped = line.strip()
+    return not stripped or stripped.startswith(("#", "//"))
+
+
+def _statements(text: str) -> Iterator[tuple[int, str]]:
+    """(first line number, text) of each statement; continuation lines joined with ``\\n``."""
+    lines = [line.removesuffix("\r") for line in text.removeprefix("\ufeff").split("\n")]
+    i = 0
+    while i < len(lines):
+        if _skipped(lines[i]):
+            i += 1
+            continue
+        first, parts = i, [lines[i]]
+        i += 1
+        while (_depth(parts) > 0 and i < len(lines) and not _skipped(lines[i])
+               and not _START.match(lines[i])):
+            parts.append(lines[i])
+            i += 1
+        yield first + 1, "\n".join(parts)
+
+
+def _depth(parts: list[str]) -> int:
+    """How many brackets the text leaves open (strings skipped; 0 once it cannot tokenize)."""
+    depth = 0
+    try:
+        for kind, value in _tokens("\n".join(parts)):
+            if kind == "punct":
+                depth += {"(": 1, "{": 1, ")": -1, "}": -1}.get(value, 0)
+    except _Bad:
+        return 0
+    return depth
+
+
+def _tokens(text: str) -> Iterator[tuple[str, str]]:
+    pos, end = 0, len(text.rstrip())
+    while pos < end:
+        m = _TOKEN.match(text, pos)
+        if not m or m.end() == pos:
+            raise _Bad(f"unexpected {text[pos:].strip()[:20]!r}")
+        kind = m.lastgroup or ""
+        value = m.group(kind)
+        yield ("string", value) if kind == "curly" else (kind, value)
+        pos = m.end()
+
+
+def _command(statement: str, line: int) -> Command:
+    tokens = list(_tokens(statement))
+    if len(tokens) < 3 or tokens[0][0] != "name" or tokens[1] != ("punct", "("):
+        raise _Bad("expected Name(arguments)")
+    cls = COMMANDS.get(tokens[0][1])
+    if cls is None:
+        raise _Bad(f"unknown command {tokens[0][1]}")
+    args, rest = _arguments(tokens, 2, ")")
+    if rest != len(tokens):
+        raise _Bad("text after the closing parenthesis")
+    try:
+        return _build(cls, args, line)
+    except ValueError as exc:
+        raise _Bad(str(exc)) from None
+
+
+def _arguments(tokens: list[tuple[str, str]], pos: int, close: str) -> tuple[list[Any], int]:
+    """Comma-separated values up to ``close``; the values and the position after ``close``."""
+    values: list[Any] = []
+    if pos < len(tokens) and tokens[pos] == ("punct", close):
+        return values, pos + 1
+    while pos < len(tokens):
+        value, pos = _value(tokens, pos)
+        values.append(value)
+        if pos < len(tokens) and tokens[pos] == ("punct", close):
+            return values, pos + 1
+        if pos >= len(tokens) or tokens[pos] != ("punct", ","):
+            break
+        pos += 1
+    raise _Bad(f"expected ',' or '{close}'")
+
+
+def _value(tokens: list[tuple[str, str]], pos: int) -> tuple[Any, int]:
+    kind, text = tokens[pos]
+    if kind == "number":
+        is_int = re.fullmatch(r"[+-]?\d+", text)
+        return (int(text) if is_int else float(text)), pos + 1
+    if kind == "string":
+        return _Str(_UNESCAPE.sub(lambda m: _ESCAPES.get(m.group(1), m.group(0)), text)), pos + 1
+    if (kind, text) == ("punct", "{"):
+        return _arguments(tokens, pos + 1, "}")
+    raise _Bad(f"unexpected {text!r}")
+
+
+class _Str(str):
+    """A string argument (told apart from a bare name)."""
+
+
+def _build(cls: type[Command], args: list[Any], line: int) -> Command:
+    name = cls.__name__
+    if cls is MoveThroughTo:
+        if len(args) < 2 or type(args[-1]) is not int:
+            raise _Bad("expected poses and their number")
+        poses = tuple(_pose(a) for a in args[:-1])
+        if args[-1] != len(poses):
+            raise _Bad(f"{args[-1]} poses announced, {len(poses)} given")
+        return MoveThroughTo(poses, line=line)
+    kinds = [f.type for f in fields(cls) if f.name not in ("line",)]
+    if cls is EndCanon and not args:
+        args = [0]
+    if len(args) != len(kinds):
+        raise _Bad(f"{name} takes {len(kinds)} argument(s), {len(args)} given")
+    values = [_convert(kind, arg, name) for kind, arg in zip(kinds, args)]
+    if cls is SetLengthUnits:
+        values = [_READ_UNITS.get(values[0], values[0])]
+    return cls(*values, line=line)
+
+
+def _convert(kind: Any, arg: Any, name: str) -> Any:
+    if kind == "Pose":
+        return _pose(arg)
+    if kind == "str" and not isinstance(arg, _Str):
+        raise _Bad(f"{name} takes a string in double quotes")
+    if kind == "str":
+        return str(arg)
+    if kind == "int" and type(arg) is not int:
+        raise _Bad(f"{name} takes an integer")
+    if kind == "float" and type(arg) not in (int, float):
+        raise _Bad(f"{name} takes a number")
+    return arg
+
+
+def _pose(arg: Any) -> Pose:
+    if (not isinstance(arg, list) or len(arg) != 3
+            or not all(isinstance(v, list) and len(v) == 3 for v in arg)
+            or not all(type(x) in (int, float) for v in arg for x in v)):
+        raise _Bad("expected a pose {{x, y, z}, {i, j, k}, {i, j, k}}")
+    point, z_axis, x_axis = arg
+    return Pose(point=point, x_axis=x_axis, z_axis=z_axis)
+
+
+# --- writing ----------------------------------------------------------------------------------
+
+def write_text(program: Program) -> str:
+    """The text form of ``program``: one line per command, ending with a newline."""
+    return "".join(f"{_line(c)}\n" for c in program)
+
+
+def _line(command: Command) -> str:
+    if isinstance(command, Unreadable):
+        return command.text
+    if isinstance(command, MoveThroughTo):
+        args = [_pose_text(p) for p in command.waypoints] + [str(command.num_positions)]
+    else:
+        args = [_arg(getattr(command, f.name)) for f in fields(command) if f.name != "line"]
+        if isinstance(command, SetLengthUnits):
+            args = [_string(_TEXT_UNITS.get(command.unit_name, command.unit_name))]
+    return f"{type(command).__name__}({', '.join(args)})"
+
+
+def _arg(value: Any) -> str:
+    if isinstance(value, Pose):
+        return _pose_text(value)
+    if isinstance(value, str):
+        return _string(value)
+    if isinstance(value, int):
+        return str(value)
+    return _number(value)
+
+
+def _number(x: float) -> str:
+    """Shortest text that reads back as ``x`` (``5`` for 5.0)."""
+    text = repr(float(x))
+    return text[:-2] if text.endswith(".0") else text
+
+
+def _string(s: str) -> str:
+    escaped = (s.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n")
+               .replace("\r", "\\r").replace("\t", "\\t"))
+    return f'"{escaped}"'
+
+
+def _pose_text(pose: Pose) -> str:
+    return "{" + ", ".join("{" + ", ".join(_number(v) for v in vec) + "}"
+                           for vec in (pose.point, pose.z_axis, pose.x_axis)) + "}"

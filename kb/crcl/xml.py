@@ -1,0 +1,299 @@
+"""CRCL programs as XML instances of NIST's early CRCL.xsd (root ``CRCLProgram``, as
+``commands1.xml``).
+
+The schema says which commands a program holds and where: ``InitCanon`` first, ``EndCanon``
+last, at least one command between them, and only the commands it names in between;
+:func:`read_xml` and :func:`write_xml` keep to that whether or not the schema file is at
+hand. The schema has no element for ``SetCoordinateFrame``, ``StartObjectScan``,
+``StopObjectScan`` and ``StopMotion``, nor for ``EndCanon``'s reason: writing them is an
+:class:`~kb.core.errors.InputError` naming the command and its line.
+
+Files are parsed without loading a DTD, resolving entities or touching the network, and a
+document type declaration is refused outright (CRCL needs none). The schema is NIST's data,
+not shipped with kitkb: :func:`schema` loads it from a path, :func:`default_xsd` finds it
+beside the checkout.
+"""
+
+from __future__ import annotations
+
+import io
+import os
+import re
+from decimal import Decimal
+from pathlib import Path
+from typing import Any, Callable
+
+from lxml import etree
+
+from kb.core.errors import InputError
+from kb.crcl.commands import (CloseGripper, CloseToolChanger, Command, Dwell, EndCanon, InitCanon,
+                              Message, MoveStraightTo, MoveThroughTo, MoveTo, OpenGripper,
+                              OpenToolChanger, Program, SetAbsoluteAcceleration, SetAbsoluteSpeed,
+                              SetAngleUnits, SetEndAngleTolerance, SetEndPointTolerance,
+                              SetIntermediatePointTolerance, SetLengthUnits,
+                              SetRelativeAcceleration, SetRelativeSpeed, Unreadable)
+from kb.crcl.pose import Pose
+
+#: Command class -> (field, child element, value kind) of each child CRCL.xsd gives it.
+#: ``MoveThroughTo`` (repeated ``Waypoint`` and ``NumPositions``) is read and written apart.
+ELEMENTS: dict[type[Command], tuple[tuple[str, str, str], ...]] = {
+    InitCanon: (), EndCanon: (), OpenGripper: (), CloseGripper: (),
+    OpenToolChanger: (), CloseToolChanger: (), MoveThroughTo: (),
+    Dwell: (("dwell_time", "DwellTime", "decimal"),),
+    Message: (("message", "Message", "string"),),
+    MoveTo: (("end_position", "EndPosition", "pose"),),
+    MoveStraightTo: (("end_position", "EndPosition", "pose"),),
+    SetLengthUnits: (("unit_name", "UnitName", "token"),),
+    SetAngleUnits: (("unit_name", "UnitName", "token"),),
+    SetAbsoluteSpeed: (("speed", "Speed", "decimal"),),
+    SetRelativeSpeed: (("percent", "Percent", "decimal"),),
+    SetAbsoluteAcceleration: (("acceleration", "Acceleration", "decimal"),),
+    SetRelativeAcceleration: (("percent", "Percent", "decimal"),),
+    SetEndAngleTolerance: (("tolerance", "Tolerance", "decimal"),),
+    SetEndPointTolerance: (("tolerance", "Tolerance", "decimal"),),
+    SetIntermediatePointTolerance: (("tolerance", "Tolerance", "decimal"),),
+}
+_BY_NAME = {cls.__name__: cls for cls in ELEMENTS}
+_DECIMAL = re.compile(r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)")
+_INTEGER = re.compile(r"[+-]?\d+")
+_XML_CHARS = re.compile("[^\t\n\r\x20-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
+_REPO = Path(__file__).resolve().parents[2]
+
+
+# --- the schema -------------------------------------------------------------------------------
+
+def default_xsd() -> Path | None:
+    """NIST's CRCL.xsd where kitkb looks for it: ``$KITKB_NIST_DIR/CRCL.xsd``, else
+    ``../shared/nist/CRCL.xsd`` beside the checkout; None when neither exists."""
+    folders = [Path(d) for d in [os.environ.get("KITKB_NIST_DIR")] if d]
+    folders.append(_REPO.parent / "shared" / "nist")
+    return next((f / "CRCL.xsd" for f in folders if (f / "CRCL.xsd").is_file()), None)
+
+
+def schema(path: str | os.PathLike[str] | None = None) -> etree.XMLSchema:
+    """The XML schema at ``path`` (default :func:`default_xsd`), for :func:`read_xml` and
+    :func:`write_xml`; a missing or broken file is an :class:`~kb.core.errors.InputError`."""
+    found = Path(path) if path is not None else default_xsd()
+    if found is None:
+        raise InputError("CRCL.xsd not found (looked in $KITKB_NIST_DIR and ../shared/nist "
+                         "beside the checkout); give its path")
+    tree = _parse(_read(found), str(found))
+    try:
+        return etree.XMLSchema(tree)
+    except etree.XMLSchemaParseError as exc:
+        raise InputError(f"not a usable XML schema: {exc}", found) from None
+
+
+def _check_schema(tree: Any, xsd: etree.XMLSchema, name: str | None, what: str) -> None:
+    if not xsd.validate(tree):
+        errors = list(xsd.error_log)
+        more = f" (and {len(errors) - 1} more)" if len(errors) > 1 else ""
+        raise InputError(f"{what} CRCL.xsd: {errors[0].message}{more}", name, errors[0].line)
+
+
+# --- reading ----------------------------------------------------------------------------------
+
+def read_xml(source: bytes | str | os.PathLike[str], schema: etree.XMLSchema | None = None,
+             *, name: str | None = None) -> Program:
+    """The program of a CRCL XML document: ``source`` is its bytes or a file path. With
+    ``schema`` the document is first validated against it. Anything that is not a CRCL.xsd
+    program is an :class:`~kb.core.errors.InputError` at its line."""
+    if isinstance(source, bytes):
+        data = source
+    else:
+        data, name = _read(Path(source)), name or str(source)
+    tree = _parse(data, name)
+    if schema is not None:
+        _check_schema(tree, schema, name, "does not conform to")
+    root = tree.getroot()
+    if root.tag != "CRCLProgram":
+        raise InputError(f"the root element is <{root.tag}>, not <CRCLProgram>", name, root.sourceline)
+    commands = tuple(_command(el, name) for el in _children(root, name))
+    _check_order(commands, name)
+    return Program(commands, source=name)
+
+
+def _read(path: Path) -> bytes:
+    try:
+        return path.read_bytes()
+    except OSError as exc:
+        raise InputError(f"cannot read: {exc.strerror or exc}", path) from None
+
+
+def hardened_parser() -> etree.XMLParser:
+    """An lxml parser that loads no DTD, resolves no entity and never uses the network."""
+    return etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False,
+                           dtd_validation=False, huge_tree=False)
+
+
+def _parse(data: bytes, name: str | None) -> Any:
+    """The document of ``data``, parsed by :func:`hardened_parser`; a DOCTYPE is refused."""
+    try:
+        tree = etree.parse(io.BytesIO(data), hardened_parser())
+    except etree.XMLSyntaxError as exc:
+        raise InputError(f"XML syntax error: {exc.msg}", name, exc.lineno) from None
+    if tree.docinfo.internalDTD is not None or tree.docinfo.doctype:
+        line = data.count(b"\n", 0, max(data.find(b"<!DOCTYPE"), 0)) + 1
+        raise InputError("a DOCTYPE is not allowed in CRCL XML (no entity is expanded or fetched)",
+                         name, line)
+    return tree
+
+
+def _children(el: Any, name: str | None) -> list[Any]:
+    """The child elements of ``el`` (comments skipped); text between them is an error."""
+    for text in [el.text, *(child.tail for child in el)]:
+        if text and text.strip():
+            raise InputError(f"unexpected text {text.strip()[:30]!r} in <{el.tag}>", name, el.sourceline)
+    return [child for child in el if isinstance(child.tag, str)]
+
+
+def _expect(el: Any, names: list[str], name: str | None) -> list[Any]:
+    """The children of ``el``, which must be elements named ``names`` in this order."""
+    children = _children(el, name)
+    if [c.tag for c in children] != names:
+        wanted = ", ".join(names) or "no child elements"
+        found = ", ".join(str(c.tag) for c in children) or "none"
+        raise InputError(f"<{el.tag}> holds {wanted} in CRCL.xsd, found {found}", name, el.sourceline)
+    return children
+
+
+def _command(el: Any, name: str | None) -> Command:
+    cls = _BY_NAME.get(el.tag)
+    if cls is None:
+        raise InputError(f"<{el.tag}> is not a command of CRCL.xsd", name, el.sourceline)
+    if cls is MoveThroughTo:
+        return _move_through(el, name)
+    spec = ELEMENTS[cls]
+    children = _expect(el, [child for _, child, _ in spec], name)
+    values = {f: _VALUE[kind](child, name) for (f, _, kind), child in zip(spec, children)}
+    try:
+        return cls(**values, line=el.sourceline)
+    except ValueError as exc:
+        raise InputError(str(exc), name, el.sourceline) from None
+
+
+def _move_through(el: Any, name: str | None) -> MoveThroughTo:
+    children = _children(el, name)
+    n = len(children) - 1
+    _expect(el, ["Waypoint"] * max(n, 1) + ["NumPositions"], name)
+    count = _integer(children[-1], name)
+    if count != n:
+        raise InputError(f"NumPositions is {count} but there are {n} Waypoints", name,
+                         children[-1].sourceline)
+    return MoveThroughTo(tuple(_pose(w, name) for w in children[:-1]), line=el.sourceline)
+
+
+def _leaf(el: Any, name: str | None) -> str:
+    if len(el):
+        raise InputError(f"<{el.tag}> holds text only", name, el.sourceline)
+    return el.text or ""
+
+
+def _decimal(el: Any, name: str | None) -> float:
+    text = _leaf(el, name).strip()
+    if not _DECIMAL.fullmatch(text):
+        raise InputError(f"<{el.tag}> must be a decimal number, not {text!r}", name, el.sourceline)
+    return float(text)
+
+
+def _integer(el: Any, name: str | None) -> int:
+    text = _leaf(el, name).strip()
+    if not _INTEGER.fullmatch(text):
+        raise InputError(f"<{el.tag}> must be an integer, not {text!r}", name, el.sourceline)
+    return int(text)
+
+
+def _pose(el: Any, name: str | None) -> Pose:
+    point, z_axis, x_axis = _expect(el, ["Point", "ZAxis", "XAxis"], name)
+    xyz = [_decimal(c, name) for c in _expect(point, ["X", "Y", "Z"], name)]
+    z, x = ([_decimal(c, name) for c in _expect(v, ["I", "J", "K"], name)] for v in (z_axis, x_axis))
+    return Pose(point=xyz, x_axis=x, z_axis=z)
+
+
+_VALUE: dict[str, Callable[[Any, str | None], Any]] = {
+    "decimal": _decimal, "pose": _pose, "string": _leaf,
+    "token": lambda el, name: _leaf(el, name).strip(),
+}
+
+
+def _check_order(commands: tuple[Command, ...], name: str | None) -> None:
+    """CRCL.xsd's sequence: InitCanon, one or more other commands, EndCanon."""
+    for i, command in enumerate(commands):
+        problem = _misplaced(command, i == 0, i == len(commands) - 1)
+        if problem:
+            raise InputError(problem, name, command.line)
+    if len(commands) < 3:
+        raise InputError("CRCL.xsd needs InitCanon, at least one other command, then EndCanon", name,
+                         commands[-1].line if commands else None)
+
+
+def _misplaced(command: Command, first: bool, last: bool) -> str | None:
+    kind = type(command).__name__
+    if first and not isinstance(command, InitCanon):
+        return f"a CRCL.xsd program starts with InitCanon, not {kind}"
+    if last and not isinstance(command, EndCanon):
+        return f"a CRCL.xsd program ends with EndCanon, not {kind}"
+    if isinstance(command, (InitCanon, EndCanon)) and not (first or last):
+        return f"{kind} only as the {'first' if isinstance(command, InitCanon) else 'last'} command in CRCL.xsd"
+    return None
+
+
+# --- writing ----------------------------------------------------------------------------------
+
+def write_xml(program: Program, schema: etree.XMLSchema | None = None) -> bytes:
+    """``program`` as a CRCL.xsd instance (UTF-8, indented). A command the schema cannot
+    hold, or a program out of its sequence, is an :class:`~kb.core.errors.InputError` naming
+    the program's source and the command's line. With ``schema`` the result is validated."""
+    root = etree.Element("CRCLProgram")
+    commands = program.commands
+    for i, command in enumerate(commands):
+        problem = _unwritable(command) or _misplaced(command, i == 0, i == len(commands) - 1)
+        if problem:
+            raise InputError(problem, program.source, command.line)
+        _write_command(etree.SubElement(root, type(command).__name__), command)
+    _check_order(commands, program.source)
+    data = etree.tostring(root, xml_declaration=True, encoding="UTF-8", pretty_print=True)
+    if schema is not None:
+        _check_schema(_parse(data, program.source), schema, program.source, "kitkb wrote XML that breaks")
+    return data
+
+
+def _unwritable(command: Command) -> str | None:
+    if isinstance(command, Unreadable):
+        first = command.text.strip().split("\n")[0]
+        return f"unreadable line {first!r} ({command.reason}); cannot write it as XML"
+    if type(command) not in ELEMENTS:
+        return f"{type(command).__name__} has no element in CRCL.xsd (the early schema); cannot write it as XML"
+    if isinstance(command, EndCanon) and command.reason != 0:
+        return (f"EndCanon({command.reason}): CRCL.xsd's EndCanon has no reason; "
+                "only EndCanon(0) can be written as XML")
+    if isinstance(command, Message) and _XML_CHARS.search(command.message):
+        return "Message holds control characters that XML 1.0 cannot hold; cannot write it as XML"
+    return None
+
+
+def _write_command(el: Any, command: Command) -> None:
+    if isinstance(command, MoveThroughTo):
+        for pose in command.waypoints:
+            _write_pose(etree.SubElement(el, "Waypoint"), pose)
+        etree.SubElement(el, "NumPositions").text = str(command.num_positions)
+        return
+    for field_name, child, kind in ELEMENTS[type(command)]:
+        value = getattr(command, field_name)
+        if kind == "pose":
+            _write_pose(etree.SubElement(el, child), value)
+        else:
+            etree.SubElement(el, child).text = _decimal_text(value) if kind == "decimal" else value
+
+
+def _write_pose(el: Any, pose: Pose) -> None:
+    for tag, names, values in (("Point", "XYZ", pose.point), ("ZAxis", "IJK", pose.z_axis),
+                               ("XAxis", "IJK", pose.x_axis)):
+        vec = etree.SubElement(el, tag)
+        for n, v in zip(names, values):
+            etree.SubElement(vec, n).text = _decimal_text(v)
+
+
+def _decimal_text(x: float) -> str:
+    """``x`` as an ``xs:decimal`` (no exponent) that reads back as the same float."""
+    return format(Decimal(repr(float(x))), "f")
