@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import itertools
 import math
+from contextlib import contextmanager
+from typing import Iterator
 
 import numpy as np
 import pytest
@@ -13,11 +15,36 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from kb.core.resources import ontology_path
+from kb.spatial import rcc8
 from kb.spatial.rcc8 import BIT, DEFAULT_TOLERANCE, RELATIONS, relate, relate_pair, world_boxes
 from kb.spatial.transforms import from_xyz_rpy
 
 SOAP = rdflib.Namespace("https://w3id.org/kitkb/soap#")
 RCC8 = ("DC", "EC", "PO", "EQ", "TPP", "NTPP", "TPPi", "NTPPi")
+
+
+#: Settings of relate's kernels that make small inputs take every code path: the rank kernel
+#: in chunks of 3-5 objects and ragged blocks, its binary-search fallback, the compare kernel
+#: in chunks.
+KERNELS = {
+    "default": {},
+    "rank": {"_RANK_MIN_SUBJECTS": 0, "_RANK_CHUNK": (3, 5), "_BLOCK": 7},
+    "rank-binary-search": {"_RANK_MIN_SUBJECTS": 0, "_MAX_LEVELS": 0},
+    "compare": {"_RANK_MIN_SUBJECTS": 10**9, "_COMPARE_PAIRS": 16, "_BLOCK": 5},
+}
+
+
+@contextmanager
+def kernel(name: str) -> Iterator[None]:
+    """relate() with the settings KERNELS[name] (module constants, restored afterwards)."""
+    saved = {key: getattr(rcc8, key) for key in KERNELS[name]}
+    for key, value in KERNELS[name].items():
+        setattr(rcc8, key, value)
+    try:
+        yield
+    finally:
+        for key, value in saved.items():
+            setattr(rcc8, key, value)
 
 
 def names(mask: int) -> frozenset[str]:
@@ -28,9 +55,11 @@ def names(mask: int) -> frozenset[str]:
 def both(a_lo, a_hi, b_lo, b_hi, tol: float = DEFAULT_TOLERANCE) -> frozenset[str]:
     """The relations of one pair by relate_pair, checked equal to relate's mask."""
     ref = relate_pair(a_lo, a_hi, b_lo, b_hi, tol)
-    mask = relate(np.array([a_lo]), np.array([a_hi]), np.array([b_lo]), np.array([b_hi]), tol)
-    assert mask.shape == (1, 1) and mask.dtype == np.uint32
-    assert names(mask[0, 0]) == ref
+    for name in KERNELS:
+        with kernel(name):
+            mask = relate(np.array([a_lo]), np.array([a_hi]), np.array([b_lo]), np.array([b_hi]), tol)
+        assert mask.shape == (1, 1) and mask.dtype == np.uint32
+        assert names(mask[0, 0]) == ref, name
     return ref
 
 
@@ -146,9 +175,11 @@ def test_bad_arguments() -> None:
         relate(np.full((1, 3), np.nan), one, one, one)
 
 
-def test_empty_inputs() -> None:
-    assert relate(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((4, 3)), np.ones((4, 3))).shape == (0, 4)
-    assert relate(np.zeros((4, 3)), np.ones((4, 3)), np.zeros((0, 3)), np.zeros((0, 3))).shape == (4, 0)
+@pytest.mark.parametrize("name", KERNELS)
+def test_empty_inputs(name: str) -> None:
+    with kernel(name):
+        assert relate(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((4, 3)), np.ones((4, 3))).shape == (0, 4)
+        assert relate(np.zeros((4, 3)), np.ones((4, 3)), np.zeros((0, 3)), np.zeros((0, 3))).shape == (4, 0)
 
 
 # --- random boxes on a coarse grid: ties are frequent -------------------------------------------
@@ -175,13 +206,15 @@ def test_exactly_one_rcc8_relation_per_axis() -> None:
     assert seen == set(RELATIONS)  # the grid reaches every relation
 
 
-def test_relate_equals_relate_pair_on_a_grid() -> None:
+@pytest.mark.parametrize("name", KERNELS)
+def test_relate_equals_relate_pair_on_a_grid(name: str) -> None:
     rng = np.random.default_rng(7)
     for step, tol in ((0.001, 0.001), (0.0005, 0.001), (1.0, 0.0), (0.1, 0.1)):
-        a_lo, a_hi = grid_boxes(rng, 60, step)
-        b_lo, b_hi = grid_boxes(rng, 40, step)
-        masks = relate(a_lo, a_hi, b_lo, b_hi, tol)
-        for i, j in itertools.product(range(60), range(40)):
+        a_lo, a_hi = grid_boxes(rng, 40, step)
+        b_lo, b_hi = grid_boxes(rng, 25, step)
+        with kernel(name):
+            masks = relate(a_lo, a_hi, b_lo, b_hi, tol)
+        for i, j in itertools.product(range(40), range(25)):
             assert names(masks[i, j]) == relate_pair(a_lo[i], a_hi[i], b_lo[j], b_hi[j], tol), (i, j, step, tol)
 
 
@@ -190,17 +223,18 @@ scale = st.sampled_from([0.001, 0.0005, 0.0015, 1.0, 0.3])
 box = st.tuples(st.tuples(coord, coord, coord), st.tuples(st.integers(0, 4), st.integers(0, 4), st.integers(0, 4)))
 
 
-@settings(max_examples=150, deadline=None)
+@settings(max_examples=200, deadline=None)
 @given(st.lists(box, min_size=1, max_size=12), st.lists(box, min_size=1, max_size=12), scale,
-       st.sampled_from([DEFAULT_TOLERANCE, 0.0, 0.0005, 0.3]))
-def test_relate_equals_relate_pair(subjects, objects, step, tol) -> None:
+       st.sampled_from([DEFAULT_TOLERANCE, 0.0, 0.0005, 0.3]), st.sampled_from(sorted(KERNELS)))
+def test_relate_equals_relate_pair(subjects, objects, step, tol, name) -> None:
     def arrays(boxes):
         lo = np.array([c for c, _ in boxes], dtype=float) * step
         return lo, lo + np.array([w for _, w in boxes], dtype=float) * step
 
     a_lo, a_hi = arrays(subjects)
     b_lo, b_hi = arrays(objects)
-    masks = relate(a_lo, a_hi, b_lo, b_hi, tol)
+    with kernel(name):
+        masks = relate(a_lo, a_hi, b_lo, b_hi, tol)
     assert masks.shape == (len(subjects), len(objects))
     for i, j in itertools.product(range(len(subjects)), range(len(objects))):
         ref = relate_pair(a_lo[i], a_hi[i], b_lo[j], b_hi[j], tol)
@@ -208,14 +242,30 @@ def test_relate_equals_relate_pair(subjects, objects, step, tol) -> None:
         assert sum(1 for n in ref if n[2:] in RCC8) == 3
 
 
-def test_blocks_do_not_change_the_answer() -> None:
-    """Many subjects (several blocks, a ragged last one) give the rows of one-subject calls."""
+def test_many_boxes_blocks_and_chunks() -> None:
+    """Default settings on sizes that take the rank kernel in several blocks and chunks of objects."""
     rng = np.random.default_rng(11)
-    a_lo, a_hi = grid_boxes(rng, 5000, 0.001)
-    b_lo, b_hi = grid_boxes(rng, 13, 0.001)
+    a_lo, a_hi = grid_boxes(rng, 2100, 0.001)
+    b_lo, b_hi = grid_boxes(rng, 300, 0.001)
     masks = relate(a_lo, a_hi, b_lo, b_hi)
-    for i in rng.integers(0, 5000, 50):
-        assert (relate(a_lo[i:i + 1], a_hi[i:i + 1], b_lo, b_hi)[0] == masks[i]).all()
+    with kernel("compare"):
+        assert (relate(a_lo[:700], a_hi[:700], b_lo, b_hi) == masks[:700]).all()
+    for i, j in zip(rng.integers(0, 2100, 3000), rng.integers(0, 300, 3000)):
+        assert names(masks[i, j]) == relate_pair(a_lo[i], a_hi[i], b_lo[j], b_hi[j])
+
+
+@pytest.mark.parametrize("values", [
+    np.array([0.5]),                                    # one value: no width
+    np.array([-1e308, 0.0, 1e308]),                     # width overflows
+    np.linspace(0.0, 1.0, 50),
+    np.concatenate([np.linspace(0.0, 1.0, 30) + k * 1e-9 for k in range(3)]),  # 3 values per bucket
+    np.concatenate([np.linspace(0.0, 1.0, 20), 0.5 + np.arange(1, 9) * 1e-12]),  # a crowded bucket
+])
+def test_bucket_ranks_equal_binary_search(values: np.ndarray) -> None:
+    u = np.unique(values)
+    probes = np.concatenate([u, np.nextafter(u, -np.inf), np.nextafter(u, np.inf),
+                             np.random.default_rng(0).uniform(-2.0, 2.0, 500), [-1e308, 1e308]])
+    assert (rcc8._ranks(u, probes) == np.searchsorted(u, probes, "right")).all()
 
 
 # --- world boxes --------------------------------------------------------------------------------

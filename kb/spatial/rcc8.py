@@ -43,18 +43,23 @@ tolerance, ``b - t`` or ``b + t`` (``|x - b| <= t`` is read as ``b - t <= x <= b
 bit, ties included.
 
 Tolerance
-    ``tol`` (default :data:`DEFAULT_TOLERANCE` = 0.001) is in the unit of length of the boxes
-    (the state files are in metres: 1 mm). Two bounds closer than ``tol`` count as equal: a gap
-    of 0.5 mm between a part and a table is EC, a gap of 2 mm is DC. Intervals shorter than
-    ``2 tol`` are at the resolution of the tolerance, and their relations follow the table
-    literally (a point on the end of an interval is EC, rule 3 before rule 4).
+    ``tol`` (default :data:`DEFAULT_TOLERANCE` = 0.001) is one setting, in the unit of length
+    of the boxes: the state files are in metres, so 1 mm (boxes in millimetres would need
+    ``tol=1.0``). Two bounds no farther apart than ``tol`` count as equal: a gap of 0.5 mm
+    between a part and a table is EC, a gap of 2 mm is DC. Intervals shorter than ``2 tol``
+    are at the resolution of the tolerance and follow the table literally (a point at the end
+    of an interval is EC to it, rule 3 before rule 4).
 
 Kernel
-    For each axis the decision depends only on the ternary comparisons (below / within
-    tolerance / above) of the four bound pairs (a0, b0), (a1, b1), (a1, b0), (a0, b1): an index
-    0..80 into a 81-entry uint32 table holding that axis's RCC8 bit and its two cardinal bits;
-    the three axes' entries are ORed. :func:`relate` runs it over blocks of subjects that fit
-    in the cache, in uint8, into preallocated buffers.
+    Per axis the decision depends only on the ternary comparisons (below / within tolerance /
+    above) of the bound pairs (a0, b0), (a1, b1), (a1, b0), (a0, b1): an index 0..80 into an
+    81-entry uint32 table of that axis's RCC8 bit and two cardinal bits; the axes' entries are
+    ORed (x and y through one 6561-entry table). For many subjects :func:`relate` gets the
+    index without float work per pair: a subject bound's comparisons with all the thresholds
+    of a chunk of objects follow from its rank among those thresholds, so two small tables
+    indexed by rank give each row of indexes by a row gather and an add, in uint8/uint16,
+    block by block in cache (see the comment "Vectorised kernel" below; figures in
+    ``docs/benchmarks.md``). Few subjects use broadcast comparisons instead.
 """
 
 from __future__ import annotations
@@ -81,9 +86,6 @@ BIT: dict[str, int] = {name: 1 << i for i, name in enumerate(RELATIONS)}
 
 #: Tolerance in the boxes' unit of length (metres in the state files: 1 mm).
 DEFAULT_TOLERANCE: float = 0.001
-
-#: Subjects per block of :func:`relate` (about ``_BLOCK_PAIRS`` pairs per block).
-_BLOCK_PAIRS = 1 << 15
 
 FloatArray = NDArray[np.float64]
 
@@ -142,31 +144,12 @@ def _check_tolerance(tol: float) -> float:
 # Lookup tables: ternary comparisons -> bits
 # ---------------------------------------------------------------------------------------------
 
-def _axis_table(axis: int) -> NDArray[np.uint32]:
-    """81 entries: index ``c00 + 3 c11 + 9 c10 + 27 c01`` -> the axis's RCC8 and cardinal bits.
-
-    ``cXY`` is the ternary comparison of subject bound X with object bound Y (0 below,
-    1 within tolerance, 2 above), 0 = lower bound, 1 = upper bound. Each entry is decided by
-    :func:`_axis_rcc8` on representative intervals (bounds 0, 1, 2 against shifted ones), so
-    the table is the reference decision itself; index combinations no pair of intervals can
-    produce get the same treatment and are never looked up.
-    """
-    table = np.zeros(81, dtype=np.uint32)
-    name = AXES[axis]
-    for idx in range(81):
-        c00, c11, c10, c01 = idx % 3, idx // 3 % 3, idx // 9 % 3, idx // 27
-        rel = _rcc8_of_codes(c00, c11, c10, c01)
-        bits = BIT[f"{name}-{rel}"]
-        if c00 >= 1:
-            bits |= BIT[f"{name}-Plus"]
-        if c11 <= 1:
-            bits |= BIT[f"{name}-Minus"]
-        table[idx] = bits
-    return table
-
-
 def _rcc8_of_codes(c00: int, c11: int, c10: int, c01: int) -> str:
-    """Rules 1-6 on ternary codes (0 below, 1 within tolerance, 2 above)."""
+    """Rules 1-6 on ternary codes ``cXY`` of subject bound X against object bound Y.
+
+    0 = lower bound, 1 = upper bound; a code is 0 below (``a < b - t``), 1 within tolerance,
+    2 above (``a > b + t``). Mirrors :func:`_axis_rcc8` comparison for comparison.
+    """
     if c10 == 0 or c01 == 2:
         return "DC"
     if c00 == 1 and c11 == 1:
@@ -181,24 +164,77 @@ def _rcc8_of_codes(c00: int, c11: int, c10: int, c01: int) -> str:
     return "PO"
 
 
+def _axis_table(axis: int) -> NDArray[np.uint32]:
+    """81 entries: index ``c00 + 3 c11 + 9 c10 + 27 c01`` -> the axis's RCC8 and cardinal bits.
+
+    Index combinations no two intervals can produce are filled by the same rules and never
+    looked up.
+    """
+    table = np.zeros(81, dtype=np.uint32)
+    name = AXES[axis]
+    for idx in range(81):
+        c00, c11, c10, c01 = idx % 3, idx // 3 % 3, idx // 9 % 3, idx // 27
+        bits = BIT[f"{name}-{_rcc8_of_codes(c00, c11, c10, c01)}"]
+        if c00 >= 1:
+            bits |= BIT[f"{name}-Plus"]
+        if c11 <= 1:
+            bits |= BIT[f"{name}-Minus"]
+        table[idx] = bits
+    return table
+
+
+#: Per axis: 81-entry table of the axis's bits.
 _TABLES: tuple[NDArray[np.uint32], ...] = tuple(_axis_table(k) for k in range(3))
+#: x and y together: index ``ix + 81 iy`` -> the bits of both axes (6561 entries, 26 KB).
+_TABLE_XY: NDArray[np.uint32] = (_TABLES[0][None, :] | _TABLES[1][:, None]).reshape(-1)
+#: Weight of each axis's code in the table index (x, y share the 6561-entry table).
+_AXIS_WEIGHT = (1, 81, 1)
+_AXIS_DTYPE = (np.uint16, np.uint16, np.uint8)
 
 
 # ---------------------------------------------------------------------------------------------
 # Vectorised kernel
 # ---------------------------------------------------------------------------------------------
+#
+# Every comparison is ``x >= v``: ``x < b - t`` is ``not x >= b - t`` and ``x > b + t`` is
+# ``x >= nextafter(b + t, +inf)`` (exact for finite floats). Per axis an object has four
+# thresholds: b0 - t, b0 + t (next float up), b1 - t, b1 + t (next float up); the ternary code
+# of a subject bound x against b0 is ``(x >= b0 - t) + (x >= next(b0 + t))``.
+#
+# Two kernels, the same answer:
+# - compare (few subjects): broadcast comparisons, per block of subjects, codes in uint8.
+# - rank (many subjects; the fast one): all thresholds U of a chunk of objects, sorted. A
+#   subject bound x is ``x >= v`` exactly when rank(x) >= rank of v, where rank(x) = number of
+#   thresholds <= x. So per axis two small tables indexed by rank, P0[r, j] (the code part of
+#   a0: c00 + 27 c01) and P1[r, j] (of a1: 3 c11 + 9 c10), give the per-pair index by two row
+#   gathers and an add, in uint8/uint16: no float work per pair. x and y share one 6561-entry
+#   table, z has its own.
+
+#: The rank kernel is used from this many subjects on (below, its tables and ranks cost more
+#: than the comparisons they save; measured on a 2-core Xeon).
+_RANK_MIN_SUBJECTS = 512
+#: Objects per chunk of the rank kernel: about subjects / 16, within these bounds (its tables
+#: are (4 C + 1) x C per axis, built once per chunk; 256 keeps them in L2).
+_RANK_CHUNK = (64, 256)
+#: Pairs per chunk of the compare kernel (subjects x objects; its buffers stay in L2).
+_COMPARE_PAIRS = 1 << 16
+#: Subjects per block of the kernels.
+_BLOCK = 512
+#: Bucket ranking gives up (falls back to a binary search) above this many thresholds per bucket.
+_MAX_LEVELS = 4
+
 
 def _boxes(lo: ArrayLike, hi: ArrayLike, what: str) -> tuple[FloatArray, FloatArray]:
-    """``lo``, ``hi`` as float64 (n, 3) arrays; finite, ``lo <= hi``, else ValueError."""
-    lo_a = np.ascontiguousarray(lo, dtype=np.float64)
-    hi_a = np.ascontiguousarray(hi, dtype=np.float64)
+    """``lo``, ``hi`` (n, 3) as float64 (3, n) arrays (one row per axis); finite, lo <= hi."""
+    lo_a = np.asarray(lo, dtype=np.float64)
+    hi_a = np.asarray(hi, dtype=np.float64)
     if lo_a.ndim != 2 or lo_a.shape[1] != 3 or lo_a.shape != hi_a.shape:
         raise ValueError(f"{what} boxes: lo and hi must both have shape (n, 3), not {lo_a.shape} and {hi_a.shape}")
     if not (np.isfinite(lo_a).all() and np.isfinite(hi_a).all()):
         raise ValueError(f"{what} boxes: bounds must be finite")
     if (lo_a > hi_a).any():
         raise ValueError(f"{what} boxes: lo must be <= hi on every axis")
-    return lo_a, hi_a
+    return np.ascontiguousarray(lo_a.T), np.ascontiguousarray(hi_a.T)
 
 
 def relate(a_lo: ArrayLike, a_hi: ArrayLike, b_lo: ArrayLike, b_hi: ArrayLike,
@@ -206,68 +242,186 @@ def relate(a_lo: ArrayLike, a_hi: ArrayLike, b_lo: ArrayLike, b_hi: ArrayLike,
     """uint32 (N, M): the mask of the 30 relations of subject box i to object box j.
 
     ``a_lo``, ``a_hi`` (N, 3) and ``b_lo``, ``b_hi`` (M, 3) are the corners of world-frame
-    axis-aligned boxes (finite, lo <= hi). Bit ``k`` of a mask is ``RELATIONS[k]``; the
-    decision is the module docstring's table, exactly that of :func:`relate_pair`.
+    axis-aligned boxes (finite, lo <= hi, else ValueError). Bit ``k`` of a mask is
+    ``RELATIONS[k]``; the decision is the module docstring's table, exactly that of
+    :func:`relate_pair`.
     """
     t = _check_tolerance(tol)
     a0s, a1s = _boxes(a_lo, a_hi, "subject")
     b0s, b1s = _boxes(b_lo, b_hi, "object")
-    n, m = a0s.shape[0], b0s.shape[0]
+    n, m = a0s.shape[1], b0s.shape[1]
     out = np.empty((n, m), dtype=np.uint32)
-    if n == 0 or m == 0:
-        return out
-    block = max(1, min(n, _BLOCK_PAIRS // m))
-    kernel = _Kernel(block, m)
-    for axis in range(3):
-        kernel.set_objects(axis, b0s[:, axis], b1s[:, axis], t)
-    for start in range(0, n, block):
-        stop = min(n, start + block)
-        kernel.run(a0s[start:stop], a1s[start:stop], out[start:stop])
+    kernel, chunk = _plan(n)
+    for start in range(0, m, chunk):
+        cols = slice(start, min(m, start + chunk))
+        _run_blocks(kernel(_Thresholds(b0s[:, cols], b1s[:, cols], t), a0s, a1s), out, cols)
     return out
 
 
-class _Kernel:
-    """Preallocated buffers of one block of subjects x all objects."""
+def _plan(n: int) -> tuple[type[_CompareKernel] | type[_RankKernel], int]:
+    """The kernel for ``n`` subjects and its chunk of objects (see the constants)."""
+    if n >= _RANK_MIN_SUBJECTS:
+        low, high = _RANK_CHUNK
+        return _RankKernel, min(high, max(low, n // 16))
+    return _CompareKernel, max(64, _COMPARE_PAIRS // max(n, 1))
 
-    def __init__(self, block: int, m: int) -> None:
-        self.m = m
-        self.shifted: list[tuple[FloatArray, ...]] = [(), (), ()]  # per axis: b0-t, b0+t, b1-t, b1+t
-        self.cmp = np.empty((block, m), dtype=np.bool_)
-        self.code = np.empty((block, m), dtype=np.uint8)
-        self.bits = np.empty((block, m), dtype=np.uint32)
 
-    def set_objects(self, axis: int, b0: FloatArray, b1: FloatArray, t: float) -> None:
-        """Shift the objects' bounds of one axis by the tolerance, once per call."""
-        self.shifted[axis] = (b0 - t, b0 + t, b1 - t, b1 + t)
+class _Thresholds:
+    """The four thresholds of each object of a chunk, per axis: each (3, m)."""
 
-    def _ternary(self, x: FloatArray, lo: FloatArray, hi: FloatArray, weight: int, code: NDArray[np.uint8]) -> None:
-        """code += weight * ((x >= lo) + (x > hi)), x a column of subject bounds."""
+    def __init__(self, b0s: FloatArray, b1s: FloatArray, t: float) -> None:
+        self.m = b0s.shape[1]
+        self.lo0, self.hi0 = b0s - t, np.nextafter(b0s + t, np.inf)
+        self.lo1, self.hi1 = b1s - t, np.nextafter(b1s + t, np.inf)
+
+
+def _run_blocks(kernel: _CompareKernel | _RankKernel, out: NDArray[np.uint32], cols: slice) -> None:
+    """Fill ``out[:, cols]`` block of subjects by block (through a buffer if not contiguous)."""
+    n = out.shape[0]
+    whole = cols.start == 0 and cols.stop == out.shape[1]
+    buffer = None if whole else np.empty((min(n, _BLOCK), cols.stop - cols.start), dtype=np.uint32)
+    for start in range(0, n, _BLOCK):
+        rows = slice(start, min(n, start + _BLOCK))
+        if buffer is None:
+            kernel.run(rows, out[rows])
+        else:
+            dest = buffer[: rows.stop - rows.start]
+            kernel.run(rows, dest)
+            out[rows, cols] = dest
+
+
+class _CompareKernel:
+    """Broadcast comparisons per block of subjects, codes in uint8 (for few subjects)."""
+
+    def __init__(self, objects: _Thresholds, a0s: FloatArray, a1s: FloatArray) -> None:
+        self.obj, self.a0s, self.a1s = objects, a0s, a1s
+        shape = (min(a0s.shape[1], _BLOCK), objects.m)
+        self.cmp = np.empty(shape, dtype=np.bool_)
+        self.code = np.empty(shape, dtype=np.uint8)
+        self.bits = np.empty(shape, dtype=np.uint32)
+
+    def _add_ternary(self, code: NDArray[np.uint8], x: FloatArray, lo: FloatArray, hi: FloatArray) -> None:
+        """code = 3 code + ternary(x vs the threshold pair lo, hi) (Horner form of the index)."""
         cmp = self.cmp[: code.shape[0]]
-        for op, thr in ((np.greater_equal, lo), (np.greater, hi)):
-            op(x[:, None], thr[None, :], out=cmp)
-            view = cmp.view(np.uint8)
-            if weight == 1:
-                code += view
-            else:
-                code += view * np.uint8(weight)
+        code *= np.uint8(3)
+        for thr in (lo, hi):
+            np.greater_equal(x[:, None], thr[None, :], out=cmp)
+            code += cmp.view(np.uint8)
 
-    def run(self, a0s: FloatArray, a1s: FloatArray, out: NDArray[np.uint32]) -> None:
-        """Masks of one block of subjects into ``out`` (rows x m)."""
-        rows = a0s.shape[0]
-        code, bits = self.code[:rows], self.bits[:rows]
+    def run(self, rows: slice, out: NDArray[np.uint32]) -> None:
+        """Masks of subjects ``rows`` into ``out`` (C-contiguous, rows x m)."""
+        o = self.obj
+        code, bits = self.code[: out.shape[0]], self.bits[: out.shape[0]]
         for axis in range(3):
-            b0lo, b0hi, b1lo, b1hi = self.shifted[axis]
-            a0, a1 = a0s[:, axis], a1s[:, axis]
-            code.fill(0)
-            self._ternary(a0, b0lo, b0hi, 1, code)
-            self._ternary(a1, b1lo, b1hi, 3, code)
-            self._ternary(a1, b0lo, b0hi, 9, code)
-            self._ternary(a0, b1lo, b1hi, 27, code)
-            if axis == 0:
-                np.take(_TABLES[axis], code, out=out)
-            else:
-                np.take(_TABLES[axis], code, out=bits)
+            a0, a1 = self.a0s[axis, rows], self.a1s[axis, rows]
+            code.fill(0)  # index = c00 + 3 c11 + 9 c10 + 27 c01, built from c01 down
+            self._add_ternary(code, a0, o.lo1[axis], o.hi1[axis])
+            self._add_ternary(code, a1, o.lo0[axis], o.hi0[axis])
+            self._add_ternary(code, a1, o.lo1[axis], o.hi1[axis])
+            self._add_ternary(code, a0, o.lo0[axis], o.hi0[axis])
+            np.take(_TABLES[axis], code, out=out if axis == 0 else bits, mode="clip")
+            if axis:
                 out |= bits
+
+
+class _RankKernel:
+    """Rank tables per axis for a chunk of objects; per pair two row gathers and an add."""
+
+    def __init__(self, objects: _Thresholds, a0s: FloatArray, a1s: FloatArray) -> None:
+        self.p0: list[NDArray] = []
+        self.p1: list[NDArray] = []
+        self.r0: list[NDArray[np.intp]] = []
+        self.r1: list[NDArray[np.intp]] = []
+        for axis in range(3):
+            thresholds = [v[axis] for v in (objects.lo0, objects.hi0, objects.lo1, objects.hi1)]
+            u = np.unique(np.concatenate(thresholds))
+            p0, p1 = _rank_tables(u, thresholds, _AXIS_WEIGHT[axis], _AXIS_DTYPE[axis])
+            self.p0.append(p0)
+            self.p1.append(p1)
+            self.r0.append(_ranks(u, a0s[axis]))
+            self.r1.append(_ranks(u, a1s[axis]))
+        shape = (min(a0s.shape[1], _BLOCK), objects.m)
+        self.ixy, self.tmp16 = np.empty(shape, np.uint16), np.empty(shape, np.uint16)
+        self.iz, self.tmp8 = np.empty(shape, np.uint8), np.empty(shape, np.uint8)
+        self.bits = np.empty(shape, np.uint32)
+
+    def _index(self, axes: range, rows: slice, index: NDArray, tmp: NDArray) -> None:
+        """index = sum over ``axes`` of P0[r0] + P1[r1] for subjects ``rows``."""
+        first = True
+        for axis in axes:
+            for table, ranks in ((self.p0[axis], self.r0[axis]), (self.p1[axis], self.r1[axis])):
+                np.take(table, ranks[rows], axis=0, out=index if first else tmp, mode="clip")
+                if not first:
+                    index += tmp
+                first = False
+
+    def run(self, rows: slice, out: NDArray[np.uint32]) -> None:
+        """Masks of subjects ``rows`` into ``out`` (C-contiguous, rows x m)."""
+        k = out.shape[0]
+        ixy, iz, bits = self.ixy[:k], self.iz[:k], self.bits[:k]
+        self._index(range(2), rows, ixy, self.tmp16[:k])
+        np.take(_TABLE_XY, ixy, out=out, mode="clip")
+        self._index(range(2, 3), rows, iz, self.tmp8[:k])
+        np.take(_TABLES[2], iz, out=bits, mode="clip")
+        out |= bits
+
+
+def _rank_tables(u: FloatArray, thresholds: list[FloatArray], weight: int, dtype: type) -> tuple[NDArray, NDArray]:
+    """P0, P1 ((len(u) + 1) x m): the index parts of a0 and a1 for a bound of each rank.
+
+    ``thresholds`` are lo0, hi0, lo1, hi1 of the objects; a bound x of rank r (r thresholds
+    <= x) is >= v exactly when r >= searchsorted(u, v, 'right'). Each threshold adds its
+    weight from its rank on (a cumulative sum down the rows): in P0, c00 + 27 c01 (a0 against
+    b0 and b1), in P1, 3 c11 + 9 c10 (a1 against b1 and b0), times the axis's weight.
+    """
+    m = thresholds[0].shape[0]
+    cols = np.arange(m)
+    p0 = np.zeros((u.shape[0] + 1, m), dtype=dtype)
+    p1 = np.zeros((u.shape[0] + 1, m), dtype=dtype)
+    for v, w0, w1 in zip(thresholds, (1, 1, 27, 27), (9, 9, 3, 3)):
+        start = np.searchsorted(u, v, "right")
+        p0[start, cols] += dtype(w0 * weight)
+        p1[start, cols] += dtype(w1 * weight)
+    np.cumsum(p0, axis=0, out=p0)
+    np.cumsum(p1, axis=0, out=p1)
+    return p0, p1
+
+
+def _ranks(u: FloatArray, x: FloatArray) -> NDArray[np.intp]:
+    """For each x, the number of values of ``u`` (sorted, unique) that are <= x.
+
+    ``np.searchsorted(u, x, 'right')``, computed through buckets: bucket(v) = floor((clip(v) -
+    u[0]) * B / width) is monotone in v (each float operation is), so the values of u in lower
+    buckets are all < x and those in higher buckets all > x; x is compared only with the few
+    values of its own bucket. Exact; 10x faster than the binary search on random x. Falls back
+    to the binary search when a bucket holds more than _MAX_LEVELS values.
+    """
+    k = u.shape[0]
+    nb = max(64, 1 << int(8 * k).bit_length())
+    width = float(u[-1]) - float(u[0])  # Python floats: inf on overflow, no warning
+    scale = nb / width if width > 0.0 else 0.0
+    if not np.isfinite(scale) or scale == 0.0:
+        return np.searchsorted(u, x, "right")
+
+    def bucket(v: FloatArray) -> NDArray[np.intp]:
+        w = np.clip(v, u[0], u[-1])
+        w -= u[0]
+        w *= scale
+        b = w.astype(np.intp)
+        return np.minimum(b, nb - 1, out=b)
+
+    bu = bucket(u)
+    below = np.searchsorted(bu, np.arange(nb), "left")  # values of u in buckets < b
+    level = np.arange(k) - below[bu]
+    if level.max() >= _MAX_LEVELS:
+        return np.searchsorted(u, x, "right")
+    levels = np.full((int(level.max()) + 1, nb), np.inf)
+    levels[level, bu] = u
+    bx = bucket(x)
+    rank = below[bx]
+    for row in levels:
+        rank += row[bx] <= x
+    return rank
 
 
 # ---------------------------------------------------------------------------------------------
