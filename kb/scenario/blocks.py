@@ -11,7 +11,8 @@ from typing import Iterator
 
 from rdflib import Graph
 
-from kb.scenario.layout import BASE, EFFECTORS, HOLDER, POINTING_DOWN, KitLayout, Pose, Scenario, pose
+from kb.scenario.layout import (BASE, EFFECTORS, HOLDER, POINTING_DOWN, ROBOT_FLANGE, ROBOT_HOME_Z, KitLayout, Pose,
+                                Scenario, pose)
 from kb.scenario.turtle import Block, Geometry, Text, Typed, blocks_to_graph
 
 def _shape_block(name: str, description: str, dims, has_top: bool) -> Block:
@@ -141,15 +142,16 @@ def _effector_blocks(sc: Scenario, name: str, holder: str) -> Iterator[Block]:
 
 
 def _robot_blocks(sc: Scenario) -> Iterator[Block]:
-    yield (None, "robot (holding no end effector)", [])
-    p, dims = sc.floor["robot_1"]
+    yield (None, "robot (holding no end effector); its pose is its tool flange at the home pose, z down", [])
+    p, _floor_space = sc.floor["robot_1"]
+    p = pose(p[0], p[1], ROBOT_HOME_Z, POINTING_DOWN)
     yield from _solid("robot_1", ("Robot",), [
         ("hasNoSkuObject_InternalShape", "shape_robot_1"),
         ("hasRobot_Description", Text("kitting robot")),
         ("hasRobot_MaximumLoadWeight", float(sc.weights["robot"])),
         ("hasRobot_WorkVolume", "robot_1_work_volume"),
     ], "PoseOnlyLocation", "kitting_workstation_1", p)
-    yield _shape_block("shape_robot_1", "robot base", dims, True)
+    yield _shape_block("shape_robot_1", "robot tool flange (z axis along the tool)", ROBOT_FLANGE, True)
     yield ("robot_1_work_volume", ("BoxVolume",), [
         ("hasBoxVolume_MinimumPoint", "robot_1_work_volume_min"),
         ("hasBoxVolume_MaximumPoint", "robot_1_work_volume_max"),

@@ -31,7 +31,9 @@ FLOOR_GAP = 0.5
 BASE = (0.6, 0.3, 0.8)  # changing station base
 HOLDER = (0.12, 0.12, 0.10)
 EFFECTORS = {"part_gripper": (0.08, 0.06, 0.08), "tray_gripper": (0.10, 0.10, 0.09)}
-ROBOT_BASE = (0.4, 0.4, 0.6)
+ROBOT_BASE = (0.4, 0.4, 0.6)  # floor space the robot takes (its base is not modelled)
+ROBOT_FLANGE = (0.1, 0.1, 0.02)  # the robot's shape: its tool flange (z axis along the tool, down)
+ROBOT_HOME_Z = 1.2  # height of the tool flange at the robot's home pose
 
 
 def pose(x: float, y: float, z: float, axes: Axes = IDENTITY) -> Pose:

@@ -15,7 +15,7 @@ from sqlalchemy.dialects import mysql
 from sqlalchemy.orm import DeclarativeBase, Mapped, foreign, mapped_column, relationship, remote
 
 #: Fingerprint of the schema; a database stamped with another one is refused.
-SCHEMA_VERSION = 'f10a482c7e67a9db'
+SCHEMA_VERSION = 'fa6a028b10fba363'
 #: (ontology IRI, owl:versionInfo) of the ontologies the schema was made from.
 ONTOLOGIES = (('https://w3id.org/kitkb/kitting', '0.1.0'), ('https://w3id.org/kitkb/soap', '0.1.0'))
 
@@ -2127,16 +2127,29 @@ class Contained_In(IntermediateStateRelation):
 
 
 class In_Contact_With(IntermediateStateRelation):
-    """The subject touches the object: externally connected along x, y or z (seed definition; the executor should use boxes that overlap on the other axes, see docs/soap.md).
+    """The subject touches the object: externally connected along x, y or z, and not apart along any axis. (The seeds' definition, X-EC or Y-EC or Z-EC alone, also holds for boxes that touch in one projection and are metres apart on another axis.)
 
     Class <https://w3id.org/kitkb/soap#In-Contact-With>.
     """
 
     __tablename__ = 'soap_in_contact_with'
-    __table_args__ = {'info': {'iri': 'https://w3id.org/kitkb/soap#In-Contact-With', 'parent': 'soap_intermediate_state_relation'}, 'comment': 'The subject touches the object: externally connected along x, y or z (seed definition; the executor should use boxes that overlap on the other axes, see docs/soap.md).'}
+    __table_args__ = {'info': {'iri': 'https://w3id.org/kitkb/soap#In-Contact-With', 'parent': 'soap_intermediate_state_relation'}, 'comment': "The subject touches the object: externally connected along x, y or z, and not apart along any axis. (The seeds' definition, X-EC or Y-EC or Z-EC alone, also holds for boxes that touch in one projection and are metres apart on another axis.)"}
 
     id: Mapped[int] = mapped_column(ForeignKey('soap_intermediate_state_relation.id', deferrable=True, initially="DEFERRED"), primary_key=True, autoincrement=False)
     __mapper_args__ = {"polymorphic_identity": 'https://w3id.org/kitkb/soap#In-Contact-With', "inherit_condition": id.column == IntermediateStateRelation.__table__.c.id}
+
+
+class In_Or_Against(IntermediateStateRelation):
+    """Partially-In or In-Contact-With: the subject sits in the object or rests against it, e.g. an end effector in its holder (kitkb's scenarios: inside the holder's box; NIST's files: hanging under a 1 mm holder plate) or a holder mounted in or on the side of a changing station's base.
+
+    Class <https://w3id.org/kitkb/soap#In-Or-Against>.
+    """
+
+    __tablename__ = 'soap_in_or_against'
+    __table_args__ = {'info': {'iri': 'https://w3id.org/kitkb/soap#In-Or-Against', 'parent': 'soap_intermediate_state_relation'}, 'comment': "Partially-In or In-Contact-With: the subject sits in the object or rests against it, e.g. an end effector in its holder (kitkb's scenarios: inside the holder's box; NIST's files: hanging under a 1 mm holder plate) or a holder mounted in or on the side of a changing station's base."}
+
+    id: Mapped[int] = mapped_column(ForeignKey('soap_intermediate_state_relation.id', deferrable=True, initially="DEFERRED"), primary_key=True, autoincrement=False)
+    __mapper_args__ = {"polymorphic_identity": 'https://w3id.org/kitkb/soap#In-Or-Against', "inherit_condition": id.column == IntermediateStateRelation.__table__.c.id}
 
 
 class Not_Contained_In(IntermediateStateRelation):
@@ -2192,13 +2205,13 @@ class On_Top_With_Contact(IntermediateStateRelation):
 
 
 class Partially_In(IntermediateStateRelation):
-    """The subject is inside the object in x and y and at least partly inside it in z, not reaching below it (formula (2) of the simulated-sensor paper): e.g. a part in a parts tray or kit, a kit tray in a large box.
+    """The subject is inside the object in x and y and at least partly inside it in z, not reaching below it (formula (2) of the simulated-sensor paper): e.g. a part in a parts tray or kit, a kit tray in a large box. EQ is admitted on each axis (formula (2) of the paper leaves it out, so a part exactly as tall as its kit tray, as in NIST's Goal1, would not be in it).
 
     Class <https://w3id.org/kitkb/soap#Partially-In>.
     """
 
     __tablename__ = 'soap_partially_in'
-    __table_args__ = {'info': {'iri': 'https://w3id.org/kitkb/soap#Partially-In', 'parent': 'soap_intermediate_state_relation'}, 'comment': 'The subject is inside the object in x and y and at least partly inside it in z, not reaching below it (formula (2) of the simulated-sensor paper): e.g. a part in a parts tray or kit, a kit tray in a large box.'}
+    __table_args__ = {'info': {'iri': 'https://w3id.org/kitkb/soap#Partially-In', 'parent': 'soap_intermediate_state_relation'}, 'comment': "The subject is inside the object in x and y and at least partly inside it in z, not reaching below it (formula (2) of the simulated-sensor paper): e.g. a part in a parts tray or kit, a kit tray in a large box. EQ is admitted on each axis (formula (2) of the paper leaves it out, so a part exactly as tall as its kit tray, as in NIST's Goal1, would not be in it)."}
 
     id: Mapped[int] = mapped_column(ForeignKey('soap_intermediate_state_relation.id', deferrable=True, initially="DEFERRED"), primary_key=True, autoincrement=False)
     __mapper_args__ = {"polymorphic_identity": 'https://w3id.org/kitkb/soap#Partially-In', "inherit_condition": id.column == IntermediateStateRelation.__table__.c.id}
@@ -2862,6 +2875,7 @@ CLASSES: dict[str, type[Base]] = {
     'soap_z_plus': Z_Plus,
     'soap_contained_in': Contained_In,
     'soap_in_contact_with': In_Contact_With,
+    'soap_in_or_against': In_Or_Against,
     'soap_not_contained_in': Not_Contained_In,
     'soap_not_in_contact_with': Not_In_Contact_With,
     'soap_on_top_of': On_Top_Of,
