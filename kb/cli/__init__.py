@@ -42,6 +42,7 @@ HANDLERS = {
     "db dump": "kb.cli.world:dump",
     "run": "kb.cli.pipeline:run",
     "crcl convert": "kb.cli.crcl:convert",
+    "predicates": "kb.cli.predicates:predicates",
 }
 DIALECTS = ["sqlite", "postgresql", "mysql"]
 DB_HELP = "SQLite file or SQLAlchemy URL such as postgresql://user@host/db (default kitkb.sqlite)"
@@ -167,13 +168,33 @@ def _add_crcl(sub: Any) -> None:
                         "kitkb's own reader only)")
 
 
+def _add_predicates(sub: Any) -> None:
+    p = _sub(sub, "predicates", "predicates", "the predicates that hold in a state file, computed from its geometry",
+             description="Print every predicate atom that holds in a workstation state file, one "
+                         "name(arg1, arg2) a line, evaluated from the definitions in the domain "
+                         "ontology (3-D RCC8 relations of the objects' boxes, SKU and model facts).")
+    p.add_argument("state", nargs="+", metavar="STATE", help="state file(s) of one workstation state")
+    p.add_argument("--goal", metavar="FILE",
+                   help="also take the individuals that only this file (the goal state) names, with their "
+                        "model facts but no geometry, as the PDDL generator does (NIST's kits)")
+    p.add_argument("--match-names", action="store_true",
+                   help="with --goal: match its individuals to the state's by local name (NIST's files)")
+    p.add_argument("--domain", action="append", metavar="FILE",
+                   help="domain ontology with the predicate definitions (repeatable; default: the shipped "
+                        "kitting-domain.ttl)")
+    p.add_argument("-p", "--predicate", action="append", metavar="NAME", help="only this predicate (repeatable)")
+    p.add_argument("--tolerance", type=float, metavar="METRES",
+                   help="contact and equality tolerance in metres (default 0.001)")
+    p.add_argument("--format", choices=["text", "json"], default="text", help="output format (default text)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``kitkb`` command."""
     parser = argparse.ArgumentParser(prog="kitkb", description=DESCRIPTION, epilog=EXIT_CODES)
     parser.add_argument("-q", "--quiet", action="store_true", help="print no line on success")
     parser.add_argument("--traceback", action="store_true", help="show the Python traceback of an error")
     sub = parser.add_subparsers(dest="subcommand", required=True, metavar="COMMAND")
-    for add in (_add_files, _add_scenario, _add_generate, _add_plan, _add_db, _add_run, _add_crcl):
+    for add in (_add_files, _add_scenario, _add_generate, _add_plan, _add_db, _add_run, _add_crcl, _add_predicates):
         add(sub)
     return parser
 

@@ -20,7 +20,8 @@ file and line of the offending node (:func:`check_definitions` lists them all fo
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable, Iterable, Union
+from pathlib import Path
+from typing import Callable, Iterable, Sequence, Union
 
 from rdflib import BNode, Graph, Literal, URIRef
 from rdflib.collection import Collection
@@ -28,6 +29,8 @@ from rdflib.namespace import OWL, RDF
 
 from kb.core.errors import InputError
 from kb.core.namespaces import SOAP
+from kb.core.resources import ontology_path
+from kb.io import KnowledgeBase, load
 
 #: The 30 primitive relations, per axis: RCC8 then cardinal directions.
 RCC8_NAMES = ("DC", "EC", "PO", "EQ", "TPP", "NTPP", "TPPi", "NTPPi")
@@ -227,6 +230,21 @@ class Definitions:
         return self.relations[iri]
 
 
+def load_definitions(domain_files: Sequence[str | Path] | None = None) -> Definitions:
+    """The definitions of the domain in ``domain_files`` (default: the shipped
+    ``kitting-domain.ttl``) with their imports; errors name the file and line of the node."""
+    kb = load(list(domain_files) if domain_files else [ontology_path("kitting-domain.ttl")])
+    return read_definitions(kb.graph, locator(kb))
+
+
+def locator(kb: KnowledgeBase) -> Locator:
+    """Where a node is stated in ``kb``'s files: ``(file, line)``."""
+    def locate(node) -> tuple[str | None, int | None]:  # noqa: ANN001
+        found = kb.source_of(node)
+        return (str(found[0].path), found[1]) if found else (None, None)
+    return locate
+
+
 def read_definitions(graph: Graph, locate: Locator | None = None) -> Definitions:
     """The definitions of every ``soap:Predicate`` and ``soap:Function`` in ``graph``.
 
@@ -275,13 +293,13 @@ class _Reader:
                 p = self.predicate(node)
                 predicates[p.name] = p
             except _Malformed as e:
-                self.error(e.node, e.message)
+                self.error(e.node, f"predicate {_short(node)}: {e.message}")
         for node in sorted(self.g.subjects(RDF.type, SOAP.Function), key=str):
             try:
                 f = self.function(node)
                 functions[f.name] = f
             except _Malformed as e:
-                self.error(e.node, e.message)
+                self.error(e.node, f"function {_short(node)}: {e.message}")
         return Definitions(predicates, functions, self.relations)
 
     # --- helpers ------------------------------------------------------------------

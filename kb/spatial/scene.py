@@ -48,6 +48,11 @@ from kb.spatial.transforms import pose_matrix
 _KTW = str(KTW)
 SOLID = str(KTW.SolidObject)
 _POSE_PROPS = (KTW.hasPoseLocation_Point, KTW.hasPoseLocation_XAxis, KTW.hasPoseLocation_ZAxis)
+_XYZ = (KTW.hasPoint_X, KTW.hasPoint_Y, KTW.hasPoint_Z)
+_IJK = (KTW.hasVector_I, KTW.hasVector_J, KTW.hasVector_K)
+_PRIMARY, _REF = KTW.hasSolidObject_PrimaryLocation, KTW.hasPhysicalLocation_RefObject
+#: classes of the geometry vocabulary (points, vectors, locations, shapes): not objects of the scene
+_GEOMETRY = tuple(str(c) for c in (KTW.Point, KTW.Vector, KTW.PhysicalLocation, KTW.ShapeDesign, KTW.BoxVolume))
 #: object class -> the property whose value lends it its box (when it has no shape of its own)
 STAND_INS = {
     str(KTW.Kit): KTW.hasKit_KitTray,
@@ -214,7 +219,8 @@ class _Builder:
                     elif s in own:
                         continue
                     asserted[s].add(cs)
-        names = sorted(asserted, key=str)
+        geometry = set(_GEOMETRY)
+        names = sorted((n for n in asserted if not any(anc[c] & geometry for c in asserted[n])), key=str)
         classes = [frozenset().union(*(anc[c] for c in asserted[n])) for n in names]
         facts, values = self.facts(set(names))
         k = len(names)
@@ -232,14 +238,15 @@ class _Builder:
     def facts(self, individuals: set) -> tuple[dict, dict]:
         facts: dict[str, set] = defaultdict(set)
         values: dict[str, dict] = defaultdict(dict)
+        skip = {RDF.type}
         for view in self.views + self.extra:
             for s, p, o in view.triples((None, None, None)):
-                if s not in individuals or p == RDF.type:
+                if s not in individuals or p in skip:
                     continue
-                if isinstance(o, Literal):
-                    values[str(p)].setdefault(str(s), o.toPython())
-                elif o in individuals:
+                if o in individuals:
                     facts[str(p)].add((str(s), str(o)))
+                elif isinstance(o, Literal):
+                    values[str(p)].setdefault(str(s), o.toPython())
         return dict(facts), dict(values)
 
     # --- poses ----------------------------------------------------------------------
@@ -247,9 +254,9 @@ class _Builder:
         point, xa, za = (self.value(loc, p) for p in _POSE_PROPS)
         if point is None:
             return None
-        p = [self.number(point, q) for q in (KTW.hasPoint_X, KTW.hasPoint_Y, KTW.hasPoint_Z)]
-        x = [self.number(xa, q) for q in (KTW.hasVector_I, KTW.hasVector_J, KTW.hasVector_K)] if xa else [1, 0, 0]
-        z = [self.number(za, q) for q in (KTW.hasVector_I, KTW.hasVector_J, KTW.hasVector_K)] if za else [0, 0, 1]
+        p = [self.number(point, q) for q in _XYZ]
+        x = [self.number(xa, q) for q in _IJK] if xa else [1, 0, 0]
+        z = [self.number(za, q) for q in _IJK] if za else [0, 0, 1]
         try:
             return pose_matrix(p, x, z)
         except ValueError as e:
@@ -271,10 +278,10 @@ class _Builder:
         for i, n in enumerate(names):
             if n not in own or SOLID not in classes[i]:
                 continue
-            loc = self.value(n, KTW.hasSolidObject_PrimaryLocation)
+            loc = self.value(n, _PRIMARY)
             if loc is None:
                 continue
-            ref = self.value(loc, KTW.hasPhysicalLocation_RefObject)
+            ref = self.value(loc, _REF)
             if ref == n:  # the world frame
                 continue
             m = self.local(loc)

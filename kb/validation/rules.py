@@ -23,7 +23,8 @@ from rdflib import OWL, RDF, RDFS, XSD, Graph, Literal, URIRef
 from rdflib.term import Node
 
 from kb.core.diagnostics import Diagnostic
-from kb.core.namespaces import KTW, local_name
+from kb.core.namespaces import KTW, SOAP, local_name
+from kb.model.definitions import check_definitions
 from kb.model.owl import OwlModel, is_w3c
 from kb.validation.suggest import closest
 
@@ -277,6 +278,21 @@ def check_data_source(ctx: RuleContext, src: Any) -> None:
     _check_types(ctx, src)
     _check_predicates(ctx, src)
     _check_references(ctx, src, pairs)
+    _check_definitions(ctx, src, g)
+
+
+def _check_definitions(ctx: RuleContext, src: Any, g: Any) -> None:
+    """A SOAP domain file: every predicate and function definition can be evaluated (the
+    executor decides predicates from these formulas; see :mod:`kb.model.definitions`)."""
+    if g.value(None, RDF.type, SOAP.Predicate) is None and g.value(None, RDF.type, SOAP.Function) is None:
+        return
+    union = Graph()
+    for t in ctx.model.graph:
+        union.add(t)
+    for t in g.triples((None, None, None)):
+        union.add(t)
+    for problem in check_definitions(union, lambda node: (None, ctx.locate(src, node, None, None))):
+        ctx.report(src, problem.line, "error", problem.message, "malformed-definition", SOAP.Predicate)
 
 
 def _check_types(ctx: RuleContext, src: Any) -> None:
