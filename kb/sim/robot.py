@@ -1,0 +1,241 @@
+"""A simulated robot executing CRCL commands on the ground truth (:class:`~kb.sim.world.World`).
+
+Conventions (those of the state files):
+
+* the robot's pose is its tool flange, z along the tool (down when the tool points down); its
+  box is the flange (0.1 x 0.1 x 0.02 in kitkb's scenarios, a point in NIST's), extending from
+  its origin along +z. An end effector's frame is its mount face, its box extends along +z too;
+  a mounted effector's frame is ``flange @ translate(0, 0, flange height)``;
+* a CRCL pose (``MoveTo``, ``MoveStraightTo``, ``MoveThroughTo``) is the pose of the tool tip:
+  the far face of the mounted effector (``effector @ translate(0, 0, effector length)``), or
+  the flange's far face with no effector. So ``flange = tip @ translate(0, 0, -(effector
+  length + flange height))``;
+* moves are instantaneous: the end pose is reached (through the waypoints); the clock advances
+  by the tip's path length / speed (``SetAbsoluteSpeed``, default 1 m/s); ``Dwell`` adds its time;
+* ``CloseGripper`` grasps the object whose top face is at the tip (within :data:`GRASP_TOLERANCE`
+  = 2 x :data:`kb.spatial.rcc8.DEFAULT_TOLERANCE` = 2 mm) and whose footprint contains the
+  tip's x, y — if the mounted effector suits it (listed by its SKU,
+  ``hasStockKeepingUnit_EndEffector``; a kit by its kit tray's SKU: touching a kit's tray grasps
+  the kit). Otherwise it grasps nothing, which is not an error (the executor's checks find it).
+  The held object then moves rigidly with the tip; ``OpenGripper`` lets it fall straight down
+  (:meth:`World.drop`) onto what is below, its new parent;
+* ``CloseToolChanger`` mounts the free end effector whose mount face is at the flange's far face
+  (within :data:`GRASP_TOLERANCE`); the effector keeps its orientation (its z axis is taken to
+  be along the flange's, as in a holder that presents it tool-down). ``OpenToolChanger``
+  leaves it where it is: in the holder it sits in, else it falls;
+* only metres and radians (and the ``Workstation`` frame) are supported; other units are an
+  error status, as is an ``Unreadable`` line. Other commands are accepted.
+"""
+
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+
+from kb import crcl
+from kb.sim.interface import Status
+from kb.sim.world import TOLERANCE, World, translate
+
+GRASP_TOLERANCE = 2 * TOLERANCE
+#: A held part armed to drop falls in the first move that carries its tip this far sideways (m).
+TRANSIT = 0.05
+
+#: fault kind, objects, detail -> None: how the robot reports an armed fault taking effect.
+FaultHook = Callable[[str, tuple[str, ...], str], None]
+
+
+class Robot:
+    """The robot of a :class:`World`: its flange, mounted effector, held object and the clock."""
+
+    def __init__(self, world: World, on_fault: FaultHook | None = None) -> None:
+        self.world = world
+        robots = [i for i in range(len(world)) if world.is_a(i, "Robot") and world.placed(i)]
+        if not robots:
+            raise ValueError("the state has no placed robot")
+        self.index = robots[0]
+        self.time = 0.0
+        self.speed = 1.0
+        self.on_fault = on_fault or (lambda kind, objects, detail: None)
+        self.miss_grasp = False  # armed faults (kb.sim.faults)
+        self.drop_in_transit = False
+        mounted = [j for j in world.children(self.index) if world.is_a(j, "EndEffector")]
+        self.effector: int | None = mounted[0] if mounted else None
+        held = world.children(self.effector) if self.effector is not None else []
+        self.held: int | None = held[0] if held else None
+
+    # --- geometry ---------------------------------------------------------------------
+    @property
+    def flange(self) -> np.ndarray:
+        """The flange pose."""
+        return self.world.poses[self.index]
+
+    def _length(self, i: int) -> float:
+        return float(self.world.local_hi[i, 2])
+
+    def tool_length(self) -> float:
+        """Flange height plus the mounted effector's length: flange origin to tool tip."""
+        eff = self._length(self.effector) if self.effector is not None else 0.0
+        return self._length(self.index) + eff
+
+    def tip(self) -> np.ndarray:
+        """The tool tip pose (what CRCL poses give)."""
+        return self.flange @ translate(0.0, 0.0, self.tool_length())
+
+    # --- commands ---------------------------------------------------------------------
+    def execute(self, command: crcl.Command) -> Status:
+        """Carry out one CRCL command."""
+        handler = _HANDLERS.get(type(command))
+        if handler is not None:
+            return handler(self, command)
+        if isinstance(command, crcl.Unreadable):
+            return Status.error(f"unreadable command: {command.text!r}")
+        return Status.ok()
+
+    def move(self, waypoints: tuple[crcl.Pose, ...]) -> Status:
+        """Move the tip through ``waypoints`` to the last one."""
+        for pose in waypoints:
+            try:
+                target = pose.matrix()
+            except ValueError as e:
+                return Status.error(f"bad pose: {e}")
+            self._segment(target)
+        return Status.ok()
+
+    def _segment(self, target: np.ndarray) -> None:
+        start = self.tip()
+        step = target[:3, 3] - start[:3, 3]
+        if self.drop_in_transit and self.held is not None and np.linalg.norm(step[:2]) >= TRANSIT:
+            mid = target.copy()
+            mid[:3, 3] = start[:3, 3] + step / 2
+            self._go(mid)
+            name = self.world.names[self.held]
+            support = self._release()
+            self.drop_in_transit = False
+            where = self.world.names[support] if support >= 0 else "the floor"
+            self.on_fault("dropped-part", (name,), f"fell at {_xyz(mid[:3, 3])} onto {where}")
+        self._go(target)
+        self.time += float(np.linalg.norm(step)) / self.speed
+
+    def _go(self, tip: np.ndarray) -> None:
+        self.world.set_pose(self.index, tip @ translate(0.0, 0.0, -self.tool_length()))
+
+    def close_gripper(self) -> Status:
+        """Grasp what is at the tip, if the mounted effector suits it."""
+        if self.effector is None or self.held is not None:
+            return Status.ok("nothing grasped" if self.held is None else "already holding")
+        target = self._at_tip()
+        if target is None:
+            return Status.ok("nothing grasped: no top face at the tip")
+        name, eff = self.world.names[target], self.world.names[self.effector]
+        if eff not in self.world.effectors_for(target):
+            return Status.ok(f"nothing grasped: {eff} does not suit {name}")
+        if self.miss_grasp:
+            self.miss_grasp = False
+            self.on_fault("missed-grasp", (name,), f"the gripper closed on nothing above {name}")
+            return Status.ok("nothing grasped")
+        self.held = target
+        self.world.parent[target] = self.effector
+        return Status.ok(f"grasped {name}")
+
+    def _at_tip(self) -> int | None:
+        """The object whose top face is at the tip and whose footprint contains it (a kit for its tray)."""
+        p = self.tip()[:3, 3]
+        best: tuple[float, int] | None = None
+        for j in self.world.solids(set(self.world.subtree(self.index))):
+            lo, hi = self.world.box(j)
+            gap = abs(float(hi[2]) - float(p[2]))
+            inside = all(lo[a] - TOLERANCE <= p[a] <= hi[a] + TOLERANCE for a in (0, 1))
+            if inside and gap <= GRASP_TOLERANCE and (best is None or gap < best[0]):
+                best = (gap, j)
+        if best is None:
+            return None
+        kit = self.world.kit_of_tray(best[1])
+        return kit if kit is not None else best[1]
+
+    def open_gripper(self) -> Status:
+        """Release the held object where it is: it falls onto what is below."""
+        if self.held is not None:
+            self._release()
+        return Status.ok()
+
+    def _release(self) -> int:
+        i, self.held = self.held, None
+        assert i is not None
+        self.world.parent[i] = -1
+        return self.world.drop(i, set(self.world.subtree(self.index)))
+
+    def close_tool_changer(self) -> Status:
+        """Mount the free end effector whose mount face is at the flange's far face."""
+        if self.effector is not None:
+            return Status.ok("already mounted")
+        face = (self.flange @ translate(0.0, 0.0, self._length(self.index)))[:3, 3]
+        w = self.world
+        for j in range(len(w)):
+            if not (w.is_a(j, "EndEffector") and w.placed(j)) or j in w.subtree(self.index):
+                continue
+            if np.linalg.norm(w.poses[j, :3, 3] - face) <= GRASP_TOLERANCE:
+                pose = w.poses[j].copy()
+                pose[:3, 3] = face
+                w.set_pose(j, pose)
+                w.parent[j] = self.index
+                self.effector = j
+                return Status.ok(f"mounted {w.names[j]}")
+        return Status.ok("nothing mounted")
+
+    def open_tool_changer(self) -> Status:
+        """Dismount the effector where it is: it stays in a holder, else falls."""
+        j, self.effector = self.effector, None
+        if j is None:
+            return Status.ok()
+        if self.held is not None and self.world.parent[self.held] == j:
+            self.held = None  # it stays in the effector's grip
+        holder = self.world.holder_around(j)
+        if holder is not None:
+            self.world.parent[j] = holder
+        else:
+            self.world.parent[j] = -1
+            self.world.drop(j, set(self.world.subtree(self.index)))
+        return Status.ok()
+
+    def dwell(self, seconds: float) -> Status:
+        """Wait: the clock advances."""
+        if seconds < 0:
+            return Status.error(f"negative dwell time {seconds}")
+        self.time += seconds
+        return Status.ok()
+
+    def set_speed(self, speed: float) -> Status:
+        """Set the tip speed (m/s)."""
+        if not speed > 0:
+            return Status.error(f"speed must be positive, not {speed}")
+        self.speed = speed
+        return Status.ok()
+
+
+def _unit(expected: str) -> Callable[[Robot, crcl.Command], Status]:
+    def check(robot: Robot, c: crcl.Command) -> Status:
+        value = getattr(c, "unit_name", None) or getattr(c, "coord_system", None)
+        return Status.ok() if value == expected else Status.error(f"{type(c).__name__} {value}: only "
+                                                                  f"{expected} is supported")
+    return check
+
+
+def _xyz(p: np.ndarray) -> str:
+    return "(" + ", ".join(f"{float(v):.3f}" for v in p) + ")"
+
+
+_HANDLERS: dict[type, Callable[[Robot, crcl.Command], Status]] = {
+    crcl.MoveTo: lambda r, c: r.move((c.end_position,)),  # type: ignore[attr-defined]
+    crcl.MoveStraightTo: lambda r, c: r.move((c.end_position,)),  # type: ignore[attr-defined]
+    crcl.MoveThroughTo: lambda r, c: r.move(tuple(c.waypoints)),  # type: ignore[attr-defined]
+    crcl.CloseGripper: lambda r, c: r.close_gripper(),
+    crcl.OpenGripper: lambda r, c: r.open_gripper(),
+    crcl.CloseToolChanger: lambda r, c: r.close_tool_changer(),
+    crcl.OpenToolChanger: lambda r, c: r.open_tool_changer(),
+    crcl.Dwell: lambda r, c: r.dwell(c.dwell_time),  # type: ignore[attr-defined]
+    crcl.SetAbsoluteSpeed: lambda r, c: r.set_speed(c.speed),  # type: ignore[attr-defined]
+    crcl.SetLengthUnits: _unit("meter"),
+    crcl.SetAngleUnits: _unit("radian"),
+    crcl.SetCoordinateFrame: _unit("Workstation"),
+}

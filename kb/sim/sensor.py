@@ -1,0 +1,107 @@
+"""The simulated sensor: focus-of-attention queries on ground truth, and USARTruth's text form.
+
+Seed 004 §3.2: a query names a class or an object; the answer is one key-value line per
+matching object::
+
+    {Name part_a_1} {Class Part} {Time 12.5} {Location 1.0,2.0,0.3} {Rotation 0.0,0.0,1.57}
+
+(Name, Class: the most specific class, Time: simulated seconds, Location: global x,y,z,
+Rotation: global roll,pitch,yaw). :func:`observe` answers a query from a
+:class:`~kb.sim.world.World`, with optional Gaussian noise drawn from the cell's seeded
+generator; :func:`truth_line` / :func:`parse_truth_line` are the text form (numbers written
+with ``repr``, so a line reads back to the same floats).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from typing import Literal
+
+import numpy as np
+
+from kb.core.namespaces import KTW
+from kb.sim.interface import Observation
+from kb.sim.world import World
+from kb.spatial.scene import class_ancestors
+
+_FIELD = re.compile(r"\{(\w+) ([^{}]*)\}")
+_KEYS = ("Name", "Class", "Time", "Location", "Rotation")
+
+
+def most_specific(classes: frozenset[str]) -> str:
+    """Local name of the most specific kitting class among ``classes`` (the one with most ancestors)."""
+    anc = class_ancestors()
+    ktw = [c for c in classes if c.startswith(str(KTW))]
+    if not ktw:
+        return ""
+    best = max(ktw, key=lambda c: (len(anc.get(c, ())), c))
+    return best[len(str(KTW)):]
+
+
+def rpy(m: np.ndarray) -> tuple[float, float, float]:
+    """(roll, pitch, yaw) of a rotation ``Rz(yaw) Ry(pitch) Rx(roll)`` (inverse of ``from_xyz_rpy``)."""
+    r = m[:3, :3]
+    pitch = math.asin(max(-1.0, min(1.0, -float(r[2, 0]))))
+    if abs(float(r[2, 0])) < 1 - 1e-9:
+        roll = math.atan2(float(r[2, 1]), float(r[2, 2]))
+        yaw = math.atan2(float(r[1, 0]), float(r[0, 0]))
+    else:  # gimbal lock: yaw absorbs roll
+        roll, yaw = 0.0, math.atan2(-float(r[0, 1]), float(r[1, 1]))
+    return roll, pitch, yaw
+
+
+def matches(world: World, i: int, query: str, by: Literal["class", "name"]) -> bool:
+    """True when object ``i`` answers ``query``: a class (local name or IRI) or a name (local or IRI)."""
+    if by == "class":
+        return world.is_a(i, query)
+    if by == "name":
+        name = world.names[i]
+        return query == name or query == name.rsplit("#", 1)[-1].rsplit("/", 1)[-1]
+    raise ValueError(f"by must be 'class' or 'name', not {by!r}")
+
+
+def observe(world: World, query: str, by: Literal["class", "name"], time: float,
+            noise: tuple[float, float] = (0.0, 0.0), rng: np.random.Generator | None = None) -> list[Observation]:
+    """Observations of the placed objects answering ``query``, in name order.
+
+    ``noise``: (position sigma in metres, orientation sigma in radians) of Gaussian noise added
+    to each coordinate, drawn from ``rng``; none is drawn when both are 0.
+    """
+    out = []
+    sp, so = noise
+    for i in sorted(range(len(world)), key=lambda k: world.names[k]):
+        if not world.placed(i) or not matches(world, i, query, by):
+            continue
+        loc = np.array(world.poses[i, :3, 3], float)
+        ori = np.array(rpy(world.poses[i]), float)
+        if (sp or so) and rng is not None:
+            loc = loc + rng.normal(0.0, sp, 3) if sp else loc
+            ori = ori + rng.normal(0.0, so, 3) if so else ori
+        out.append(Observation(world.names[i], most_specific(world.classes[i]), float(time),
+                               tuple(float(v) for v in loc), tuple(float(v) for v in ori)))  # type: ignore[arg-type]
+    return out
+
+
+def truth_line(obs: Observation) -> str:
+    """The USARTruth line of an observation."""
+    def vec(v: tuple[float, ...]) -> str:
+        return ",".join(repr(float(x)) for x in v)
+    return (f"{{Name {obs.name}}} {{Class {obs.cls}}} {{Time {float(obs.time)!r}}} "
+            f"{{Location {vec(obs.location)}}} {{Rotation {vec(obs.orientation)}}}")
+
+
+def parse_truth_line(line: str) -> Observation:
+    """The observation of a USARTruth line; ValueError naming what is missing or malformed."""
+    fields = dict(_FIELD.findall(line))
+    missing = [k for k in _KEYS if k not in fields]
+    if missing:
+        raise ValueError(f"USARTruth line without {', '.join(missing)}: {line!r}")
+
+    def vec(key: str) -> tuple[float, float, float]:
+        parts = fields[key].split(",")
+        if len(parts) != 3:
+            raise ValueError(f"{key} must be three comma-separated numbers: {fields[key]!r}")
+        return tuple(float(p) for p in parts)  # type: ignore[return-value]
+    return Observation(fields["Name"].strip(), fields["Class"].strip(), float(fields["Time"]), vec("Location"),
+                       vec("Rotation"))
