@@ -10,7 +10,8 @@ missed-grasp       take-part     the action's ``CloseGripper`` grasps nothing
 dropped-part       take-part     the held part falls during the first move that carries it
                                  sideways (``kb.sim.robot.TRANSIT``): in transit
 part-moved         take-part     the part (args[1]) shifts within its tray (args[2]), or out
-                                 of it onto the table the tray stands on
+                                 of it onto the table the tray stands on (with no room
+                                 there: onto the floor beside the table)
 part-missing       take-part     the part is taken out of the cell
 defective-part     take-part     the part is flagged defective: only ``inspect`` shows it;
                                  its geometry is unchanged
@@ -54,6 +55,8 @@ ELIGIBLE: dict[str, tuple[str, ...]] = {
 KIT_SHIFT = (0.02, 0.06)
 #: a moved part lands at least this far (m) from where it was
 MIN_SHIFT = 0.01
+#: a part knocked off a table lands on the floor within this distance (m) of the table
+BESIDE = 0.3
 _TRIES = 200
 
 
@@ -216,17 +219,24 @@ class Injector:
             return
         w = self.world
         tray = int(w.parent[i])
-        spot = self._free_spot(i, tray) if tray >= 0 and self.rng.random() < 0.5 else None
-        if spot is not None:
-            self._place(i, spot, tray)
-            what = f"shifted within {_local(w.names[tray])}"
+        table = int(w.parent[tray]) if tray >= 0 else -1
+        # within the tray, or out of it: onto the table it stands on, else (no room there)
+        # onto the floor beside the table, as if knocked off
+        options = [("within", tray), ("onto", table), ("floor", table)]
+        if self.rng.random() >= 0.5:
+            options = options[1:] + options[:1]
+        for how, base in options:
+            if base < 0:
+                continue
+            spot = self._free_spot(i, base, floor=how == "floor")
+            if spot is not None:
+                break
         else:
-            table = int(w.parent[tray]) if tray >= 0 else -1
-            spot = self._free_spot(i, table) if table >= 0 else None
-            if spot is None:
-                return
-            self._place(i, spot, table)
-            what = f"moved out of {_local(w.names[tray]) if tray >= 0 else 'place'} onto {_local(w.names[table])}"
+            return
+        self._place(i, spot, -1 if how == "floor" else base)
+        origin = _local(w.names[tray]) if tray >= 0 else "its place"
+        what = {"within": f"shifted within {origin}", "onto": f"moved out of {origin} onto {_local(w.names[base])}",
+                "floor": f"knocked out of {origin} onto the floor beside {_local(w.names[base])}"}[how]
         self.record(Injected("part-moved", index, (w.names[i],), f"{what} to ({spot[0]:.3f}, {spot[1]:.3f})"))
 
     def kit_tray_moved(self, index: int, args: tuple[str, ...]) -> None:
@@ -250,18 +260,24 @@ class Injector:
                              f"{_local(w.names[support]) if support >= 0 else 'the floor'}"))
 
     # --- helpers ------------------------------------------------------------------------
-    def _free_spot(self, i: int, base: int) -> tuple[float, float, float] | None:
-        """A random (x, y, z of the bottom) where ``i`` fits on / in ``base`` without touching others there."""
+    def _free_spot(self, i: int, base: int, floor: bool = False) -> tuple[float, float, float] | None:
+        """A random (x, y, z of the bottom) where ``i`` fits on / in ``base`` (``floor``: on the
+        floor within :data:`BESIDE` of ``base``'s footprint) without touching anything there, at
+        least :data:`MIN_SHIFT` from where it is."""
         w = self.world
         lo, hi = w.box(i)
         half = (hi - lo) / 2
         blo, bhi = w.box(base)
+        if floor:
+            blo, bhi = blo - BESIDE, bhi + BESIDE
+            z0 = 0.0
+        else:
+            z0 = float(blo[2] if w.open_top[base] else bhi[2])  # a container's floor, a table's top
         if np.any(bhi[:2] - blo[:2] < 2 * half[:2]):
             return None
-        z0 = float(blo[2] if w.open_top[base] else bhi[2])  # a container's floor, a table's top
         z1 = z0 + float(hi[2] - lo[2])
         others = []
-        for j in w.solids(set(w.subtree(i)) | {base}):
+        for j in w.solids(set(w.subtree(i)) | ({base} if not floor else set())):
             olo, ohi = w.box(j)
             if ohi[2] > z0 + TOLERANCE and olo[2] < z1 - TOLERANCE:
                 others.append((olo[:2], ohi[:2]))
