@@ -402,3 +402,22 @@ def test_truth_line_round_trip() -> None:
     assert parse_truth_line(seed_line) == Observation("P3AT_0", "P3AT", 29.97, (0.67, 2.3, 1.86), (0.0, 0.46, 0.0))
     with pytest.raises(ValueError, match="without Rotation"):
         parse_truth_line("{Name a} {Class Part} {Time 1} {Location 1,2,3}")
+
+
+def test_a_kit_is_carried_with_its_tray_and_parts() -> None:
+    cell = build_kit()
+    kit = NS + "kit_1"
+    x, y, z = TRAY_GRIPPER_MOUNT
+    run(cell, move(x, y, z + 0.2), move(x, y, z - 0.09), crcl.OpenToolChanger(), move(x, y, z + 0.3))
+    mount(cell)
+    pick(cell)
+    run(cell, move(1.33, -0.05, 1.0), move(1.33, -0.05, 0.81), crcl.OpenGripper(), move(1.33, -0.05, 1.0))
+    assert holds(cell, "part-location-kit", PART, kit)
+    run(cell, move(*GRIPPER_MOUNT[:2], 1.0), move(*GRIPPER_MOUNT[:2], 0.72), crcl.OpenToolChanger(),
+        move(*GRIPPER_MOUNT[:2], 1.1))
+    mount(cell, TRAY_GRIPPER_MOUNT)
+    pick(cell, (1.52, 0.08, 0.79))  # the tray's rim beside the part: the kit is grasped
+    assert holds(cell, "robot-holds-kit", ROBOT, kit)
+    assert not holds(cell, "kit-location-worktable", kit, NS + "work_table_1")
+    assert holds(cell, "part-location-kit", PART, kit)
+    assert box(cell, PART)[0][2] == pytest.approx(0.75 + 0.21)
