@@ -268,3 +268,19 @@ def test_an_object_placed_without_a_shape_is_an_error_naming_it(tmp_path: Path, 
     err = capsys.readouterr().err
     line = _line(state, ":work_table_1 a owl:NamedIndividual")
     assert err.startswith(f"{state}:{line}: error: work_table_1 is placed but has no shape")
+
+
+def test_check_geometry_names_a_state_whose_boxes_contradict_its_stated_locations(tmp_path: Path) -> None:
+    """part_a_1 says it is in part_a_tray, but its pose lifts it 0.5 m above the tray."""
+    from kb.planning.geometry import check_geometry
+    text = (SCENARIOS / "small-kit" / "init.ttl").read_text()
+    old = ":part_a_1_point a owl:NamedIndividual, ktw:Point ;\n    ktw:hasPoint_X -0.14 ;\n" \
+          "    ktw:hasPoint_Y -0.05 ;\n    ktw:hasPoint_Z 0.0 ."
+    assert old in text
+    init = tmp_path / "init.ttl"
+    init.write_text(text.replace(old, old.replace("ktw:hasPoint_Z 0.0", "ktw:hasPoint_Z 0.5")))
+    result = check_geometry([init], [SCENARIOS / "small-kit" / "goal.ttl"])
+    assert not result.agrees
+    assert result.only_symbolic == [("part-location-partstray", "part_a_1", "part_a_tray")]
+    assert result.only_geometry == [] and result.goal_not_holding == []
+    assert check_geometry([SCENARIOS / "small-kit" / "init.ttl"], [SCENARIOS / "small-kit" / "goal.ttl"]).agrees

@@ -5,8 +5,10 @@ stage, so that ``./main.sh`` shows a new user what the project does:
 
 1. validate the shipped model (closed world, SHACL);
 2. for each shipped scenario: validate its initial and goal state files, generate the PDDL
-   domain and problem, plan with a real planner (validated plan), and load the initial state
-   into the world-model database and read every object's global pose back.
+   domain and problem, plan with a real planner (validated plan), check that the predicates
+   decided from the objects' boxes equal the PDDL facts (and the goal holds in the goal's
+   boxes), and load the initial state into the world-model database and read every object's
+   global pose back.
 
 Outputs go to ``out_dir`` (default ``out/``): ``<scenario>/domain.pddl``, ``problem.pddl``,
 ``plan.txt`` and ``world.sqlite``.
@@ -22,6 +24,7 @@ from kb import planning
 from kb.cli.output import Output
 from kb.core.generators import get_generator
 from kb.core.resources import ontologies_dir, scenario_dirs
+from kb.planning.geometry import check_geometry
 from kb.validation import validate
 from kb.world import WorldModel, load
 
@@ -88,6 +91,17 @@ def _scenario(scenario: Path, target: Path, progress: _Progress) -> int:
     t = time.perf_counter()
     result = planning.run(model.up_problem, target / "plan.txt")
     progress.stage(f"plan: {len(result.lines)} actions by {result.planner}, validated -> {target / 'plan.txt'}", t)
+    t = time.perf_counter()
+    geo = check_geometry([init], [goal])
+    progress.stage(f"geometry: {geo.atoms} atoms hold in the initial state's boxes, "
+                   f"{'equal to the PDDL init facts; every goal fact holds in the goal' if geo.agrees else 'DISAGREE'}",
+                   t)
+    for what, atoms in (("only in geometry", geo.only_geometry), ("only in PDDL", geo.only_symbolic),
+                        ("goal not holding", geo.goal_not_holding)):
+        for atom in atoms:
+            progress.problem(f"    {scenario.name}: {what}: ({' '.join(atom)})")
+    if not geo.agrees:
+        return 1
     t = time.perf_counter()
     db_file = target / "world.sqlite"
     db_file.unlink(missing_ok=True)
