@@ -284,3 +284,26 @@ def test_check_geometry_names_a_state_whose_boxes_contradict_its_stated_location
     assert result.only_symbolic == [("part-location-partstray", "part_a_1", "part_a_tray")]
     assert result.only_geometry == [] and result.goal_not_holding == []
     assert check_geometry([SCENARIOS / "small-kit" / "init.ttl"], [SCENARIOS / "small-kit" / "goal.ttl"]).agrees
+
+
+def test_a_cylindrical_shape_counts_by_its_bounding_box(tmp_path: Path) -> None:
+    """Part B as a cylinder 0.07 across and 0.06 high: its world box is 0.07 x 0.07 x 0.06 about
+    the part's pose, and it is still in its tray."""
+    text = (SCENARIOS / "small-kit" / "init.ttl").read_text()
+    old = (":shape_part_b a owl:NamedIndividual, ktw:BoxyShape ;\n    ktw:hasShapeDesign_Description \"shape of part B\" ;\n"
+           "    ktw:hasBoxyShape_Length 0.12 ;\n    ktw:hasBoxyShape_Width 0.08 ;\n    ktw:hasBoxyShape_Height 0.06 ;\n"
+           "    ktw:hasBoxyShape_HasTop true .")
+    assert old in text
+    state = tmp_path / "init.ttl"
+    state.write_text(text.replace(old, ":shape_part_b a owl:NamedIndividual, ktw:CylindricalShape ;\n"
+                                       "    ktw:hasShapeDesign_Description \"part B, round\" ;\n"
+                                       "    ktw:hasCylindricalShape_Diameter 0.07 ;\n"
+                                       "    ktw:hasCylindricalShape_Height 0.06 ;\n"
+                                       "    ktw:hasCylindricalShape_HasTop true ."))
+    boxy, round_ = Scene.from_files([SCENARIOS / "small-kit" / "init.ttl"]), Scene.from_files([state])
+    i = round_.index[next(n for n in round_.names if n.endswith("#part_b_1"))]
+    centre = (boxy.lo[i] + boxy.hi[i]) / 2
+    assert np.allclose(round_.hi[i] - round_.lo[i], [0.07, 0.07, 0.06])
+    assert np.allclose((round_.lo[i] + round_.hi[i]) / 2, centre)
+    facts = true_predicates([state], names=["part-location-partstray"])
+    assert ("part-location-partstray", ("part_b_1", "part_b_tray")) in [(n, tuple(map(pddl_name, a))) for n, a in facts]
