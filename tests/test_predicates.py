@@ -18,10 +18,11 @@ from kb.planning.model import read_specs
 from kb.planning.state import pddl_name
 from kb.spatial import Evaluator, Scene, true_predicates
 from kb.spatial.transforms import from_xyz_rpy
+from shared_data import NIST_DIR
 
 SCENARIOS = Path(ontology_path("kitting-domain.ttl")).parent / "scenarios"
 SHIPPED = ["kit-a2b3c3d1e1", "small-kit", "two-designs"]
-NIST = Path(__file__).resolve().parents[2] / "shared" / "nist"
+NIST = NIST_DIR
 
 
 @pytest.fixture(scope="module")
