@@ -15,7 +15,7 @@ from sqlalchemy.dialects import mysql
 from sqlalchemy.orm import DeclarativeBase, Mapped, foreign, mapped_column, relationship, remote
 
 #: Fingerprint of the schema; a database stamped with another one is refused.
-SCHEMA_VERSION = 'fa6a028b10fba363'
+SCHEMA_VERSION = '60784081adc9e816'
 #: (ontology IRI, owl:versionInfo) of the ontologies the schema was made from.
 ONTOLOGIES = (('https://w3id.org/kitkb/kitting', '0.1.0'), ('https://w3id.org/kitkb/soap', '0.1.0'))
 
@@ -522,6 +522,13 @@ soap_has_action_parameter = Table(
     info={'iri': 'https://w3id.org/kitkb/soap#hasAction_Parameter', 'kind': 'object', 'link': True},
 )
 
+soap_has_action_program_step = Table(
+    'soap_has_action_program_step', Base.metadata,
+    Column("subject_id", Integer, _ref('soap_action_program'), primary_key=True, autoincrement=False),
+    Column("value_id", Integer, _ref('soap_command_step'), primary_key=True),
+    info={'iri': 'https://w3id.org/kitkb/soap#hasActionProgram_Step', 'kind': 'object', 'link': True},
+)
+
 soap_has_conjunction_operand = Table(
     'soap_has_conjunction_operand', Base.metadata,
     Column("subject_id", Integer, _ref('soap_conjunction'), primary_key=True, autoincrement=False),
@@ -668,6 +675,22 @@ class ActionFailure(Thing):
     violated_atom: Mapped[list[PredicateAtom]] = relationship('PredicateAtom', secondary=lambda: soap_has_action_failure_violated_atom, primaryjoin=lambda: ActionFailure.__table__.c.id == soap_has_action_failure_violated_atom.c.subject_id, secondaryjoin=lambda: PredicateAtom.__table__.c.id == soap_has_action_failure_violated_atom.c.value_id, info={'iri': 'https://w3id.org/kitkb/soap#hasActionFailure_ViolatedAtom'})
 
 
+class ActionProgram(Thing):
+    """The robot commands (CRCL) that carry out one action, as data: each step names a command and, for a motion, a target pose computed at execution time from where the objects really are (late binding). The executor has no Python per action.
+
+    Class <https://w3id.org/kitkb/soap#ActionProgram>.
+    """
+
+    __tablename__ = 'soap_action_program'
+    __table_args__ = {'info': {'iri': 'https://w3id.org/kitkb/soap#ActionProgram', 'parent': 'kitkb_thing'}, 'comment': 'The robot commands (CRCL) that carry out one action, as data: each step names a command and, for a motion, a target pose computed at execution time from where the objects really are (late binding). The executor has no Python per action.'}
+
+    id: Mapped[int] = mapped_column(ForeignKey('kitkb_thing.id', deferrable=True, initially="DEFERRED"), primary_key=True, autoincrement=False)
+    __mapper_args__ = {"polymorphic_identity": 'https://w3id.org/kitkb/soap#ActionProgram', "inherit_condition": id.column == Thing.__table__.c.id}
+    action_id: Mapped[int] = mapped_column(Integer, _ref('soap_action'), index=True, info={'iri': 'https://w3id.org/kitkb/soap#hasActionProgram_Action', 'kind': 'object'})
+    action: Mapped[Action] = relationship('Action', primaryjoin=lambda: foreign(ActionProgram.__table__.c.action_id) == remote(Action.__table__.c.id), foreign_keys=lambda: [ActionProgram.__table__.c.action_id])
+    step: Mapped[list[CommandStep]] = relationship('CommandStep', secondary=lambda: soap_has_action_program_step, primaryjoin=lambda: ActionProgram.__table__.c.id == soap_has_action_program_step.c.subject_id, secondaryjoin=lambda: CommandStep.__table__.c.id == soap_has_action_program_step.c.value_id, info={'iri': 'https://w3id.org/kitkb/soap#hasActionProgram_Step'})
+
+
 class CheckPhase(Thing):
     """When a predicate check detects a failure: before the action (its precondition) or after it (its effect). Its two individuals are soap:PreconditionCheck and soap:EffectCheck (not closed with owl:oneOf, which would slow reasoning with nominals).
 
@@ -679,6 +702,27 @@ class CheckPhase(Thing):
 
     id: Mapped[int] = mapped_column(ForeignKey('kitkb_thing.id', deferrable=True, initially="DEFERRED"), primary_key=True, autoincrement=False)
     __mapper_args__ = {"polymorphic_identity": 'https://w3id.org/kitkb/soap#CheckPhase', "inherit_condition": id.column == Thing.__table__.c.id}
+
+
+class CommandStep(Thing):
+    """One CRCL command of an action program: the command name (as CRCL.xsd names its element: MoveTo, CloseGripper, Dwell, Message, ...), and its argument: a target pose expression for a motion, a duration for Dwell, a text with {parameter} placeholders for Message.
+
+    Class <https://w3id.org/kitkb/soap#CommandStep>.
+    """
+
+    __tablename__ = 'soap_command_step'
+    __table_args__ = (
+        CheckConstraint(column('position') > literal(0), name='position_gt_0'),
+        {'info': {'iri': 'https://w3id.org/kitkb/soap#CommandStep', 'parent': 'kitkb_thing'}, 'comment': 'One CRCL command of an action program: the command name (as CRCL.xsd names its element: MoveTo, CloseGripper, Dwell, Message, ...), and its argument: a target pose expression for a motion, a duration for Dwell, a text with {parameter} placeholders for Message.'},
+    )
+
+    id: Mapped[int] = mapped_column(ForeignKey('kitkb_thing.id', deferrable=True, initially="DEFERRED"), primary_key=True, autoincrement=False)
+    __mapper_args__ = {"polymorphic_identity": 'https://w3id.org/kitkb/soap#CommandStep', "inherit_condition": id.column == Thing.__table__.c.id}
+    command: Mapped[str] = mapped_column(Text(), nullable=False, info={'iri': 'https://w3id.org/kitkb/soap#hasCommandStep_Command', 'kind': 'data', 'value': 'text'})
+    duration: Mapped[float | None] = mapped_column(_DECIMAL, nullable=True, info={'iri': 'https://w3id.org/kitkb/soap#hasCommandStep_Duration', 'kind': 'data', 'value': 'decimal', 'datatype': 'http://www.w3.org/2001/XMLSchema#decimal'})
+    position: Mapped[int] = mapped_column(Integer(), nullable=False, info={'iri': 'https://w3id.org/kitkb/soap#hasCommandStep_Position', 'kind': 'data', 'value': 'integer', 'datatype': 'http://www.w3.org/2001/XMLSchema#positiveInteger'})
+    target: Mapped[str | None] = mapped_column(Text(), nullable=True, info={'iri': 'https://w3id.org/kitkb/soap#hasCommandStep_Target', 'kind': 'data', 'value': 'text'})
+    text: Mapped[str | None] = mapped_column(Text(), nullable=True, info={'iri': 'https://w3id.org/kitkb/soap#hasCommandStep_Text', 'kind': 'data', 'value': 'text'})
 
 
 class Effect(Thing):
@@ -2785,7 +2829,9 @@ CLASSES: dict[str, type[Base]] = {
     'ktw_solid_object': SolidObject,
     'soap_action': Action,
     'soap_action_failure': ActionFailure,
+    'soap_action_program': ActionProgram,
     'soap_check_phase': CheckPhase,
+    'soap_command_step': CommandStep,
     'soap_effect': Effect,
     'soap_failure_mode': FailureMode,
     'soap_failure_remediation': FailureRemediation,
