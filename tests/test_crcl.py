@@ -459,7 +459,8 @@ def test_any_xsd_program_round_trips_through_xml_and_text(middle: list) -> None:
 # --- the command line ---------------------------------------------------------------------------
 
 @needs_nist
-def test_cli_converts_both_ways(tmp_path: Path, capsys) -> None:
+def test_cli_converts_both_ways(tmp_path: Path, capsys, monkeypatch) -> None:
+    monkeypatch.setenv("KITKB_NIST_DIR", str(NIST_DIR))  # the default CRCL.xsd wherever the checkout is
     text, xml = tmp_path / "c1.crcl", tmp_path / "out" / "c1.xml"
     assert main(["crcl", "convert", str(COMMANDS1), "-o", str(text)]) == 0
     assert capsys.readouterr().err == f"kitkb: wrote {text} (CRCL text, 41 commands)\n"
