@@ -340,7 +340,8 @@ def test_predicate_check_detects_a_broken_definition(graph: Graph):
     assert sorted(p.split(": ", 1)[0].rsplit("#", 1)[1] for p in problems) == [
         "endeffector-location-endeffectorholder", "endeffector-location-robot", "endeffectorholder-empty",
         "endeffectorholder-location-changingstation", "kit-location-lbwk", "kittray-location-lbwekt",
-        "lbwk-not-full", "part-location-kit", "part-location-partstray", "partstray-not-empty", "robot-holds-part",
+        "kittray-location-robot", "kittray-location-worktable", "lbwk-not-full", "part-location-kit",
+        "part-location-partstray", "partstray-not-empty", "robot-holds-kittray", "robot-holds-part",
         "robot-with-endeffector"]
     assert all(str(SOAP['Partially-In']) in p for p in problems)  # the relation cut loose
 

@@ -136,6 +136,12 @@ class Evaluator:
         tgt = [args[1]] if p.arity >= 2 else None
         return bool(self.table(name, ref, tgt)[2].all())
 
+    def holds_formula(self, formula: Formula, bindings: dict) -> bool:
+        """Whether ``formula`` holds with its free terms (``"reference"``, ``"target"``, an
+        action parameter's IRI) bound to the objects named in ``bindings`` (term -> IRI)."""
+        axes = [Axis(term, self._indices([obj])) for term, obj in bindings.items()]
+        return bool(np.asarray(self.eval(formula, axes)).all())
+
     def facts(self, names: Iterable[str] | None = None) -> list[tuple[str, tuple[str, ...]]]:
         """Every true atom ``(predicate, args)`` of the scene, sorted."""
         out = []

@@ -1,0 +1,180 @@
+"""Failure modes, their remediations, and the robot programs of actions, as typed values.
+
+Read from a SOAP domain (``kitting-domain.ttl``): a :class:`FailureModeDef` says for which
+action and check phase it applies, which predicates its signal violates, the condition on where
+the objects really are that tells it from the others (a formula over the action's parameters,
+read by :mod:`kb.model.definitions`), and its :class:`Remediation` (notifications, recovery
+strategy, retries, operator). An :class:`ActionProgram` is the list of CRCL command steps of an
+action (command name, late-bound target expression, duration, message text).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Sequence
+
+from rdflib import Graph, URIRef
+from rdflib.namespace import RDF
+
+from kb.core.errors import InputError
+from kb.core.namespaces import SOAP
+from kb.core.resources import ontology_path
+from kb.io import load
+from kb.model.definitions import Formula, Locator, _Malformed, _Reader, _short, locator
+
+PRE, EFF = "precondition", "effect"
+
+
+@dataclass(frozen=True)
+class Notification:
+    recipient: str
+    message: str  # with {parameter} placeholders
+
+
+@dataclass(frozen=True)
+class Remediation:
+    """What to do about a failure: ``recovery`` is RetryAction, Replan, ExecuteRecoveryPlan or Abort."""
+
+    iri: str
+    recovery: str
+    max_retries: int = 0
+    operator: bool = False
+    notifications: tuple[Notification, ...] = ()
+    plan: tuple[str, ...] = ()  # action names of a recovery plan, in order
+
+
+@dataclass(frozen=True)
+class FailureModeDef:
+    iri: str
+    name: str
+    action: str  # action name
+    phase: str  # PRE or EFF
+    violated: frozenset[str]  # predicate names
+    condition: Formula | None
+    consequence: str
+    severity: int
+    likelihood: float
+    remediation: Remediation
+
+
+@dataclass(frozen=True)
+class CommandStep:
+    command: str
+    target: str | None = None
+    duration: float | None = None
+    text: str | None = None
+
+
+@dataclass(frozen=True)
+class ActionProgram:
+    action: str
+    steps: tuple[CommandStep, ...]
+
+
+@dataclass
+class FailureModel:
+    """The failure modes (by name) and action programs (by action name) of a domain."""
+
+    modes: dict[str, FailureModeDef] = field(default_factory=dict)
+    programs: dict[str, ActionProgram] = field(default_factory=dict)
+    #: action name -> parameter IRI -> parameter name (the terms of failure conditions)
+    parameters: dict[str, dict[str, str]] = field(default_factory=dict)
+
+    def candidates(self, action: str, phase: str) -> list[FailureModeDef]:
+        """Modes of ``action`` in ``phase``, most likely first."""
+        return sorted((m for m in self.modes.values() if m.action == action and m.phase == phase),
+                      key=lambda m: (-m.likelihood, m.name))
+
+
+def load_failure_model(domain_files: Sequence[str | Path] | None = None) -> FailureModel:
+    """The failure model of the domain files (default: the shipped ``kitting-domain.ttl``)."""
+    kb = load(list(domain_files) if domain_files else [ontology_path("kitting-domain.ttl")])
+    return read_failure_model(kb.graph, locator(kb))
+
+
+def read_failure_model(graph: Graph, locate: Locator | None = None) -> FailureModel:
+    """Failure modes and action programs of ``graph``; InputError at the first malformed one."""
+    problems: list[InputError] = []
+    reader = _Reader(graph, locate or (lambda n: (None, None)), problems)
+    out = FailureModel()
+    for node in sorted(graph.subjects(RDF.type, SOAP.FailureMode), key=str):
+        try:
+            mode = _mode(reader, node)
+            out.modes[mode.name] = mode
+        except _Malformed as e:
+            reader.error(e.node, f"failure mode {_short(node)}: {e.message}")
+    for action in graph.subjects(RDF.type, SOAP.Action):
+        try:
+            out.parameters[_name(reader, action)] = {
+                str(p): str(reader.one(p, SOAP.hasParameter_Name, "parameter"))
+                for p in reader.values(action, SOAP.hasAction_Parameter)}
+        except _Malformed as e:
+            reader.error(e.node, e.message)
+    for node in sorted(graph.subjects(RDF.type, SOAP.ActionProgram), key=str):
+        try:
+            prog = _program(reader, node)
+            out.programs[prog.action] = prog
+        except _Malformed as e:
+            reader.error(e.node, f"action program {_short(node)}: {e.message}")
+    if problems:
+        raise problems[0]
+    return out
+
+
+def _name(reader: _Reader, action) -> str:  # noqa: ANN001
+    return str(reader.one(action, SOAP.hasAction_Name, "action"))
+
+
+def _mode(r: _Reader, node) -> FailureModeDef:  # noqa: ANN001
+    name = str(r.one(node, SOAP.hasFailureMode_Name, "failure mode"))
+    action = r.one(node, SOAP.hasFailureMode_Action, "failure mode")
+    phase_node = r.one(node, SOAP.hasFailureMode_Phase, "failure mode")
+    if phase_node not in (SOAP.PreconditionCheck, SOAP.EffectCheck):
+        raise _Malformed(node, f"phase {_short(phase_node)} is neither soap:PreconditionCheck nor soap:EffectCheck")
+    violated = frozenset(str(r.one(p, SOAP.hasPredicate_Name, "predicate"))
+                         for p in r.values(node, SOAP.hasFailureMode_ViolatedPredicate))
+    params = tuple(str(p) for p in r.values(action, SOAP.hasAction_Parameter))
+    cond_node = r.optional(node, SOAP.hasFailureMode_Condition)
+    condition = r.formula(cond_node, params, (), owner=node) if cond_node is not None else None
+    rem = r.one(node, SOAP.hasFailureMode_Remediation, "failure mode")
+    sev, lik = r.optional(node, SOAP.hasFailureMode_Severity), r.optional(node, SOAP.hasFailureMode_Likelihood)
+    cons = r.optional(node, SOAP.hasFailureMode_Consequence)
+    return FailureModeDef(str(node), name, _name(r, action), PRE if phase_node == SOAP.PreconditionCheck else EFF,
+                          violated, condition, str(cons or ""), int(sev.toPython()) if sev is not None else 0,
+                          float(lik.toPython()) if lik is not None else 0.0, _remediation(r, rem))
+
+
+def _remediation(r: _Reader, node) -> Remediation:  # noqa: ANN001
+    recovery = r.one(node, SOAP.hasFailureRemediation_Recovery, "remediation")
+    retries = r.optional(node, SOAP.hasFailureRemediation_MaxRetries)
+    operator = r.optional(node, SOAP.hasFailureRemediation_OperatorIntervention)
+    notes = tuple(Notification(str(r.one(n, SOAP.hasNotification_Recipient, "notification")),
+                               str(r.one(n, SOAP.hasNotification_Message, "notification")))
+                  for n in r.values(node, SOAP.hasFailureRemediation_Notification))
+    plan: tuple[str, ...] = ()
+    plan_node = r.optional(node, SOAP.hasFailureRemediation_RecoveryPlan)
+    if plan_node is not None:
+        steps = sorted(r.values(plan_node, SOAP.hasRecoveryPlan_Step),
+                       key=lambda s: int(r.one(s, SOAP.hasRecoveryStep_Position, "recovery step").toPython()))
+        plan = tuple(_name(r, r.one(s, SOAP.hasRecoveryStep_Action, "recovery step")) for s in steps)
+    return Remediation(str(node), _short(recovery) if isinstance(recovery, URIRef) else str(recovery),
+                       int(retries.toPython()) if retries is not None else 0,
+                       bool(operator.toPython()) if operator is not None else False, notes, plan)
+
+
+def _program(r: _Reader, node) -> ActionProgram:  # noqa: ANN001
+    action = r.one(node, SOAP.hasActionProgram_Action, "action program")
+    steps = []
+    for s in r.values(node, SOAP.hasActionProgram_Step):
+        pos = int(r.one(s, SOAP.hasCommandStep_Position, "command step").toPython())
+        dur = r.optional(s, SOAP.hasCommandStep_Duration)
+        target, text = r.optional(s, SOAP.hasCommandStep_Target), r.optional(s, SOAP.hasCommandStep_Text)
+        steps.append((pos, CommandStep(str(r.one(s, SOAP.hasCommandStep_Command, "command step")),
+                                       str(target) if target is not None else None,
+                                       float(dur.toPython()) if dur is not None else None,
+                                       str(text) if text is not None else None)))
+    steps.sort(key=lambda x: x[0])
+    if [p for p, _ in steps] != list(range(1, len(steps) + 1)):
+        raise _Malformed(node, "command step positions must run 1, 2, 3 ... without gaps")
+    return ActionProgram(_name(r, action), tuple(s for _, s in steps))

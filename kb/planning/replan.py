@@ -1,0 +1,61 @@
+"""Replanning from a stable state decided from geometry, with the original goal.
+
+The executor knows the current state as the predicates and counts that hold in its belief of
+the cell (``kb.spatial.predicates``), which equal the facts the generator would read from a
+state file (tests/test_predicates.py). :func:`restated` turns them into the numeric problem
+of the original objects and goal; :func:`replan` compiles it to STRIPS (quota tokens: the
+parts now lying in parts trays, minus those the executor has rejected) and plans.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import Iterable
+
+from kb.model.soap import DomainSpec
+from kb.planning.build import build_problem
+from kb.planning.planners import PlanResult, run
+from kb.planning.problem import ProblemSpec
+from kb.planning.strips import compile_domain, compile_problem
+
+Atom = tuple[str, ...]
+
+
+def restated(spec: ProblemSpec, facts: Iterable[Atom], values: dict[Atom, float],
+             excluded: Iterable[str] = ()) -> ProblemSpec:
+    """``spec`` (numeric) with a new initial state; objects and goal unchanged.
+
+    ``facts`` and ``values`` use PDDL object names; atoms over names the problem does not
+    know are dropped; functions the problem knows but ``values`` lacks are 0.
+    """
+    known = set(spec.objects)
+    new_facts = {a for a in facts if all(x in known for x in a[1:])}
+    new_values = {k: 0.0 for k in spec.values}
+    new_values.update({k: float(v) for k, v in values.items() if all(x in known for x in k[1:])})
+    out = replace(spec, facts=new_facts, values=new_values, quota={}, shortage=[])
+    bad = set(excluded)
+    sku_of = {a[1]: a[2] for a in new_facts if a[0] == "part-sku"}
+    in_trays: dict[str, list[str]] = {}
+    for a in sorted(new_facts):
+        if a[0] == "part-location-partstray" and a[1] not in bad:
+            in_trays.setdefault(sku_of.get(a[1], ""), []).append(a[1])
+    used: set[str] = set()
+    for left, right in spec.goal_equal:
+        kit_sku = left[1:]
+        need = int(new_values.get(right, 0) - new_values.get(left, 0))
+        tokens = [p for p in in_trays.get(kit_sku[-1], []) if p not in used][:max(need, 0)]
+        used.update(tokens)
+        out.quota[left] = tokens
+        if len(tokens) < need:
+            out.shortage.append(f"kit {kit_sku[0]} needs {need} more part(s) of {kit_sku[-1]}; only "
+                                f"{len(tokens)} usable one(s) lie in parts trays")
+    return out
+
+
+def replan(domain: DomainSpec, spec: ProblemSpec, facts: Iterable[Atom], values: dict[Atom, float],
+           excluded: Iterable[str] = (), planner: str | None = None, timeout: float | None = None) -> PlanResult:
+    """A validated plan from the state ``facts``/``values`` to ``spec``'s goal (STRIPS encoding);
+    NotSolvableError when no plan exists (e.g. no usable part of a SKU is left)."""
+    strips_domain, quotas = compile_domain(domain)
+    problem = compile_problem(restated(spec, facts, values, excluded), quotas)
+    return run(build_problem(strips_domain, problem), None, planner, timeout)
