@@ -43,6 +43,7 @@ HANDLERS = {
     "run": "kb.cli.pipeline:run",
     "crcl convert": "kb.cli.crcl:convert",
     "predicates": "kb.cli.predicates:predicates",
+    "sim serve": "kb.cli.sim:serve",
 }
 DIALECTS = ["sqlite", "postgresql", "mysql"]
 DB_HELP = "SQLite file or SQLAlchemy URL such as postgresql://user@host/db (default kitkb.sqlite)"
@@ -188,13 +189,38 @@ def _add_predicates(sub: Any) -> None:
     p.add_argument("--format", choices=["text", "json"], default="text", help="output format (default text)")
 
 
+def _add_sim(sub: Any) -> None:
+    p = sub.add_parser("sim", help="the simulated workcell", description="The simulated workcell.")
+    ssub = p.add_subparsers(dest="sim_command", required=True, metavar="SUBCOMMAND")
+    g = _sub(ssub, "serve", "sim serve", "serve a simulated workcell on 127.0.0.1 until SIGINT or SIGTERM",
+             description="Serve a simulated workcell of a state file on 127.0.0.1: a sensor port speaking "
+                         "USARTruth key-value lines ({Class C}, {Name N}, {Inspect N}) and a command port "
+                         "taking CRCL XML programs ({Length N} and N bytes), as kb.crcl.wire documents. "
+                         "Prints one line with the bound ports; runs until SIGINT or SIGTERM (exit 0).")
+    g.add_argument("init", metavar="INIT", help="initial state file of the cell")
+    g.add_argument("--goal", metavar="GOAL",
+                   help="goal state file: its individuals that INIT lacks (a kit to create) exist, unplaced")
+    g.add_argument("--faults", metavar="KIND=RATE,...",
+                   help="faults to inject: kind=probability per eligible action or kind@action_index, "
+                        "comma-separated (kinds: missed-grasp, dropped-part, part-moved, part-missing, "
+                        "defective-part, wrong-sku, kit-tray-moved)")
+    g.add_argument("--seed", type=int, default=0, help="seed of the faults and the sensor noise (default 0)")
+    g.add_argument("--noise", metavar="POS_SIGMA,ANGLE_SIGMA",
+                   help="Gaussian sensor noise: position sigma in metres, angle sigma in radians (default none)")
+    g.add_argument("--sensor-port", type=int, default=3989, metavar="P",
+                   help="sensor port (default 3989, USARTruth's; 0: any free port)")
+    g.add_argument("--command-port", type=int, default=3990, metavar="P",
+                   help="command port (default 3990; 0: any free port)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``kitkb`` command."""
     parser = argparse.ArgumentParser(prog="kitkb", description=DESCRIPTION, epilog=EXIT_CODES)
     parser.add_argument("-q", "--quiet", action="store_true", help="print no line on success")
     parser.add_argument("--traceback", action="store_true", help="show the Python traceback of an error")
     sub = parser.add_subparsers(dest="subcommand", required=True, metavar="COMMAND")
-    for add in (_add_files, _add_scenario, _add_generate, _add_plan, _add_db, _add_run, _add_crcl, _add_predicates):
+    for add in (_add_files, _add_scenario, _add_generate, _add_plan, _add_db, _add_run, _add_crcl, _add_predicates,
+                _add_sim):
         add(sub)
     return parser
 
@@ -206,7 +232,7 @@ def handler(command: str) -> Callable[..., int]:
 
 
 _PARSER_ONLY = {"subcommand", "scenario_command", "generate_command", "db_command", "crcl_command",
-                "command", "quiet", "traceback"}
+                "sim_command", "command", "quiet", "traceback"}
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -41,3 +41,20 @@ class NotSolvableError(KitkbError):
     """A well-formed problem with no answer (no plan); exit code 1."""
 
     exit_code = 1
+
+
+class CellError(KitkbError):
+    """A workcell that cannot be reached, or that answered outside the cell protocol
+    (:mod:`kb.crcl.wire`); exit code 2, as an address that names no working cell is an
+    unusable input, not a fault of kitkb.
+
+    Formats as ``host:port: error: message`` (``error: message`` with no address).
+    """
+
+    def __init__(self, message: str, address: str | None = None):
+        super().__init__(message)
+        self.message = message
+        self.address = address
+
+    def __str__(self) -> str:
+        return f"{self.address}: error: {self.message}" if self.address else f"error: {self.message}"

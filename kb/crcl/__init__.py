@@ -1,7 +1,9 @@
 """CRCL, the canonical robot command language of the first paper (§V-C): commands as typed
 values (:mod:`.commands`, :mod:`.pose`), their text form (:mod:`.text`, Fig. 11) and XML
 instances of NIST's early CRCL.xsd (:mod:`.xml`), files by suffix (:mod:`.files`,
-``kitkb crcl convert``).
+``kitkb crcl convert``); the cell contract an executor talks to (:mod:`.cell`:
+:class:`CellInterface`, :class:`Status`, :class:`Observation`, USARTruth lines), kitkb's cell
+protocol on TCP (:mod:`.wire`) and a cell behind it (:mod:`.remote`: :class:`RemoteCell`).
 """
 
 from kb.crcl.commands import (ANGLE_UNITS, COMMANDS, COORDINATE_FRAMES, LENGTH_UNITS, CloseGripper,
@@ -12,18 +14,21 @@ from kb.crcl.commands import (ANGLE_UNITS, COMMANDS, COORDINATE_FRAMES, LENGTH_U
                               SetIntermediatePointTolerance, SetLengthUnits,
                               SetRelativeAcceleration, SetRelativeSpeed, StartObjectScan,
                               StopMotion, StopObjectScan, Unreadable)
+from kb.crcl.cell import CellInterface, Observation, Status, execute_program, parse_truth_line, truth_line
 from kb.crcl.files import convert, read_file, write_file
 from kb.crcl.pose import Pose
+from kb.crcl.remote import RemoteCell
 from kb.crcl.text import read_text, write_text
 from kb.crcl.xml import default_xsd, read_xml, schema, write_xml
 
 __all__ = [
-    "ANGLE_UNITS", "COMMANDS", "COORDINATE_FRAMES", "LENGTH_UNITS", "CloseGripper", "CloseToolChanger",
-    "Command", "Dwell", "EndCanon", "InitCanon", "Message", "MoveStraightTo", "MoveThroughTo", "MoveTo",
-    "OpenGripper", "OpenToolChanger", "Pose", "Program", "SetAbsoluteAcceleration", "SetAbsoluteSpeed",
-    "SetAngleUnits", "SetCoordinateFrame", "SetEndAngleTolerance", "SetEndPointTolerance",
-    "SetIntermediatePointTolerance", "SetLengthUnits", "SetRelativeAcceleration", "SetRelativeSpeed",
-    "StartObjectScan", "StopMotion", "StopObjectScan", "Unreadable",
-    "convert", "default_xsd", "read_file", "read_text", "read_xml", "schema", "write_file",
-    "write_text", "write_xml",
+    "ANGLE_UNITS", "COMMANDS", "COORDINATE_FRAMES", "LENGTH_UNITS", "CellInterface", "CloseGripper",
+    "CloseToolChanger", "Command", "Dwell", "EndCanon", "InitCanon", "Message", "MoveStraightTo",
+    "MoveThroughTo", "MoveTo", "Observation", "OpenGripper", "OpenToolChanger", "Pose", "Program",
+    "RemoteCell", "SetAbsoluteAcceleration", "SetAbsoluteSpeed", "SetAngleUnits", "SetCoordinateFrame",
+    "SetEndAngleTolerance", "SetEndPointTolerance", "SetIntermediatePointTolerance", "SetLengthUnits",
+    "SetRelativeAcceleration", "SetRelativeSpeed", "StartObjectScan", "Status", "StopMotion",
+    "StopObjectScan", "Unreadable",
+    "convert", "default_xsd", "execute_program", "parse_truth_line", "read_file", "read_text", "read_xml",
+    "schema", "truth_line", "write_file", "write_text", "write_xml",
 ]

@@ -258,6 +258,12 @@ def write_xml(program: Program, schema: etree.XMLSchema | None = None) -> bytes:
     return data
 
 
+def unwritable(command: Command) -> str | None:
+    """Why ``command`` cannot be written as CRCL.xsd XML (None when it can); where a program
+    may hold it (InitCanon first, EndCanon last) is not checked here."""
+    return _unwritable(command)
+
+
 def _unwritable(command: Command) -> str | None:
     if isinstance(command, Unreadable):
         first = command.text.strip().split("\n")[0]

@@ -1,17 +1,21 @@
 """The simulated workcell, behind the small interface a real cell could also implement.
 
-:class:`SimulatedCell` implements :class:`CellInterface` (``execute`` a CRCL command ->
-:class:`Status`, ``sense`` by class or name -> :class:`Observation` s, ``inspect``,
-``begin_action``; ``scene`` is ground truth, for simulation only) on a ground truth built from
-a state file (:mod:`.world`), with a robot executing CRCL (:mod:`.robot`), a sensor with
-optional Gaussian noise and USARTruth's text form (:mod:`.sensor`), and seeded fault injection
-(:mod:`.faults`: :class:`FaultSpec`, :class:`Injected`, :data:`FAULT_KINDS`).
+:class:`SimulatedCell` implements the cell contract :class:`CellInterface` (``execute`` a CRCL
+command -> :class:`Status`, ``sense`` by class or name -> :class:`Observation` s, ``inspect``,
+``begin_action``; the contract lives in :mod:`kb.crcl.cell`, its names are importable from here
+too; ``scene`` is ground truth, for simulation only) on a ground truth built from a state file
+(:mod:`.world`), with a robot executing CRCL (:mod:`.robot`), a sensor with optional Gaussian
+noise and USARTruth's text form (:mod:`.sensor`), and seeded fault injection (:mod:`.faults`:
+:class:`FaultSpec`, :class:`Injected`, :data:`FAULT_KINDS`). :class:`CellServer`
+(:mod:`.server`) serves a cell on loopback in kitkb's cell protocol (:mod:`kb.crcl.wire`:
+USARTruth-style sensor lines, CRCL XML programs), for :class:`kb.crcl.RemoteCell`.
 """
 
 from kb.sim.cell import SimulatedCell
 from kb.sim.faults import FAULT_KINDS, FaultSpec, Injected
 from kb.sim.interface import CellInterface, Observation, Status
 from kb.sim.sensor import parse_truth_line, truth_line
+from kb.sim.server import CellServer
 
-__all__ = ["FAULT_KINDS", "CellInterface", "FaultSpec", "Injected", "Observation", "SimulatedCell", "Status",
-           "parse_truth_line", "truth_line"]
+__all__ = ["FAULT_KINDS", "CellInterface", "CellServer", "FaultSpec", "Injected", "Observation", "SimulatedCell",
+           "Status", "parse_truth_line", "truth_line"]

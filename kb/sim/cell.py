@@ -9,8 +9,8 @@ import numpy as np
 
 from kb.core.namespaces import KTW
 from kb.crcl import Command
+from kb.crcl.cell import Observation, Status
 from kb.sim.faults import FaultSpec, Injected, Injector
-from kb.sim.interface import Observation, Status
 from kb.sim.robot import Robot
 from kb.sim.sensor import observe
 from kb.sim.world import KIT_TRAY, World
@@ -18,7 +18,7 @@ from kb.spatial.scene import Scene, class_ancestors
 
 
 class SimulatedCell:
-    """A :class:`~kb.sim.interface.CellInterface` on a simulated ground truth.
+    """A :class:`~kb.crcl.cell.CellInterface` on a simulated ground truth.
 
     ``init``: a state file (its scene is ``Scene.from_files([init], declared)``) or a scene;
     ``faults``: what goes wrong (:class:`FaultSpec`); ``noise``: (position sigma in metres,

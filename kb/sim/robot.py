@@ -34,7 +34,7 @@ from typing import Callable
 import numpy as np
 
 from kb import crcl
-from kb.sim.interface import Status
+from kb.crcl.cell import Status
 from kb.sim.world import TOLERANCE, World, translate
 
 GRASP_TOLERANCE = 2 * TOLERANCE

@@ -8,25 +8,25 @@ matching object::
 (Name, Class: the most specific class, Time: simulated seconds, Location: global x,y,z,
 Rotation: global roll,pitch,yaw). :func:`observe` answers a query from a
 :class:`~kb.sim.world.World`, with optional Gaussian noise drawn from the cell's seeded
-generator; :func:`truth_line` / :func:`parse_truth_line` are the text form (numbers written
-with ``repr``, so a line reads back to the same floats).
+generator, and the SKU it recognises (``{Sku sku_part_a}``: the local name of the object's
+``hasSkuObject_Sku``, a kit's tray's), so a part of the wrong SKU shows.
+:func:`truth_line` / :func:`parse_truth_line`, the text form (numbers written with ``repr``, so
+a line reads back to the same floats), are the cell contract's (:mod:`kb.crcl.cell`).
 """
 
 from __future__ import annotations
 
 import math
-import re
 from typing import Literal
 
 import numpy as np
 
-from kb.core.namespaces import KTW
-from kb.sim.interface import Observation
+from kb.core.namespaces import KTW, local_name
+from kb.crcl.cell import Observation, parse_truth_line, truth_line
 from kb.sim.world import World
 from kb.spatial.scene import class_ancestors
 
-_FIELD = re.compile(r"\{(\w+) ([^{}]*)\}")
-_KEYS = ("Name", "Class", "Time", "Location", "Rotation")
+__all__ = ["matches", "most_specific", "observe", "parse_truth_line", "rpy", "truth_line"]
 
 
 def most_specific(classes: frozenset[str]) -> str:
@@ -78,30 +78,8 @@ def observe(world: World, query: str, by: Literal["class", "name"], time: float,
         if (sp or so) and rng is not None:
             loc = loc + rng.normal(0.0, sp, 3) if sp else loc
             ori = ori + rng.normal(0.0, so, 3) if so else ori
+        sku = world.sku(i)
         out.append(Observation(world.names[i], most_specific(world.classes[i]), float(time),
-                               tuple(float(v) for v in loc), tuple(float(v) for v in ori)))  # type: ignore[arg-type]
+                               tuple(float(v) for v in loc), tuple(float(v) for v in ori),  # type: ignore[arg-type]
+                               local_name(sku) if sku else None))
     return out
-
-
-def truth_line(obs: Observation) -> str:
-    """The USARTruth line of an observation."""
-    def vec(v: tuple[float, ...]) -> str:
-        return ",".join(repr(float(x)) for x in v)
-    return (f"{{Name {obs.name}}} {{Class {obs.cls}}} {{Time {float(obs.time)!r}}} "
-            f"{{Location {vec(obs.location)}}} {{Rotation {vec(obs.orientation)}}}")
-
-
-def parse_truth_line(line: str) -> Observation:
-    """The observation of a USARTruth line; ValueError naming what is missing or malformed."""
-    fields = dict(_FIELD.findall(line))
-    missing = [k for k in _KEYS if k not in fields]
-    if missing:
-        raise ValueError(f"USARTruth line without {', '.join(missing)}: {line!r}")
-
-    def vec(key: str) -> tuple[float, float, float]:
-        parts = fields[key].split(",")
-        if len(parts) != 3:
-            raise ValueError(f"{key} must be three comma-separated numbers: {fields[key]!r}")
-        return tuple(float(p) for p in parts)  # type: ignore[return-value]
-    return Observation(fields["Name"].strip(), fields["Class"].strip(), float(fields["Time"]), vec("Location"),
-                       vec("Rotation"))

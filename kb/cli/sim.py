@@ -1,0 +1,74 @@
+"""``kitkb sim serve``: the simulated workcell on loopback until SIGINT or SIGTERM."""
+
+from __future__ import annotations
+
+import signal
+import sys
+import time
+from pathlib import Path
+from types import FrameType
+from typing import Callable
+
+from kb.cli.output import Output
+from kb.core.errors import InputError
+from kb.sim import CellServer, FaultSpec, SimulatedCell
+
+
+class _Stop(Exception):
+    """SIGINT or SIGTERM arrived."""
+
+
+def serve(init: str, goal: str | None, faults: str | None, seed: int, noise: str | None,
+          sensor_port: int, command_port: int, out: Output) -> int:
+    """Serve a :class:`SimulatedCell` of ``init`` (with the individuals only ``goal`` names)
+    on 127.0.0.1; print one line with the bound ports; 0 when stopped by SIGINT or SIGTERM."""
+    cell = _cell(init, goal, faults, seed, noise)
+    with CellServer(cell, sensor_port=sensor_port, command_port=command_port) as server:
+        address = f"{server.host}:{server.sensor_port},{server.command_port}"
+        _until_signal(lambda: print(f"kitkb: serving {init}: sensor port {server.sensor_port}, command port "
+                                    f"{server.command_port} on {server.host} (--cell {address})",
+                                    file=out.results, flush=True))
+    out.done("cell server stopped")
+    return 0
+
+
+def _cell(init: str, goal: str | None, faults: str | None, seed: int, noise: str | None) -> SimulatedCell:
+    try:
+        spec = FaultSpec.parse(faults or "", seed=seed)
+    except ValueError as exc:
+        raise InputError(f"--faults: {exc}") from None
+    sigmas = _noise(noise) if noise else (0.0, 0.0)
+    try:
+        return SimulatedCell(init, faults=spec, noise=sigmas, seed=seed, declared=[Path(goal)] if goal else ())
+    except ValueError as exc:
+        raise InputError(str(exc), init) from None
+
+
+def _noise(text: str) -> tuple[float, float]:
+    """(position sigma, angle sigma) of ``--noise POS_SIGMA,ANGLE_SIGMA``."""
+    try:
+        pos, angle = (float(s) for s in text.split(","))
+    except ValueError:
+        raise InputError(f"--noise: expected POS_SIGMA,ANGLE_SIGMA (metres, radians), not {text!r}") from None
+    if not (pos >= 0 and angle >= 0):
+        raise InputError(f"--noise: sigmas must be >= 0, not {text!r}")
+    return pos, angle
+
+
+def _until_signal(ready: Callable[[], None]) -> None:
+    """Call ``ready`` and sleep until SIGINT or SIGTERM (their previous handlers restored after)."""
+    def stop(signum: int, frame: FrameType | None) -> None:
+        raise _Stop(signum)
+    previous = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        for s in previous:
+            signal.signal(s, stop)
+        ready()
+        while True:
+            time.sleep(3600)
+    except _Stop:
+        pass
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+        sys.stdout.flush()

@@ -1,0 +1,247 @@
+"""A cell behind sockets: :class:`RemoteCell` implements the cell contract
+(:class:`kb.crcl.cell.CellInterface`) over kitkb's cell protocol (:mod:`kb.crcl.wire`), so
+``kitkb sim serve`` — or another simulator, or a real cell speaking the protocol — stands in
+for an in-process cell.
+
+One persistent connection per port, made on first use. Before each request a connection the
+cell has closed (or that holds unread bytes) is replaced by a new one; a sensor query that
+fails on a reused connection is sent once more on a new one. A program is never sent twice: a
+connection lost after sending it is a :class:`~kb.core.errors.CellError` (what the cell did is
+then unknown). Every failure to reach the cell, a timeout or an answer outside the protocol is
+a :class:`~kb.core.errors.CellError` naming ``host:port``.
+"""
+
+from __future__ import annotations
+
+import io
+import select
+import socket
+from typing import Literal, Sequence
+
+from kb.core.errors import CellError
+from kb.crcl.cell import NOT_EXECUTED, Observation, Status, parse_truth_line
+from kb.crcl.commands import Command, EndCanon, InitCanon, Program
+from kb.crcl.wire import (COMMAND_PORT, END, MAX_LINE, SENSOR_PORT, action_message, fields, frame_message,
+                          length_line, parse_address, parse_status_line, query_line)
+from kb.crcl.xml import unwritable, write_xml
+
+
+class Connection:
+    """One persistent connection to ``host:port``: a request is bytes out, lines in up to ``{End}``."""
+
+    def __init__(self, host: str, port: int, timeout: float, role: str) -> None:
+        self.host, self.port, self.timeout, self.role = host, port, timeout, role
+        self.sock: socket.socket | None = None
+        self.reader: io.BufferedReader | None = None
+
+    @property
+    def address(self) -> str:
+        """``host:port``."""
+        return f"{self.host}:{self.port}"
+
+    def request(self, data: bytes, *, retry: bool) -> list[str]:
+        """Send ``data`` and return the answer's lines before ``{End}``; with ``retry`` a failure
+        on a reused connection is tried once more on a new one."""
+        for attempt in (0, 1):
+            reused = self._usable()
+            if not reused:
+                self._connect()
+            try:
+                assert self.sock is not None
+                self.sock.sendall(data)
+                return self._answer()
+            except (OSError, EOFError, ValueError) as exc:
+                self.close()
+                if retry and reused and attempt == 0:
+                    continue
+                raise CellError(self._why(exc), self.address) from None
+        raise AssertionError("unreachable")  # pragma: no cover
+
+    def _why(self, exc: BaseException) -> str:
+        if isinstance(exc, TimeoutError):
+            return f"no answer from the {self.role} port within {self.timeout:g} s"
+        if isinstance(exc, EOFError):
+            return f"the {self.role} port closed the connection before {END}"
+        if isinstance(exc, ValueError):
+            return f"the {self.role} port broke the protocol: {exc}"
+        return f"connection to the {self.role} port lost: {getattr(exc, 'strerror', None) or exc}"
+
+    def _usable(self) -> bool:
+        """True when the open connection can take a request (nothing unread, not closed by the cell)."""
+        if self.sock is None:
+            return False
+        try:
+            readable, _, _ = select.select([self.sock], [], [], 0)
+        except (OSError, ValueError):
+            readable = [self.sock]
+        if readable:
+            self.close()
+        return not readable
+
+    def _connect(self) -> None:
+        try:
+            self.sock = socket.create_connection((self.host, self.port), timeout=self.timeout)
+        except OSError as exc:
+            why = "timed out" if isinstance(exc, TimeoutError) else (exc.strerror or str(exc))
+            raise CellError(f"cannot reach the cell's {self.role} port: {why}", self.address) from None
+        self.sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+        self.reader = self.sock.makefile("rb")
+
+    def _answer(self) -> list[str]:
+        lines = []
+        assert self.reader is not None
+        while True:
+            raw = self.reader.readline(MAX_LINE + 1)
+            if not raw.endswith(b"\n"):
+                if len(raw) > MAX_LINE:
+                    raise ValueError(f"a line longer than {MAX_LINE} bytes")
+                raise EOFError
+            line = raw.decode("utf-8", "replace").rstrip("\r\n")
+            if line.strip() == END:
+                return lines
+            lines.append(line)
+
+    def close(self) -> None:
+        """Close the connection (the next request opens a new one)."""
+        for thing in (self.reader, self.sock):
+            if thing is not None:
+                try:
+                    thing.close()
+                except OSError:
+                    pass
+        self.sock = self.reader = None
+
+
+class RemoteCell:
+    """A :class:`~kb.crcl.cell.CellInterface` over kitkb's cell protocol (:mod:`kb.crcl.wire`):
+    sensor queries on ``sensor_port``, CRCL XML programs on ``command_port`` of ``host``;
+    ``timeout``: seconds to connect and to wait for each answer. For one thread at a time."""
+
+    def __init__(self, host: str = "127.0.0.1", sensor_port: int = SENSOR_PORT,
+                 command_port: int = COMMAND_PORT, timeout: float = 10.0) -> None:
+        self.sensor = Connection(host, sensor_port, timeout, "sensor")
+        self.command = Connection(host, command_port, timeout, "command")
+
+    @classmethod
+    def from_address(cls, address: str, timeout: float = 10.0) -> "RemoteCell":
+        """The cell at ``HOST:PORT`` (command port PORT + 1) or ``HOST:SENSOR_PORT,COMMAND_PORT``
+        (:func:`kb.crcl.wire.parse_address`)."""
+        host, sensor, command = parse_address(address)
+        return cls(host, sensor, command, timeout)
+
+    def __repr__(self) -> str:
+        return f"RemoteCell(sensor {self.sensor.address}, command {self.command.address})"
+
+    # --- the sensor port --------------------------------------------------------------------
+    def sense(self, query: str, *, by: Literal["class", "name"] = "class") -> list[Observation]:
+        """Objects of a class (local name or IRI) or of a name, as the cell's sensor reports them."""
+        if by not in ("class", "name"):
+            raise ValueError(f"by must be 'class' or 'name', not {by!r}")
+        lines = self._query(query_line(by, query))
+        try:
+            return [parse_truth_line(line) for line in lines]
+        except ValueError as exc:
+            raise CellError(f"the sensor port broke the protocol: {exc}", self.sensor.address) from None
+
+    def inspect(self, name: str) -> bool:
+        """Quality inspection of a part: False when the cell finds it defective (or not there)."""
+        lines = self._query(query_line("inspect", name))
+        quality = [v.strip() for line in lines for k, v in _fields(line, self.sensor) if k.lower() == "quality"]
+        if len(lines) != 1 or quality not in (["ok"], ["defective"]):
+            raise CellError(f"the sensor port answered an inspection with {lines!r}", self.sensor.address)
+        return quality == ["ok"]
+
+    def _query(self, line: str) -> list[str]:
+        lines = self.sensor.request((line + "\n").encode(), retry=True)
+        for line in lines:
+            for key, value in _fields(line, self.sensor):
+                if key.lower() == "error":
+                    raise CellError(f"the sensor refused the query: {value}", self.sensor.address)
+        return lines
+
+    # --- the command port -------------------------------------------------------------------
+    def execute(self, command: Command) -> Status:
+        """Carry out one CRCL command (a one-command :meth:`execute_program`)."""
+        return self.execute_program([command])[0]
+
+    def execute_program(self, commands: Sequence[Command]) -> list[Status]:
+        """Carry out one action's commands in one round trip: one status per command, those
+        after a failed one not executed (as :func:`kb.crcl.cell.execute_program`).
+
+        The commands travel as one CRCL.xsd program, framed where they are not a whole one
+        (kitkb-frame, :mod:`kb.crcl.wire`): the cell executes these commands and no other.
+        A command CRCL.xsd cannot hold (``SetCoordinateFrame``, ``StopMotion``, an
+        ``Unreadable`` line, InitCanon not first or EndCanon not last, ...) is not sent: the
+        commands before it are, and it answers ``Status.error`` saying why.
+        """
+        commands = list(commands)
+        k = next((i for i, c in enumerate(commands) if _unsendable(c, i, len(commands))), len(commands))
+        statuses = self._send(commands[:k]) if k else []
+        if k < len(commands):
+            why = _unsendable(commands[k], k, len(commands))
+            statuses.append(Status.error(why or "") if not statuses or statuses[-1].done
+                            else Status.error(NOT_EXECUTED))
+        return statuses + [Status.error(NOT_EXECUTED)] * (len(commands) - len(statuses))
+
+    def begin_action(self, index: int, action: str, args: tuple[str, ...]) -> None:
+        """Start plan action ``index`` on the cell (a ``kitkb-action`` message, :mod:`kb.crcl.wire`)."""
+        [status] = self._send([action_message(index, action, tuple(args))])
+        if not status.done:
+            raise CellError(f"the cell refused to begin action {index} {action}: {status.message}",
+                            self.command.address)
+
+    def _send(self, body: list[Command]) -> list[Status]:
+        wire, where = _envelope(body)
+        data = write_xml(Program(tuple(wire), source="RemoteCell"))
+        lines = self.command.request(length_line(len(data)).encode() + b"\n" + data, retry=False)
+        try:
+            answers = [parse_status_line(line) for line in lines]
+        except ValueError as exc:
+            raise CellError(f"the command port broke the protocol: {exc}", self.command.address) from None
+        if len(answers) == 1 and answers[0][0] is None and not answers[0][1].done:
+            raise CellError(f"the cell refused the program: {answers[0][1].message}", self.command.address)
+        if [n for n, _ in answers] != list(range(1, len(wire) + 1)):
+            raise CellError(f"the command port answered {len(answers)} status lines for a program of "
+                            f"{len(wire)} commands", self.command.address)
+        return [answers[i][1] for i in where]
+
+    def close(self) -> None:
+        """Close both connections."""
+        self.sensor.close()
+        self.command.close()
+
+    def __enter__(self) -> "RemoteCell":
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+def _fields(line: str, conn: Connection) -> list[tuple[str, str]]:
+    try:
+        return fields(line)
+    except ValueError as exc:
+        raise CellError(f"the {conn.role} port broke the protocol: {exc}", conn.address) from None
+
+
+def _unsendable(command: Command, i: int, n: int) -> str | None:
+    """Why the ``i``-th of ``n`` commands cannot travel in one CRCL.xsd program (None: it can)."""
+    if isinstance(command, InitCanon) and i > 0:
+        return "InitCanon only as the first command of a program in CRCL.xsd; not sent"
+    if isinstance(command, EndCanon) and i < n - 1:
+        return "EndCanon only as the last command of a program in CRCL.xsd; not sent"
+    why = unwritable(command)
+    return f"{why}; not sent" if why else None
+
+
+def _envelope(body: list[Command]) -> tuple[list[Command], list[int]]:
+    """The CRCL.xsd program that carries ``body`` — ``body`` itself when it is a whole program,
+    else framed (a kitkb-frame message second, InitCanon / EndCanon added where missing) — and
+    the position of each of ``body``'s commands in it."""
+    lead = not isinstance(body[0], InitCanon)
+    tail = not isinstance(body[-1], EndCanon)
+    if not (lead or tail) and len(body) >= 3:
+        return body, list(range(len(body)))
+    wire = [InitCanon()] * lead + body + [EndCanon()] * tail
+    wire.insert(1, frame_message(lead, tail))
+    return wire, [lead + i + (lead + i >= 1) for i in range(len(body))]

@@ -1,0 +1,294 @@
+"""The simulated workcell as a server on loopback: kitkb's cell protocol (:mod:`kb.crcl.wire`)
+around one :class:`~kb.sim.cell.SimulatedCell`, so :class:`kb.crcl.remote.RemoteCell` — or any
+client speaking the protocol — drives it as it would a real cell.
+
+Two threaded TCP servers (stdlib ``socketserver``, a thread per connection, connections kept
+open): the sensor port answers USARTruth-style queries, the command port executes CRCL XML
+programs. One lock serialises every access to the cell, so a program runs whole between two
+queries. Nothing a client sends stops the server: a malformed query or program gets an error
+answer, a dropped connection ends only its own thread.
+
+:meth:`CellServer.answer_query` and :meth:`CellServer.answer_program` are the protocol without
+sockets (the answer lines, ``{End}`` last).
+"""
+
+from __future__ import annotations
+
+import selectors
+import socket
+import socketserver
+import threading
+from typing import Any, Sequence
+
+from kb.core.errors import CellError, InputError
+from kb.crcl.cell import Status, run_in_order, truth_line
+from kb.crcl.commands import Command, Message
+from kb.crcl.wire import (COMMAND_PORT, END, MAX_LINE, SENSOR_PORT, error_line, field, parse_action,
+                          parse_frame, parse_length, parse_query, status_line)
+from kb.crcl.xml import read_xml
+from kb.sim.cell import SimulatedCell
+from kb.sim.sensor import matches
+
+
+#: The status of a command that is only a program's frame.
+FRAMED = Status.ok("frame")
+
+
+class CellServer:
+    """``cell`` served on ``host`` (loopback by default): sensor queries on ``sensor_port``,
+    CRCL programs on ``command_port`` (0: any free port; :attr:`sensor_port` and
+    :attr:`command_port` are the ones bound). The ports are bound when the server is made
+    (a :class:`~kb.core.errors.CellError` when one cannot be), served from :meth:`start` (or
+    ``with``) until :meth:`close`."""
+
+    def __init__(self, cell: SimulatedCell, host: str = "127.0.0.1", sensor_port: int = SENSOR_PORT,
+                 command_port: int = COMMAND_PORT) -> None:
+        self.cell = cell
+        self.lock = threading.Lock()
+        self.sensor = _listen(host, sensor_port, _SensorHandler, self)
+        try:
+            self.command = _listen(host, command_port, _CommandHandler, self)
+        except CellError:
+            self.sensor.server_close()
+            raise
+        self.threads: list[threading.Thread] = []
+
+    @property
+    def host(self) -> str:
+        """The address the ports are bound on."""
+        return str(self.sensor.server_address[0])
+
+    @property
+    def sensor_port(self) -> int:
+        """The bound sensor port."""
+        return int(self.sensor.server_address[1])
+
+    @property
+    def command_port(self) -> int:
+        """The bound command port."""
+        return int(self.command.server_address[1])
+
+    def start(self) -> "CellServer":
+        """Serve both ports, each from a background thread."""
+        for listener in (self.sensor, self.command):
+            thread = threading.Thread(target=listener.serve, name=f"kitkb-cell-{listener.role}",
+                                      daemon=True)
+            thread.start()
+            self.threads.append(thread)
+        return self
+
+    def close(self) -> None:
+        """Stop serving, close every open connection and both ports."""
+        for listener in (self.sensor, self.command):
+            listener.stop()
+        for thread in self.threads:
+            thread.join()
+        self.threads = []
+        for listener in (self.sensor, self.command):
+            listener.close_connections()
+            listener.server_close()
+
+    def __enter__(self) -> "CellServer":
+        return self.start()
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    # --- the protocol ---------------------------------------------------------------------
+    def answer_query(self, line: str) -> list[str]:
+        """The answer to one sensor-port line: truth lines, an inspection or an error; ``{End}`` last."""
+        try:
+            kind, value = parse_query(line)
+            with self.lock:
+                if kind == "inspect":
+                    ok = self.cell.inspect(self._resolve(value))
+                    return [field("Name", value) + " " + field("Quality", "ok" if ok else "defective"), END]
+                return [truth_line(o) for o in self.cell.sense(value, by=kind)] + [END]  # type: ignore[arg-type]
+        except ValueError as exc:
+            return [error_line(str(exc)), END]
+        except Exception as exc:  # a bug of ours: answered, and the server keeps serving
+            return [error_line(f"internal error: {type(exc).__name__}: {exc}"), END]
+
+    def answer_program(self, data: bytes) -> list[str]:
+        """The answer to one CRCL XML program: a status line per command, or one error line
+        when it does not parse; ``{End}`` last."""
+        try:
+            program = read_xml(data, name="program")
+        except InputError as exc:
+            return [status_line(None, Status.error(str(exc))), END]
+        except Exception as exc:
+            return [status_line(None, Status.error(f"program: error: cannot read it: {exc}")), END]
+        frame = _frame(program.commands)
+
+        def run(item: tuple[int, Command]) -> Status:
+            return FRAMED if item[0] in frame else self._run(item[1])
+        with self.lock:
+            statuses = run_in_order(run, list(enumerate(program.commands)))
+        return [status_line(n, s) for n, s in enumerate(statuses, 1)] + [END]
+
+    def _run(self, command: Command) -> Status:
+        """Execute one command; a ``kitkb-action`` message begins a plan action instead."""
+        try:
+            action = parse_action(command.message) if isinstance(command, Message) else None
+            if action is None:
+                return self.cell.execute(command)
+            self.cell.begin_action(*action)
+            return Status.ok(f"action {action[0]} {action[1]} begun")
+        except ValueError as exc:
+            return Status.error(str(exc))
+        except Exception as exc:  # a bug of ours: an error status, not a dead server
+            return Status.error(f"internal error: {type(exc).__name__}: {exc}")
+
+    def _resolve(self, name: str) -> str:
+        """The IRI of the object ``name`` (an IRI or a local name) names; ``name`` when none."""
+        world = self.cell.world
+        if name in world.index:
+            return name
+        found = [world.names[i] for i in range(len(world)) if matches(world, i, name, "name")]
+        if len(found) > 1:
+            raise ValueError(f"{name!r} names {len(found)} objects; give its IRI")
+        return found[0] if found else name
+
+
+def _frame(commands: Sequence[Command]) -> set[int]:
+    """Positions of the commands that are only the program's frame (kitkb-frame, :mod:`kb.crcl.wire`)."""
+    second = commands[1] if len(commands) > 2 else None
+    flags = parse_frame(second.message) if isinstance(second, Message) else None
+    if flags is None:
+        return set()
+    return {1} | ({0} if flags[0] else set()) | ({len(commands) - 1} if flags[1] else set())
+
+
+# --- sockets ------------------------------------------------------------------------------------
+
+class _Listener(socketserver.ThreadingTCPServer):
+    """One port: a thread per connection; remembers its open connections to close them.
+    :meth:`serve` blocks in ``select`` (no polling) until a connection or :meth:`stop`."""
+
+    allow_reuse_address = True
+    daemon_threads = True
+    block_on_close = False
+
+    def __init__(self, address: tuple[str, int], handler: type, owner: CellServer, role: str) -> None:
+        self.owner, self.role = owner, role
+        self.connections: set[socket.socket] = set()
+        self.guard = threading.Lock()
+        self.stopping = False
+        self.wake_r, self.wake_w = socket.socketpair()
+        try:
+            super().__init__(address, handler)
+        except OSError:
+            self.wake_r.close()
+            self.wake_w.close()
+            raise
+
+    def serve(self) -> None:
+        """Accept connections until :meth:`stop`."""
+        with selectors.DefaultSelector() as selector:
+            selector.register(self, selectors.EVENT_READ)
+            selector.register(self.wake_r, selectors.EVENT_READ)
+            while not self.stopping:
+                for key, _ in selector.select():
+                    if key.fileobj is self and not self.stopping:
+                        self.handle_request()
+
+    def stop(self) -> None:
+        """End :meth:`serve` now (it may not have started)."""
+        self.stopping = True
+        try:
+            self.wake_w.send(b"\0")
+        except OSError:
+            pass
+
+    def server_close(self) -> None:
+        super().server_close()
+        self.wake_r.close()
+        self.wake_w.close()
+
+    def process_request(self, request: Any, client_address: Any) -> None:
+        with self.guard:
+            self.connections.add(request)
+        super().process_request(request, client_address)
+
+    def shutdown_request(self, request: Any) -> None:
+        with self.guard:
+            self.connections.discard(request)
+        super().shutdown_request(request)
+
+    def close_connections(self) -> None:
+        """Shut every open connection down (its thread then sees the end and finishes)."""
+        with self.guard:
+            for conn in self.connections:
+                try:
+                    conn.shutdown(socket.SHUT_RDWR)
+                except OSError:
+                    pass
+
+
+def _listen(host: str, port: int, handler: type, owner: CellServer) -> _Listener:
+    role = "sensor" if handler is _SensorHandler else "command"
+    try:
+        return _Listener((host, port), handler, owner, role)
+    except OSError as exc:
+        raise CellError(f"cannot listen as the {role} port: {exc.strerror or exc}", f"{host}:{port}") from None
+
+
+class _Handler(socketserver.StreamRequestHandler):
+    """Reads lines of at most :data:`~kb.crcl.wire.MAX_LINE` bytes, writes answers."""
+
+    server: _Listener
+    disable_nagle_algorithm = True
+
+    def handle(self) -> None:
+        try:
+            self.serve()
+        except (OSError, ValueError):  # the client went away (or closed mid-answer)
+            pass
+
+    def serve(self) -> None:
+        raise NotImplementedError
+
+    def read_line(self) -> str | None:
+        """The next line (None at the end); ValueError for one longer than MAX_LINE."""
+        raw = self.rfile.readline(MAX_LINE + 1)
+        if not raw:
+            return None
+        if len(raw) > MAX_LINE and not raw.endswith(b"\n"):
+            raise _TooLong(f"a line longer than {MAX_LINE} bytes")
+        return raw.decode("utf-8", "replace")
+
+    def reply(self, lines: list[str]) -> None:
+        """Send ``lines``."""
+        self.wfile.write(("\n".join(lines) + "\n").encode("utf-8"))
+
+
+class _TooLong(Exception):
+    """A line longer than the protocol allows: answered, then the connection is closed."""
+
+
+class _SensorHandler(_Handler):
+    def serve(self) -> None:
+        try:
+            while (line := self.read_line()) is not None:
+                self.reply(self.server.owner.answer_query(line))
+        except _TooLong as exc:
+            self.reply([error_line(str(exc)), END])
+
+
+class _CommandHandler(_Handler):
+    def serve(self) -> None:
+        try:
+            while (header := self.read_line()) is not None:
+                if not header.strip():
+                    continue
+                try:
+                    size = parse_length(header)
+                except ValueError as exc:  # the stream cannot be resynchronised: answer, then close
+                    self.reply([status_line(None, Status.error(str(exc))), END])
+                    return
+                data = self.rfile.read(size)
+                if len(data) < size:
+                    return
+                self.reply(self.server.owner.answer_program(data))
+        except _TooLong as exc:
+            self.reply([status_line(None, Status.error(str(exc))), END])
