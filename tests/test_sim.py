@@ -189,6 +189,8 @@ def build_kit() -> SimulatedCell:
     pick(cell, KIT_TRAY_TOP)
     run(cell, move(1.4, 0.0, 0.9), crcl.OpenGripper(), move(1.4, 0.0, 1.2))
     cell.begin_action(4, "create-kit", (NS + "kit_1", NS + "kit_tray_1", NS + "work_table_1"))
+    assert NS + "kit_1" not in cell.scene().index  # the kit comes into being as the action ends
+    run(cell, crcl.InitCanon(), crcl.Message("kit kit_1 starts on kit_tray_1"), crcl.EndCanon())
     return cell
 
 

@@ -64,6 +64,7 @@ class CommandStep:
     target: str | None = None
     duration: float | None = None
     text: str | None = None
+    approach: bool = False  # runs before the precondition check (the transit to the action's place)
 
 
 @dataclass(frozen=True)
@@ -170,10 +171,12 @@ def _program(r: _Reader, node) -> ActionProgram:  # noqa: ANN001
         pos = int(r.one(s, SOAP.hasCommandStep_Position, "command step").toPython())
         dur = r.optional(s, SOAP.hasCommandStep_Duration)
         target, text = r.optional(s, SOAP.hasCommandStep_Target), r.optional(s, SOAP.hasCommandStep_Text)
+        approach = r.optional(s, SOAP.hasCommandStep_Approach)
         steps.append((pos, CommandStep(str(r.one(s, SOAP.hasCommandStep_Command, "command step")),
                                        str(target) if target is not None else None,
                                        float(dur.toPython()) if dur is not None else None,
-                                       str(text) if text is not None else None)))
+                                       str(text) if text is not None else None,
+                                       bool(approach.toPython()) if approach is not None else False)))
     steps.sort(key=lambda x: x[0])
     if [p for p, _ in steps] != list(range(1, len(steps) + 1)):
         raise _Malformed(node, "command step positions must run 1, 2, 3 ... without gaps")

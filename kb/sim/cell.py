@@ -8,7 +8,7 @@ from typing import Literal, Sequence
 import numpy as np
 
 from kb.core.namespaces import KTW
-from kb.crcl import Command
+from kb.crcl import Command, EndCanon
 from kb.crcl.cell import Observation, Status
 from kb.sim.faults import FaultSpec, Injected, Injector
 from kb.sim.robot import Robot
@@ -43,6 +43,7 @@ class SimulatedCell:
         self.injected: list[Injected] = []
         self.faults = Injector(faults or FaultSpec(), self.world, self.robot, self.injected.append)
         self.action: tuple[int, str, tuple[str, ...]] | None = None
+        self._pending_kit: tuple[str, str] | None = None
 
     @property
     def time(self) -> float:
@@ -50,8 +51,14 @@ class SimulatedCell:
         return self.robot.time
 
     def execute(self, command: Command) -> Status:
-        """Carry out one CRCL command (:mod:`kb.sim.robot`)."""
-        return self.robot.execute(command)
+        """Carry out one CRCL command (:mod:`kb.sim.robot`); the EndCanon of a create-kit action
+        is when the kit comes into being at its tray."""
+        status = self.robot.execute(command)
+        if isinstance(command, EndCanon) and self._pending_kit is not None:
+            kit, tray = self._pending_kit
+            self._pending_kit = None
+            self._create_kit(kit, tray)
+        return status
 
     def sense(self, query: str, *, by: Literal["class", "name"] = "class") -> list[Observation]:
         """Placed objects of a class (local name or IRI) or of a name, with the cell's sensor noise."""
@@ -68,8 +75,7 @@ class SimulatedCell:
     def begin_action(self, index: int, action: str, args: tuple[str, ...]) -> None:
         """Plan action ``index`` starts: faults are chosen and applied or armed; create-kit is done."""
         self.action = (index, action, tuple(args))
-        if action == "create-kit" and len(args) >= 2:
-            self._create_kit(args[0], args[1])
+        self._pending_kit = (args[0], args[1]) if action == "create-kit" and len(args) >= 2 else None
         self.faults.begin_action(index, action, tuple(args))
 
     def scene(self) -> Scene:

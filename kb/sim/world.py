@@ -138,8 +138,8 @@ class World:
 
     def kit_of_tray(self, i: int) -> int | None:
         """The kit whose kit tray ``i`` is, if any."""
-        kits = self.subjects(KIT_TRAY, self.names[i])
-        return self.index[kits[0]] if kits and kits[0] in self.index else None
+        kits = [k for k in self.subjects(KIT_TRAY, self.names[i]) if k in self.index and self.placed(self.index[k])]
+        return self.index[kits[0]] if kits else None  # a kit declared by the goal exists once it is created
 
     # --- changes ----------------------------------------------------------------------
     def set_pose(self, i: int, pose: np.ndarray) -> None:

@@ -103,6 +103,8 @@ class Scene:
     local_hi: np.ndarray | None = None
     #: (K,) True for an open container (a shape with ``HasTop`` false: trays, large boxes)
     open_top: np.ndarray | None = None
+    #: a kit design's slot (``PartRefAndPose`` IRI) -> its pose in the kit tray's frame
+    slots: dict[str, np.ndarray] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         k = len(self.names)
@@ -199,8 +201,9 @@ class _Builder:
     def __init__(self, views: list, extra: list, path: str, locate) -> None:  # noqa: ANN001
         self.views, self.extra, self.path, self.locate = views, extra, path, locate
 
-    def value(self, s, p):  # noqa: ANN001, ANN201
-        for v in self.views:
+    def value(self, s, p, everywhere: bool = False):  # noqa: ANN001, ANN201
+        """The value of (s, p) in the state's files (with ``everywhere``, also the declared ones)."""
+        for v in (self.views + self.extra) if everywhere else self.views:
             x = v.value(s, p)
             if x is not None:
                 return x
@@ -233,7 +236,29 @@ class _Builder:
         self.shape(names, classes, index, poses, llo, lhi, open_top)
         lo, hi = _boxes(poses, llo, lhi)
         return Scene([str(n) for n in names], classes, lo, hi, facts, values, {}, poses, self.path, parents,
-                     llo, lhi, open_top)
+                     llo, lhi, open_top, self.slots(asserted))
+
+    def slots(self, asserted: dict) -> dict[str, np.ndarray]:
+        """Kit design slots: PartRefAndPose -> its pose (point, x and z axes) in the kit tray's frame."""
+        prp = str(KTW.PartRefAndPose)
+        out = {}
+
+        def num(node, prop) -> float:  # noqa: ANN001
+            v = self.value(node, prop, everywhere=True)
+            return float(v.toPython()) if isinstance(v, Literal) else 0.0
+        for n, cs in asserted.items():
+            point = self.value(n, KTW.hasPartRefAndPose_Point, everywhere=True) if prp in cs else None
+            if point is None:
+                continue
+            xa = self.value(n, KTW.hasPartRefAndPose_XAxis, everywhere=True)
+            za = self.value(n, KTW.hasPartRefAndPose_ZAxis, everywhere=True)
+            x = [num(xa, q) for q in _IJK] if xa is not None else [1.0, 0.0, 0.0]
+            z = [num(za, q) for q in _IJK] if za is not None else [0.0, 0.0, 1.0]
+            try:
+                out[str(n)] = pose_matrix([num(point, q) for q in _XYZ], x, z)
+            except ValueError as e:
+                raise InputError(f"slot {_local(n)}: {e}", self.path, self.locate(n)) from None
+        return out
 
     def facts(self, individuals: set) -> tuple[dict, dict]:
         facts: dict[str, set] = defaultdict(set)

@@ -15,7 +15,7 @@ from sqlalchemy.dialects import mysql
 from sqlalchemy.orm import DeclarativeBase, Mapped, foreign, mapped_column, relationship, remote
 
 #: Fingerprint of the schema; a database stamped with another one is refused.
-SCHEMA_VERSION = '60784081adc9e816'
+SCHEMA_VERSION = '0c543112951042b8'
 #: (ontology IRI, owl:versionInfo) of the ontologies the schema was made from.
 ONTOLOGIES = (('https://w3id.org/kitkb/kitting', '0.1.0'), ('https://w3id.org/kitkb/soap', '0.1.0'))
 
@@ -718,6 +718,7 @@ class CommandStep(Thing):
 
     id: Mapped[int] = mapped_column(ForeignKey('kitkb_thing.id', deferrable=True, initially="DEFERRED"), primary_key=True, autoincrement=False)
     __mapper_args__ = {"polymorphic_identity": 'https://w3id.org/kitkb/soap#CommandStep', "inherit_condition": id.column == Thing.__table__.c.id}
+    approach: Mapped[bool | None] = mapped_column(Boolean(), nullable=True, info={'iri': 'https://w3id.org/kitkb/soap#hasCommandStep_Approach', 'kind': 'data', 'value': 'boolean', 'datatype': 'http://www.w3.org/2001/XMLSchema#boolean'})
     command: Mapped[str] = mapped_column(Text(), nullable=False, info={'iri': 'https://w3id.org/kitkb/soap#hasCommandStep_Command', 'kind': 'data', 'value': 'text'})
     duration: Mapped[float | None] = mapped_column(_DECIMAL, nullable=True, info={'iri': 'https://w3id.org/kitkb/soap#hasCommandStep_Duration', 'kind': 'data', 'value': 'decimal', 'datatype': 'http://www.w3.org/2001/XMLSchema#decimal'})
     position: Mapped[int] = mapped_column(Integer(), nullable=False, info={'iri': 'https://w3id.org/kitkb/soap#hasCommandStep_Position', 'kind': 'data', 'value': 'integer', 'datatype': 'http://www.w3.org/2001/XMLSchema#positiveInteger'})

@@ -1,0 +1,123 @@
+"""What the executor believes about the cell: the initial state's scene, kept up to date from
+the sensor.
+
+Objects, classes, local boxes and model facts come from the initial state file (and the goal
+file's own individuals, such as kits that do not exist yet); global poses start as the file
+says and are replaced by every observation (the sensor reports global poses: seed 004
+§4.2). An object the sensor was asked for by name and did not report is believed gone. The
+SKU the sensor recognises replaces the model's (``hasSkuObject_Sku``), so a part of the wrong
+SKU shows in ``part-sku``. :meth:`Belief.scene` is the scene predicates are evaluated on.
+"""
+
+from __future__ import annotations
+
+import copy
+from typing import Iterable
+
+import numpy as np
+
+from kb.core.namespaces import KTW
+from kb.crcl.cell import Observation
+from kb.spatial.scene import Scene
+from kb.spatial.transforms import from_xyz_rpy
+
+SKU_OF, KIT_TRAY = str(KTW.hasSkuObject_Sku), str(KTW.hasKit_KitTray)
+
+
+class Belief:
+    """The executor's model of the cell (global poses, boxes, facts, inspections)."""
+
+    def __init__(self, scene: Scene):
+        self.names = list(scene.names)
+        self.index = dict(scene.index)
+        self.classes = list(scene.classes)
+        self.poses = np.array(scene.poses, float)
+        self.local_lo = np.array(scene.local_lo, float)
+        self.local_hi = np.array(scene.local_hi, float)
+        self.open_top = np.array(scene.open_top, bool)
+        self.facts = copy.deepcopy(scene.facts)
+        self.values = scene.values
+        self.slots = scene.slots
+        self.inspections: dict[str, set[str]] = {"quality-inspection": set()}
+        self.rejected: set[str] = set()  # parts found defective or of the wrong SKU
+        self.initial = self.poses.copy()
+        self._stand_in_boxes()
+        self._scene: Scene | None = None
+
+    def _stand_in_boxes(self) -> None:
+        """A kit not yet placed takes its tray's box (for when the sensor first reports it)."""
+        for kit, tray in self.facts.get(KIT_TRAY, ()):
+            k, t = self.index.get(kit), self.index.get(tray)
+            if k is not None and t is not None and np.isnan(self.local_lo[k, 0]):
+                self.local_lo[k], self.local_hi[k], self.open_top[k] = self.local_lo[t], self.local_hi[t], \
+                    self.open_top[t]
+
+    # --- updates --------------------------------------------------------------------
+    def observe(self, observations: Iterable[Observation], asked: Iterable[str] = ()) -> list[str]:
+        """Take the sensor's global poses; objects ``asked`` for by name and not reported are
+        believed gone. Returns the names whose pose changed."""
+        changed = []
+        seen = set()
+        for obs in observations:
+            i = self.index.get(obs.name)
+            if i is None:
+                continue
+            seen.add(obs.name)
+            pose = from_xyz_rpy(*obs.location, *obs.orientation)
+            if not np.allclose(pose, self.poses[i], atol=1e-9, equal_nan=False):
+                self.poses[i] = pose
+                changed.append(obs.name)
+            if obs.sku:
+                self._recognised(obs.name, obs.sku)
+        for name in asked:
+            i = self.index.get(name)
+            if name not in seen and i is not None and not np.isnan(self.poses[i, 0, 0]):
+                self.poses[i] = np.nan
+                changed.append(name)
+        if changed:
+            self._scene = None
+        return changed
+
+    def _recognised(self, name: str, sku_local: str) -> None:
+        pairs = self.facts.setdefault(SKU_OF, set())
+        current = [s for n, s in pairs if n == name]
+        if current and all(s.rsplit("#", 1)[-1] == sku_local for s in current):
+            return
+        match = [n for n in self.names if n.rsplit("#", 1)[-1] == sku_local]
+        if match:
+            for s in current:
+                pairs.discard((name, s))
+            pairs.add((name, match[0]))
+            self._scene = None
+
+    def passed_inspection(self, name: str, ok: bool) -> None:
+        if ok:
+            self.inspections["quality-inspection"].add(name)
+        else:
+            self.inspections["quality-inspection"].discard(name)
+            self.rejected.add(name)
+        self._scene = None
+
+    # --- reading --------------------------------------------------------------------
+    def scene(self) -> Scene:
+        if self._scene is None:
+            self._scene = Scene.from_parts(self.names, self.classes, self.poses, self.local_lo, self.local_hi,
+                                           self.facts, self.values, self.inspections, open_top=self.open_top)
+        return self._scene
+
+    def pose(self, name: str) -> np.ndarray:
+        return self.poses[self.index[name]]
+
+    def box(self, name: str) -> tuple[np.ndarray, np.ndarray]:
+        i = self.index[name]
+        return self.local_lo[i], self.local_hi[i]
+
+    def placed(self, name: str) -> bool:
+        i = self.index.get(name)
+        return i is not None and not np.isnan(self.poses[i, 0, 0]) and not np.isnan(self.local_lo[i, 0])
+
+    def of_class(self, cls: str) -> list[str]:
+        return [n for n, c in zip(self.names, self.classes) if cls in c]
+
+    def related(self, prop: str, subject: str) -> list[str]:
+        return sorted(o for s, o in self.facts.get(prop, ()) if s == subject)
