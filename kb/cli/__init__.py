@@ -151,8 +151,26 @@ def _add_db(sub: Any) -> None:
 
 
 def _add_run(sub: Any) -> None:
-    p = _sub(sub, "run", "run", "the main job on the shipped scenarios: validate, PDDL, plan, world model")
+    p = _sub(sub, "run", "run", "the closed loop: validate, plan, execute with every action checked from geometry",
+             description="kitkb run [INIT GOAL]: validate the state files, plan with a real planner, and execute "
+                         "the plan in the simulated cell (or --cell), every action's preconditions and effects "
+                         "checked from geometry, failures diagnosed by the ontology's failure modes and "
+                         "recovered. With no files: every shipped scenario (the main job).")
+    p.add_argument("files", nargs="*", metavar="INIT GOAL", help="initial and goal state files (default: every "
+                                                                   "shipped scenario)")
     p.add_argument("-o", "--output", default="out", metavar="DIR", help="output folder (default out/)")
+    p.add_argument("--faults", metavar="KIND=RATE,...",
+                   help="faults to inject in the simulated cell: KIND=RATE (chance per eligible action) or "
+                        "KIND@ACTION (at that action), comma separated; kinds: missed-grasp, dropped-part, "
+                        "part-moved, part-missing, kit-tray-moved, defective-part, wrong-sku")
+    p.add_argument("--seed", type=int, default=0, help="seed of the simulated cell's faults (default 0)")
+    p.add_argument("--db", metavar="URL", help="world-model database for the run records (default: "
+                                               "out/<scenario>/world.sqlite); a postgresql:// URL works too")
+    p.add_argument("--report", metavar="FILE", help="write the JSON report (goal_holds, injected, failures, ...)")
+    p.add_argument("--cell", metavar="HOST:PORT", help="drive a cell server (kitkb sim serve) instead of the "
+                                                        "in-process simulator")
+    p.add_argument("--match-names", action="store_true",
+                   help="match the goal's individuals to the initial state's by local name (NIST's files)")
 
 
 def _add_crcl(sub: Any) -> None:

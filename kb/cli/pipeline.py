@@ -16,23 +16,48 @@ Outputs go to ``out_dir`` (default ``out/``): ``<scenario>/domain.pddl``, ``prob
 
 from __future__ import annotations
 
+import json
 import time
+from collections import Counter
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TextIO
 
 from kb import planning
 from kb.cli.output import Output
+from kb.core.errors import InputError
+from kb.core.files import write_atomic
 from kb.core.generators import get_generator
+from kb.core.namespaces import local_name
 from kb.core.resources import ontologies_dir, scenario_dirs
+from kb.crcl.remote import RemoteCell
+from kb.execution import run_plan
 from kb.planning.geometry import check_geometry
 from kb.validation import validate
 from kb.world import WorldModel, load
 
 
-def run(output: str, out: Output) -> int:
-    """``kitkb run``: the main job, its progress on standard output (with ``--quiet`` only
-    the problems it finds)."""
-    return run_main_job(out.results, output, quiet=out.quiet)
+def run(files: list[str], output: str, faults: str | None, seed: int, db: str | None, report: str | None,
+        cell: str | None, match_names: bool, out: Output) -> int:
+    """``kitkb run [INIT GOAL]``: the closed loop on the files, or the main job on every shipped
+    scenario; progress on standard output (with ``--quiet`` only the problems found)."""
+    if files and len(files) != 2:
+        raise InputError(f"kitkb run takes an initial and a goal state file, not {len(files)} file(s)")
+    options = RunOptions(faults, seed, db, cell, match_names)
+    if files:
+        return run_files(out.results, files[0], files[1], output, options, report, quiet=out.quiet)
+    return run_main_job(out.results, output, quiet=out.quiet, options=options, report_path=report)
+
+
+@dataclass
+class RunOptions:
+    """How scenarios are executed: injected faults and their seed, the database, the cell."""
+
+    faults: str | None = None
+    seed: int = 0
+    db: str | None = None
+    cell: str | None = None
+    match_names: bool = False
 
 
 class _Progress:
@@ -52,9 +77,12 @@ class _Progress:
         print(text, file=self.out)
 
 
-def run_main_job(out: TextIO, out_dir: str | Path = "out", quiet: bool = False) -> int:
+def run_main_job(out: TextIO, out_dir: str | Path = "out", quiet: bool = False, options: RunOptions | None = None,
+                 report_path: str | None = None) -> int:
     """Run every stage on the shipped scenarios; 0 when all succeeded, 1 otherwise."""
+    options = options or RunOptions()
     progress = _Progress(out, quiet)
+    reports: list[dict] = []
     status = 0
     model = sorted(ontologies_dir().glob("*.ttl"))
     scenarios = scenario_dirs()
@@ -67,7 +95,9 @@ def run_main_job(out: TextIO, out_dir: str | Path = "out", quiet: bool = False) 
     status |= 0 if report.conforms else 1
     for scenario in scenarios:
         progress.say(f"{scenario.name}:")
-        status |= _scenario(scenario, Path(out_dir) / scenario.name, progress)
+        status |= _scenario(scenario.name, scenario / "init.ttl", scenario / "goal.ttl", Path(out_dir) / scenario.name,
+                            progress, options, reports)
+    _write_report(report_path, reports)
     if status:
         progress.problem("kitkb: main job found problems")
     else:
@@ -75,31 +105,55 @@ def run_main_job(out: TextIO, out_dir: str | Path = "out", quiet: bool = False) 
     return status
 
 
-def _scenario(scenario: Path, target: Path, progress: _Progress) -> int:
-    init, goal = scenario / "init.ttl", scenario / "goal.ttl"
+def run_files(out: TextIO, init: str | Path, goal: str | Path, out_dir: str | Path, options: RunOptions,
+              report: str | None, quiet: bool = False) -> int:
+    """The closed loop on one initial and goal state: 0 when the goal holds at the end."""
+    progress = _Progress(out, quiet)
+    reports: list[dict] = []
+    name = Path(init).parent.name if Path(init).stem == "init" else Path(init).stem
+    status = _scenario(name, Path(init), Path(goal), Path(out_dir) / name, progress, options, reports, model_files=False)
+    _write_report(report, reports)
+    return status
+
+
+def _write_report(path: str | None, reports: list[dict]) -> None:
+    if path is None:
+        return
+    if len(reports) == 1:
+        data = reports[0]
+    else:
+        data = {"goal_holds": all(r["goal_holds"] for r in reports) if reports else False,
+                "injected": [dict(x, scenario=r["scenario"]) for r in reports for x in r["injected"]],
+                "failures": [dict(x, scenario=r["scenario"]) for r in reports for x in r["failures"]],
+                "runs": reports}
+    write_atomic(Path(path), json.dumps(data, indent=1) + "\n")
+
+
+def _scenario(name: str, init: Path, goal: Path, target: Path, progress: _Progress, options: RunOptions,
+              reports: list[dict], model_files: bool = True) -> int:
     t = time.perf_counter()
     report = validate([str(init), str(goal)])
     progress.stage(f"validate: {report.summary()}", t)
     for diag in report.diagnostics:
-        progress.problem(f"    {scenario.name}: {diag.format()}")
+        progress.problem(f"    {name}: {diag.format()}")
     if not report.conforms:
         return 1
     t = time.perf_counter()
-    model = planning.kitting_model([init], [goal], "strips")
+    model = planning.kitting_model([init], [goal], "strips", match_names=options.match_names)
     get_generator("pddl")(model).write_outputs(target)
     progress.stage(f"pddl: {target / 'domain.pddl'}, {target / 'problem.pddl'}", t)
     t = time.perf_counter()
     result = planning.run(model.up_problem, target / "plan.txt")
     progress.stage(f"plan: {len(result.lines)} actions by {result.planner}, validated -> {target / 'plan.txt'}", t)
     t = time.perf_counter()
-    geo = check_geometry([init], [goal])
+    geo = check_geometry([init], [goal], match_names=options.match_names)
     progress.stage(f"geometry: {geo.atoms} atoms hold in the initial state's boxes, "
                    f"{'equal to the PDDL init facts; every goal fact holds in the goal' if geo.agrees else 'DISAGREE'}",
                    t)
     for what, atoms in (("only in geometry", geo.only_geometry), ("only in PDDL", geo.only_symbolic),
                         ("goal not holding", geo.goal_not_holding)):
         for atom in atoms:
-            progress.problem(f"    {scenario.name}: {what}: ({' '.join(atom)})")
+            progress.problem(f"    {name}: {what}: ({' '.join(atom)})")
     if not geo.agrees:
         return 1
     t = time.perf_counter()
@@ -109,4 +163,42 @@ def _scenario(scenario: Path, target: Path, progress: _Progress) -> int:
     with WorldModel(db_file) as world:
         poses = world.global_poses()
     progress.stage(f"world model: {loaded.individuals} individuals, {len(poses)} global poses -> {db_file}", t)
-    return 0
+    return _execute(name, init, goal, result.lines, progress, options, reports)
+
+
+def _execute(name: str, init: Path, goal: Path, plan: list[str], progress: _Progress, options: RunOptions,
+             reports: list[dict]) -> int:
+    """Carry the plan out, every action checked from geometry; a line per action, a summary."""
+    t = time.perf_counter()
+    cell = RemoteCell.from_address(options.cell) if options.cell else None
+    where = f"the cell at {options.cell}" if options.cell else "the simulated cell" + (
+        f" (faults {options.faults}, seed {options.seed})" if options.faults else "")
+    progress.say(f"  execute in {where}:")
+    try:
+        run = run_plan(plan, init, goal, cell=cell, faults=options.faults, seed=options.seed,
+                       match_names=options.match_names, progress=lambda line: progress.say("  " + line),
+                       notifier=lambda who, text: progress.say(f"      notify {who}: {text}"), name=name)
+    finally:
+        if cell is not None:
+            cell.close()
+    rec = run.record
+    data = run.report()
+    reports.append(data)
+    modes = Counter(f.mode for f in rec.failures)
+    recoveries = Counter(f.recovery for f in rec.failures if f.recovery)
+    kits = sorted(_kits(rec))
+    summary = (f"execute: goal {'holds' if rec.goal_holds else 'DOES NOT hold'} (from geometry); kits "
+               f"{', '.join(kits) or '-'}; {data['actions']} actions, {data['checks']} checks; failures "
+               f"{', '.join(f'{m} {n}' for m, n in sorted(modes.items())) or 'none'}; recoveries "
+               f"{', '.join(f'{m} {n}' for m, n in sorted(recoveries.items())) or 'none'}; replans {rec.replans}")
+    if rec.injected:
+        summary += "; injected " + ", ".join(f"{x['kind']}@{x['action_index']}" for x in rec.injected)
+    progress.stage(summary, t)
+    if rec.stopped:
+        progress.problem(f"    {name}: stopped: {rec.stopped}")
+    return 0 if run.goal_holds and rec.stopped is None else 1
+
+
+def _kits(rec) -> set[str]:  # noqa: ANN001
+    return {local_name(a) for act in rec.actions if act.status == "done" and act.action == "put-kit"
+            for a in act.args[1:2]}

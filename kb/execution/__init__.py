@@ -1,3 +1,14 @@
-"""Plan execution with every action checked from geometry (:mod:`.executor`), the executor's
-belief of the cell (:mod:`.belief`), late-bound CRCL targets (:mod:`.targets`) and the records a
-run leaves (:mod:`.records`)."""
+"""Plan execution with every action checked from geometry, and the executives' API.
+
+:func:`run_scenario` / :func:`run_plan` carry out a plan on a cell (simulated by default) and
+return a :class:`Run` to query (failures by kit, action, predicate, mode and time; the history;
+why an action failed). Inside: the executor (:mod:`.executor`), its belief of the cell
+(:mod:`.belief`), late-bound CRCL targets (:mod:`.targets`), the records a run leaves
+(:mod:`.records`).
+"""
+
+from kb.execution.api import Run, run_plan, run_scenario
+from kb.execution.executor import Executor, Stop, log_notifier
+from kb.execution.records import FailureRecord, RunRecord
+
+__all__ = ["Executor", "FailureRecord", "Run", "RunRecord", "Stop", "log_notifier", "run_plan", "run_scenario"]

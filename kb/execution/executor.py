@@ -135,6 +135,7 @@ class Executor:
         rec = self.record
         rec.started = time.perf_counter()
         queue = deque(self.parse_plan(plan))
+        self._queue = queue
         try:
             while queue:
                 step = queue.popleft()
@@ -285,7 +286,8 @@ class Executor:
         mode = diag.mode
         failure = FailureRecord(i, step.action, tuple(step.args.values()), phase, list(violated), sightings,
                                 diag.name, mode.consequence if mode else "", mode.severity if mode else 0,
-                                time=time.perf_counter(), considered=list(diag.considered))
+                                time=time.perf_counter(), considered=list(diag.considered),
+                                kit=self._kit_of(step))
         self.record.failures.append(failure)
         self._say(f"  failure at action {i} ({step.line()}, {phase}): " + ", ".join(a.text() for a in violated)
                   + f" -> {failure.mode}")
@@ -294,6 +296,22 @@ class Executor:
             for n in mode.remediation.notifications:
                 self.notifier(n.recipient, n.message.format_map(fields))
         return failure
+
+    def _kit_of(self, step: Step) -> str | None:
+        """The kit an action works for: its kit argument, the kit its part is planned for, or
+        the kit of its kit tray."""
+        if "kit" in step.args:
+            return step.args["kit"]
+        part = step.args.get("part")
+        if part is not None:
+            for s in self._queue:
+                if s.action == "put-part" and s.args.get("part") == part:
+                    return s.args.get("kit")
+        tray = step.args.get("kittray")
+        if tray is not None:
+            kits = [k for k, t in self.belief.facts.get(str(KTW.hasKit_KitTray), ()) if t == tray]
+            return kits[0] if kits else None
+        return None
 
     def _recover(self, step: Step, i: int, queue: deque, failure: FailureRecord, mode: FailureModeDef | None) -> str:
         rem = mode.remediation if mode is not None else None

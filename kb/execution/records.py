@@ -74,6 +74,7 @@ class FailureRecord:
     outcome: str = ""  # recovered, gave up, stopped: <reason>
     time: float = 0.0
     considered: list[str] = field(default_factory=list)
+    kit: str | None = None  # the kit the failed action worked for
 
     @property
     def objects(self) -> list[str]:
@@ -138,6 +139,7 @@ class RunRecord:
             "checks": len(self.checks), "replans": self.replans,
             "injected": self.injected,
             "failures": [{"mode": f.mode, "action_index": f.action_index, "action": f.action,
+                          "kit": local(f.kit) if f.kit else None,
                           "objects": [local(o) for o in f.objects], "phase": f.phase,
                           "violated": [a.text() for a in f.violated], "recovery": f.recovery,
                           "outcome": f.outcome} for f in self.failures],

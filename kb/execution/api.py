@@ -1,0 +1,152 @@
+"""The executives' API: run a plan or a scenario, then ask what failed, why, and what was done.
+
+    >>> from kb.execution import run_scenario
+    >>> run = run_scenario("ontologies/scenarios/small-kit/init.ttl", "ontologies/scenarios/small-kit/goal.ttl",
+    ...                    faults="missed-grasp@6", seed=1)
+    >>> run.goal_holds, [f.mode for f in run.failures()]
+    (True, ['missed-grasp'])
+    >>> print(run.why(6))                                        # doctest: +ELLIPSIS
+    action 6 (take-part robot_1 part_a_1 part_a_tray part_gripper) failed its effect check: ...
+
+A :class:`Run` holds the :class:`~kb.execution.records.RunRecord` (actions, checks, commands,
+failures, recoveries) and answers queries on it; with a database (``db=``), the same records
+are stored beside the world model and :func:`open_run` reads a run back from SQLite or
+PostgreSQL (:mod:`kb.execution.store`).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable, Sequence
+
+from kb.core.errors import InputError
+from kb.crcl.cell import CellInterface
+from kb.execution.belief import Belief
+from kb.execution.executor import Executor, log_notifier
+from kb.execution.records import ActionRecord, FailureRecord, RunRecord, local
+from kb.model.definitions import load_definitions
+from kb.model.failures import load_failure_model
+from kb.spatial.scene import Scene
+
+@dataclass
+class Run:
+    """One executed run and the queries executives ask of it."""
+
+    record: RunRecord
+
+    @property
+    def goal_holds(self) -> bool:
+        return bool(self.record.goal_holds)
+
+    @property
+    def stopped(self) -> str | None:
+        return self.record.stopped
+
+    def failures(self, *, kit: str | None = None, action: str | None = None, predicate: str | None = None,
+                 mode: str | None = None, since: float | None = None, until: float | None = None) -> list[FailureRecord]:
+        """Failures of the run, filtered: ``kit`` (local name or IRI) the failed action worked for
+        (its argument, or the kit its part or kit tray was planned for), ``action`` name, a violated ``predicate``, failure ``mode`` name, and a time
+        window in seconds since the run started."""
+        out = []
+        t0 = self.record.started
+        for f in self.record.failures:
+            if kit is not None and local(f.kit or "") != local(kit) and not any(local(a) == local(kit) for a in f.args):
+                continue
+            if action is not None and f.action != action:
+                continue
+            if predicate is not None and not any(a.predicate == predicate for a in f.violated):
+                continue
+            if mode is not None and f.mode != mode:
+                continue
+            if since is not None and f.time - t0 < since:
+                continue
+            if until is not None and f.time - t0 > until:
+                continue
+            out.append(f)
+        return out
+
+    def history(self) -> list[dict[str, Any]]:
+        """Everything in order: actions (with their commands), checks, failures and recoveries."""
+        t0 = self.record.started
+        events: list[tuple[float, int, dict[str, Any]]] = []
+        for a in self.record.actions:
+            events.append((a.started - t0, 0, {"kind": "action", "index": a.index, "action": a.action,
+                                               "args": [local(x) for x in a.args], "status": a.status,
+                                               "commands": list(a.commands)}))
+        for c in self.record.checks:
+            events.append((c.time - t0, 1, {"kind": "check", "index": c.action_index, "phase": c.phase,
+                                            "ok": c.ok, "violated": [a.text() for a in c.violated]}))
+        for f in self.record.failures:
+            events.append((f.time - t0, 2, {"kind": "failure", "index": f.action_index, "mode": f.mode,
+                                            "recovery": f.recovery, "outcome": f.outcome}))
+        events.sort(key=lambda e: (e[0], e[1]))
+        return [dict(e[2], time=round(e[0], 6)) for e in events]
+
+    def why(self, action_index: int) -> str:
+        """Why action ``action_index`` failed: the violated predicates, the objects, where they
+        were expected and where they were seen, the diagnosis and the recovery."""
+        found = [f for f in self.record.failures if f.action_index == action_index]
+        if not found:
+            done = [a for a in self.record.actions if a.index == action_index]
+            if not done:
+                raise InputError(f"the run has no action {action_index}")
+            return f"action {action_index} ({done[0].action}) did not fail: {done[0].status}"
+        return "\n\n".join(f.why() for f in found)
+
+    def actions(self) -> list[ActionRecord]:
+        return list(self.record.actions)
+
+    def report(self) -> dict[str, Any]:
+        """The JSON report (``goal_holds``, ``injected``, ``failures``, counts)."""
+        return self.record.report()
+
+
+def run_plan(plan: Sequence[str], init: str | Path, goal: str | Path, *, cell: CellInterface | None = None,
+             faults: Any = None, seed: int = 0, match_names: bool = False, store: Any = None,
+             progress: Callable[[str], None] | None = None, notifier: Callable[[str, str], None] = log_notifier,
+             planner: str | None = None, domain_files: Sequence[str | Path] | None = None,
+             name: str | None = None) -> Run:
+    """Carry out ``plan`` (PDDL action lines) from the state ``init`` towards ``goal``.
+
+    ``cell``: any :class:`~kb.crcl.cell.CellInterface` (a real cell, :class:`kb.crcl.RemoteCell`);
+    default: a simulated cell of ``init`` with ``faults`` (a :class:`kb.sim.FaultSpec` or its
+    text, ``"missed-grasp=0.2,part-missing@3"``) and ``seed``.
+    """
+    from kb.planning.model import read_specs
+    domain, spec = read_specs([init], [goal], encoding="numeric", domain_files=domain_files,
+                              match_names=match_names)
+    scene = Scene.from_files([init], declared=[goal], match_names=match_names)
+    sim = None
+    if cell is None:
+        from kb.sim import FaultSpec, SimulatedCell  # a simulator only when no cell is given
+        spec_f = FaultSpec.parse(faults, seed=seed) if isinstance(faults, str) else faults
+        sim = SimulatedCell(Scene.from_files([init], declared=[goal], match_names=match_names), faults=spec_f,
+                            seed=seed)
+        cell = sim
+    record = RunRecord(name or Path(init).parent.name, seed)
+    executor = Executor(cell, domain, spec, load_definitions(domain_files), load_failure_model(domain_files),
+                        Belief(scene), store=store, notifier=notifier, progress=progress, planner=planner,
+                        record=record)
+    if store is not None:
+        store.begin_run(record, init, goal)
+    executor.run(list(plan))
+    if sim is not None:
+        record.injected = [{"kind": x.kind, "action_index": x.action_index, "objects": [local(o) for o in x.objects],
+                            "detail": x.detail} for x in sim.injected]
+    if store is not None:
+        store.end_run(record)
+    return Run(record)
+
+
+def run_scenario(init: str | Path, goal: str | Path, **kw: Any) -> Run:
+    """Plan from ``init`` to ``goal`` with a real planner, then :func:`run_plan` it."""
+    from kb import planning
+    t = time.perf_counter()
+    model = planning.kitting_model([init], [goal], "strips", match_names=kw.get("match_names", False),
+                                   domain_files=kw.get("domain_files"))
+    plan = planning.run(model.up_problem, None, kw.get("planner")).lines
+    run = run_plan(plan, init, goal, **kw)
+    run.record.started = min(run.record.started, t)
+    return run
