@@ -120,7 +120,7 @@ def run_plan(plan: Sequence[str], init: str | Path, goal: str | Path, *, cell: C
     scene = Scene.from_files([init], declared=[goal], match_names=match_names)
     sim = None
     if cell is None:
-        from kb.sim import FaultSpec, SimulatedCell  # a simulator only when no cell is given
+        from kb.sim import FaultSpec, SimulatedCell  # imported only when no cell is given
         spec_f = FaultSpec.parse(faults, seed=seed) if isinstance(faults, str) else faults
         sim = SimulatedCell(Scene.from_files([init], declared=[goal], match_names=match_names), faults=spec_f,
                             seed=seed)
