@@ -101,6 +101,7 @@ class Targets:
     def compute(self, expr: str, args: dict[str, str]) -> np.ndarray:
         """The tip pose of ``expr`` with the action's parameters bound to ``args`` (name -> IRI)."""
         name, raw = parse(expr)
+        self._args = args
         values: list = []
         for a in raw:
             try:
@@ -208,7 +209,8 @@ class Targets:
     def _slot(self, part: str, kit: str) -> np.ndarray:
         """A free slot of the part's SKU in the kit's design (kit frame = its tray's)."""
         g = self._seen(kit)
-        sku = self.b.related(SKU_OF, part)
+        planned = getattr(self, "_args", {}).get("sku")  # the SKU the plan puts in this slot
+        sku = [planned] if planned else self.b.related(SKU_OF, part)
         taken = [self.b.pose(p)[:3, 3] for p in self.b.of_class(str(KTW.Part))
                  if p != part and self.b.placed(p)]
         for design in self.b.related(str(KTW.hasKit_Design), kit):
