@@ -149,7 +149,7 @@ def test_value_outside_datatype_names_the_line_and_changes_nothing(url, tmp_path
     world.load(good, url)
     before = world.read_graph(url)
     with pytest.raises(InputError) as err:
-        world.load(_bad_weight(tmp_path), url)
+        world.load(_bad_weight(tmp_path), url, replace=True)
     assert str(err.value).startswith(f"{tmp_path / 'bad.ttl'}:5: error:")
     assert "> 0" in str(err.value)
     assert isomorphic(before, world.read_graph(url))

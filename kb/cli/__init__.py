@@ -142,9 +142,11 @@ def _add_db(sub: Any) -> None:
     p = sub.add_parser("db", help="the world-model database (SQLite file or PostgreSQL)",
                        description="The world-model database (an SQLite file, or a PostgreSQL server).")
     dsub = p.add_subparsers(dest="db_command", required=True, metavar="SUBCOMMAND")
-    g = _sub(dsub, "load", "db load", "replace the database content with a data file (one transaction)")
+    g = _sub(dsub, "load", "db load", "load a data file into a new database (one transaction)")
     g.add_argument("datafile", metavar="DATAFILE", help="a workstation state file in any syntax kitkb reads")
     g.add_argument("--db", default=DEFAULT_DB, metavar="URL", help=DB_HELP)
+    g.add_argument("--replace", action="store_true",
+                   help="replace the world model (and run history) the database already holds")
     g = _sub(dsub, "dump", "db dump", "write the database content as Turtle")
     g.add_argument("--db", default=DEFAULT_DB, metavar="URL", help=DB_HELP)
     g.add_argument("-o", "--output", required=True, metavar="FILE", help="output .ttl file")

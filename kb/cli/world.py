@@ -7,9 +7,9 @@ from kb.world import dump as dump_db
 from kb.world import load as load_db
 
 
-def load(datafile: str, db: str, out: Output) -> int:
-    """Replace the content of database ``db`` with the statements of ``datafile``."""
-    report = load_db(datafile, db)
+def load(datafile: str, db: str, out: Output, replace: bool = False) -> int:
+    """Load ``datafile`` into database ``db`` (``replace``: the world model it already holds)."""
+    report = load_db(datafile, db, replace=replace)
     out.done(f"loaded {datafile} into {db}: {report.summary()}")
     return 0
 

@@ -20,8 +20,7 @@ from sqlalchemy.exc import ArgumentError, DBAPIError, NoSuchModuleError, SQLAlch
 
 from kb import __version__
 from kb.core.errors import InputError
-from kb.world.generated import accessors as gen
-from kb.world.schema import model
+from kb.world.schema import Model, model
 
 #: Name of the SQLite file used when no database is given.
 DEFAULT_DB = "kitkb.sqlite"
@@ -115,13 +114,19 @@ def writing(conn: Connection) -> Connection:
 
 # --- version stamp ------------------------------------------------------------------------------
 
+def stamp_values(**extra: str) -> dict[str, str]:
+    """The ``kitkb_meta`` entries of a new world model: schema fingerprint, ontology and kitkb
+    versions, the stable-state counter at 0, and ``extra`` (source file, prefixes...)."""
+    m = model()
+    return {"schema_version": m.version, "ontologies": json.dumps(m.ontologies),
+            "kitkb_version": __version__, "stable_state": "0", **extra}
+
+
 def stamp(conn: Connection, **extra: str) -> None:
     """Write the schema fingerprint and ontology versions into ``kitkb_meta``."""
-    values = {"schema_version": gen.SCHEMA_VERSION, "ontologies": json.dumps(gen.ONTOLOGIES),
-              "kitkb_version": __version__, "stable_state": "0", **extra}
     meta = model().table("kitkb_meta")
     conn.execute(delete(meta))
-    conn.execute(insert(meta), [{"key": k, "value": v} for k, v in sorted(values.items())])
+    conn.execute(insert(meta), [{"key": k, "value": v} for k, v in sorted(stamp_values(**extra).items())])
 
 
 def read_meta(conn: Connection) -> dict[str, str]:
@@ -138,14 +143,17 @@ def check_version(conn: Connection, url: str) -> None:
             "is not a kitkb database (it has no kitkb_meta table)"
         raise SchemaVersionError(f"database {safe_url(url)} {what}")
     meta = read_meta(conn)
-    m = model()
-    if meta.get("schema_version") != m.version:
-        made = _versions(meta.get("ontologies", "[]"))
-        now = ", ".join(f"{i.rsplit('/', 1)[-1]} {v}" for i, v in gen.ONTOLOGIES)
-        raise SchemaVersionError(
-            f"database {safe_url(url)} was made from another ontology version ({made}, schema "
-            f"{meta.get('schema_version', '?')}); this kitkb uses {now} (schema {m.version}): "
-            f"load the data again into a new database")
+    if meta.get("schema_version") != model().version:
+        raise SchemaVersionError(other_version(url, meta) + ": load the data again into a new database")
+
+
+def other_version(url: str, meta: dict[str, str]) -> str:
+    """What is wrong with a database made from another ontology version (no advice)."""
+    m: Model = model()
+    made = _versions(meta.get("ontologies", "[]"))
+    now = ", ".join(f"{i.rsplit('/', 1)[-1]} {v}" for i, v in m.ontologies)
+    return (f"database {safe_url(url)} was made from another ontology version ({made}, schema "
+            f"{meta.get('schema_version', '?')}); this kitkb uses {now} (schema {m.version})")
 
 
 def _versions(text: str) -> str:

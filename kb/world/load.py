@@ -1,253 +1,123 @@
-"""Loading a data file into the world-model database, in one transaction.
+"""Loading a data file into the world-model database: one transaction, at the speed of a bulk loader.
 
-Every statement of a data file is kept. Statements the class tables can hold go there;
-the rest (the ontology header, ``owl:NamedIndividual`` declarations, annotations, a
-property used on an individual outside its domain) go to ``kitkb_triple``; asserted types
-beyond the most specific model class go to ``kitkb_type``; a literal whose stored value
-would print differently (``"8.500000"`` stored as 8.5, ``"degree"^^xsd:NMTOKEN`` in a
-string column) keeps its spelling in ``kitkb_literal``.
+Every statement of a data file is kept (:mod:`.rows` says where each goes). The file is read
+once as a stream of statements straight into rows (:mod:`.triples`, no rdflib graph), which
+are written in bulk in one transaction (:mod:`.bulk`: ``executemany`` on SQLite, ``COPY`` on
+PostgreSQL) into tables created bare; indexes are built and foreign keys checked once, after
+the data (:mod:`.ddl`). A load that fails, or is killed, leaves the database as it was.
+
+A database that already holds a world model (or run history) is only replaced when asked
+(``replace=True``, ``kitkb db load --replace``); the report says what was replaced. A file
+that defines no individual of the model is an input error, not an empty world.
 """
 
 from __future__ import annotations
 
+import datetime as _dt
 import json
+import uuid
 from dataclasses import dataclass, field
-from functools import lru_cache
 from pathlib import Path
-from typing import Any, Callable, Iterator
+from typing import Any
 
-from rdflib import RDF, BNode, Graph, Literal, URIRef
-from rdflib.term import Node
-from sqlalchemy import Engine, Table, delete, func, insert, inspect, select
-from sqlalchemy.engine import Connection
+from rdflib import Graph
+from sqlalchemy import Engine
 from sqlalchemy.exc import SQLAlchemyError
 
 from kb.core.errors import InputError
-from kb.core.namespaces import local_name
-from kb.core.resources import model_files
+from kb.core.memory import gc_paused
+from kb.core.namespaces import PREFIXES, local_name
 from kb.io.loader import load_file
-from kb.patches.sqlalchemy import ddl_scope
-from kb.world.database import (DEFAULT_DB, check_version, first_line, normalize_url, open_engine, sqlite_file,
-                               stamp, term_key, writing)
-from kb.world.schema import Plan, model
-from kb.world.values import ValueProblem, is_canonical, to_sql
+from kb.world.bulk import copy_postgresql, insert_sqlite
+from kb.world.database import (DEFAULT_DB, SchemaVersionError, first_line, model, normalize_url, open_engine,
+                               other_version, safe_url, sqlite_file, stamp_values)
+from kb.world.ddl import kitkb_tables, load_ddl
+from kb.world.rows import Built, RowBuilder
+from kb.world.triples import DataFile
 
-#: Rows per INSERT statement batch.
-_BATCH = 5000
+_CORE_PREFIXES = {"owl": "http://www.w3.org/2002/07/owl#",
+                  "rdf": "http://www.w3.org/1999/02/22-rdf-syntax-ns#",
+                  "rdfs": "http://www.w3.org/2000/01/rdf-schema#",
+                  "xsd": "http://www.w3.org/2001/XMLSchema#"}
+#: Key of the PostgreSQL advisory lock loads take (two loads into one database queue).
+_PG_LOCK = 0x6B69746B62  # "kitkb"
 
-# --- reading data files ----------------------------------------------------------------------------
 
-LineOf = Callable[[Node, Node, Node], "int | None"]
-
-
-def read_data(path: str | Path) -> tuple[Graph, LineOf]:
-    """The statements of one data file (NIST namespace mapped onto ours) and a line finder.
-
-    Any format :mod:`kb.io.loader` reads (Turtle, RDF/XML, OWL/XML, OWL functional syntax);
-    imports are not followed: the database holds what this file says.
-    """
+def read_data(path: str | Path) -> tuple[Graph, Any]:
+    """The statements of one data file as an rdflib graph, and a line finder (for tools and
+    tests; :func:`load` does not build a graph)."""
     src = load_file(Path(path))
     return src.graph, src.line_of
 
 
-# --- load -----------------------------------------------------------------------------------------
-
 @dataclass
 class LoadReport:
-    """What :func:`load` stored."""
+    """What :func:`load` stored, and what it replaced."""
 
     individuals: int = 0
     statements: int = 0
     outside_model: int = 0
     tables: dict[str, int] = field(default_factory=dict)
+    #: the world model the load replaced (None: the database was new or empty)
+    replaced: str | None = None
 
     def summary(self) -> str:
         """One line for the command line."""
-        return (f"{self.statements} statements: {self.individuals} individuals in "
+        line = (f"{self.statements} statements: {self.individuals} individuals in "
                 f"{len(self.tables)} tables, {self.outside_model} statements outside the model tables")
+        return line + (f"; replaced {self.replaced}" if self.replaced else "")
 
 
-@lru_cache(maxsize=1)
-def _model_individuals() -> dict[str, tuple[str, ...]]:
-    """Individuals the shipped ontologies define (``soap:EffectCheck``...) with their model classes."""
-    g, m = Graph(), model()
-    for path in model_files():
-        g.parse(path, format="turtle")
-    out: dict[str, list[str]] = {}
-    for s, o in g.subject_objects(RDF.type):
-        if isinstance(s, URIRef) and str(o) in m.class_table:
-            out.setdefault(str(s), []).append(str(o))
-    return {k: tuple(v) for k, v in out.items()}
-
-
-def _external_individuals(g: Graph, typed: dict[Node, list[str]]) -> dict[Node, list[str]]:
-    """Individuals of the model ontologies that ``g`` refers to without defining them.
-
-    They get rows (so that foreign keys can point at them) but no type statements on dump.
-    Only those whose tables require no values are taken: their values are not in ``g``.
-    """
-    known, m = _model_individuals(), model()
-    out: dict[Node, list[str]] = {}
-    for o in set(g.objects()):
-        if isinstance(o, URIRef) and o not in typed and str(o) in known:
-            tables = {t for c in known[str(o)] for t in m.chain(m.class_table[c].name)}
-            if not any(not c.nullable and "iri" in c.info for t in tables for c in m.table(t).columns):
-                out[o] = list(known[str(o)])
-    return out
-
-
-class _Builder:
-    """Turns one graph into rows of the model's tables."""
-
-    def __init__(self, graph: Graph, line_of: LineOf, file: str):
-        self.g, self.line_of, self.file, self.m = graph, line_of, file, model()
-        self.ids: dict[Node, int] = {}
-        self.primary: dict[Node, str] = {}
-        self.tables_of: dict[Node, set[str]] = {}
-        self.rows: dict[str, dict[int, dict[str, Any]]] = {}
-        self.link_rows: dict[str, list[dict[str, Any]]] = {}
-        self.types: list[dict[str, Any]] = []
-        self.literals: list[dict[str, Any]] = []
-        self.triples: list[dict[str, Any]] = []
-
-    def fail(self, s: Node, p: Node, o: Node, message: str) -> InputError:
-        return InputError(message, file=self.file, line=self.line_of(s, p, o))
-
-    def individuals(self) -> None:
-        classes: dict[Node, list[str]] = {}
-        for s, o in self.g.subject_objects(RDF.type):
-            if isinstance(s, (URIRef, BNode)) and str(o) in self.m.class_table:
-                classes.setdefault(s, []).append(str(o))
-        external = _external_individuals(self.g, classes)
-        for n, node in enumerate(sorted([*classes, *external], key=term_key), start=1):
-            mine = sorted(classes.get(node) or external[node], key=lambda c: (-self.m.depth[c], c))
-            self.ids[node], self.primary[node] = n, mine[0] if node in classes else ""
-            tables = {t for c in mine for t in self.m.chain(self.m.class_table[c].name)}
-            self.tables_of[node] = tables
-            for t in tables:
-                self.rows.setdefault(t, {})[n] = {"id": n}
-            key = term_key(node)
-            if len(key) > 760:
-                raise self.fail(node, RDF.type, URIRef(mine[0]), f"name longer than 760 characters: {key[:40]}...")
-            self.rows["kitkb_thing"][n].update(iri=key, name=local_name(key), kind=self.primary[node])
-
-    def statement(self, s: Node, p: Node, o: Node) -> None:
-        if s in self.ids:
-            if p == RDF.type:
-                if str(o) == self.primary[s]:
-                    return
-                if isinstance(o, URIRef):
-                    self.types.append({"thing_id": self.ids[s], "class_iri": str(o)})
-                    return
-            else:
-                plan = self.m.plans.get(str(p))
-                if plan is not None and plan.domain in self.tables_of[s] and self._store(s, p, o, plan):
-                    return
-        self.outside(s, p, o)
-
-    def outside(self, s: Node, p: Node, o: Node) -> None:
-        kind = "literal" if isinstance(o, Literal) else "bnode" if isinstance(o, BNode) else "iri"
-        self.triples.append({"subject": term_key(s), "predicate": str(p),
-                             "object": str(o) if kind == "literal" else term_key(o), "object_kind": kind,
-                             "datatype": str(o.datatype) if isinstance(o, Literal) and o.datatype else None,
-                             "lang": o.language if isinstance(o, Literal) else None})
-
-    def _value(self, s: Node, p: Node, o: Node, plan: Plan) -> tuple[bool, Any]:
-        """(fits, value) of object ``o`` for the column or link of ``plan``."""
-        kind = plan.info["kind"]
-        if kind == "object":
-            return o in self.ids and plan.target in self.tables_of[o], self.ids.get(o)
-        if kind == "iri":
-            return isinstance(o, URIRef) and len(str(o)) <= 760, str(o)
-        if not isinstance(o, Literal):
-            raise self.fail(s, p, o, f"{local_name(str(p))} expects a literal value, not {o.n3()}")
+def build(datafile: str | Path) -> Built:
+    """The rows of ``datafile``: every statement placed, checked, numbered (nothing written)."""
+    data = DataFile(datafile)
+    with gc_paused():
+        builder = RowBuilder(data.terms, data.line_of, str(datafile))
         try:
-            return True, to_sql(o, plan.info, plan.checks)
-        except ValueProblem as exc:
-            raise self.fail(s, p, o, f"{local_name(str(p))} of {local_name(term_key(s))}: {exc}") from None
-
-    def _store(self, s: Node, p: Node, o: Node, plan: Plan) -> bool:
-        ok, value = self._value(s, p, o, plan)
-        if not ok:
-            return False
-        data = plan.info["kind"] == "data"
-        if plan.link:
-            if data and not is_canonical(o, value, plan.info):
-                return False  # a literal spelled unusually stays a plain statement (lossless)
-            self.link_rows.setdefault(plan.table, []).append({"subject_id": self.ids[s], plan.column: value})
-            return True
-        row = self.rows[plan.table][self.ids[s]]
-        if plan.column in row:
-            raise self.fail(s, p, o, f"{local_name(term_key(s))} has a second value for the functional "
-                                     f"property {local_name(str(p))}")
-        row[plan.column] = value
-        if data and not is_canonical(o, value, plan.info):
-            self.literals.append({"thing_id": self.ids[s], "property_iri": str(p), "lexical": str(o),
-                                  "datatype": str(o.datatype) if o.datatype else None, "lang": o.language})
-        return True
-
-    def required(self) -> None:
-        """Every NOT NULL column of every row is filled, or the file is refused."""
-        for tname, rows in self.rows.items():
-            table = self.m.table(tname)
-            needed = [c for c in table.columns if not c.nullable and not c.primary_key and c.name != "kind"]
-            for row in rows.values():
-                for c in needed:
-                    if c.name not in row:
-                        node = next(n for n, i in self.ids.items() if i == row["id"])
-                        cls = URIRef(self.primary[node])
-                        raise self.fail(node, RDF.type, cls,
-                                        f"{local_name(term_key(node))} ({local_name(str(cls))}) has no value for "
-                                        f"{local_name(c.info.get('iri', c.name))}, which the model requires")
+            builder.feed(data.quads())
+        except DataFile.PARSE_ERRORS as exc:
+            error = data.parse_error(exc)
+            if error is None:
+                raise
+            raise error from None
+        built = builder.finish(data.prefixes)
+    if not built.individuals:
+        raise InputError("no individual of the kitting or SOAP model in this file (nothing typed with a "
+                         "model class): refusing to load an empty world", file=str(datafile))
+    return built
 
 
-def load(datafile: str | Path, url: str | Path = DEFAULT_DB) -> LoadReport:
-    """Replace the content of database ``url`` with the statements of ``datafile``.
+def load(datafile: str | Path, url: str | Path = DEFAULT_DB, replace: bool = False) -> LoadReport:
+    """Load the statements of ``datafile`` into database ``url``, in one transaction.
 
-    One transaction: on any error nothing is written (a new SQLite file is removed again).
+    A database that already holds a world model or run history is refused unless ``replace``;
+    then its world model and history are dropped in the same transaction as the load. On any
+    error nothing changes (a new SQLite file is removed again).
     """
-    graph, line_of = read_data(datafile)
-    b = _Builder(graph, line_of, str(datafile))
-    b.individuals()
-    for s, p, o in graph:
-        b.statement(s, p, o)
-    b.required()
     url = normalize_url(url)
     target = sqlite_file(url)
     existed = target is None or target.exists()
     engine = open_engine(url)
     try:
-        with writing(engine.connect()) as conn, conn.begin():
-            _prepare(conn, url)
-            report = _write(conn, b)
-            prefixes = _prefixes(graph)
-            stamp(conn, source=Path(datafile).name, prefixes=json.dumps(prefixes, sort_keys=True))
-    except SQLAlchemyError as exc:
+        _writer(engine).check(url, replace)  # before reading the file: refuse at once
+        built = build(datafile)
+        report = _writer(engine).write(url, built, Path(datafile).name, replace)
+    except (SQLAlchemyError, _DriverError) as exc:
         _discard(engine, target, existed)
         raise InputError(f"database refused the data: {first_line(exc)}", file=str(datafile)) from None
     except BaseException:
         _discard(engine, target, existed)
         raise
-    if engine.dialect.name == "postgresql":
-        with engine.connect() as conn:  # fresh statistics, or the planner scans whole tables
-            conn.execution_options(isolation_level="AUTOCOMMIT").exec_driver_sql("ANALYZE")
     engine.dispose()
-    report.statements = len(graph)
     return report
 
 
-def _prefixes(graph: Graph) -> dict[str, str]:
-    """The graph's prefixes, plus ``:`` for the namespace most individuals are named in."""
-    out = {p: str(ns) for p, ns in graph.namespace_manager.namespaces()}
-    if "" not in out:
-        counts: dict[str, int] = {}
-        for s in graph.subjects(RDF.type, None):
-            if isinstance(s, URIRef):
-                ns = str(s)[: len(str(s)) - len(local_name(str(s)))]
-                counts[ns] = counts.get(ns, 0) + 1
-        if counts:
-            out[""] = max(sorted(counts), key=lambda k: counts[k])
-    return out
+class _DriverError(Exception):
+    """A database driver's error (wrapped so that one ``except`` catches sqlite3's and psycopg2's)."""
+
+    def __init__(self, orig: BaseException):
+        super().__init__(str(orig))
+        self.orig = orig
 
 
 def _discard(engine: Engine, path: Path | None, existed: bool) -> None:
@@ -257,40 +127,200 @@ def _discard(engine: Engine, path: Path | None, existed: bool) -> None:
             Path(str(path) + suffix).unlink(missing_ok=True)
 
 
-def _prepare(conn: Connection, url: str) -> None:
-    """Create the tables in an empty database, or empty the tables of a kitkb database."""
-    m = model()
-    if not inspect(conn).get_table_names():
-        with ddl_scope(m.metadata) as scoped:
-            scoped.create_all(conn)
-        return
-    check_version(conn, url)
-    for table in reversed(m.metadata.sorted_tables):
-        conn.execute(delete(table))
+def _prefixes(file_prefixes: dict[str, str], built: Built) -> dict[str, str]:
+    """Prefixes for dumps: the usual ones, kitkb's, the file's, and ``:`` for the namespace
+    most individuals are named in (when the file does not declare one)."""
+    out = {**_CORE_PREFIXES, **PREFIXES}
+    taken = set(out.values())
+    for name, iri in file_prefixes.items():
+        if name not in out and iri not in taken:
+            out[name] = iri
+            taken.add(iri)
+    if "" not in out:
+        counts: dict[str, int] = {}
+        for _, iri, _name, _kind in built.tables[0][2]:
+            if not iri.startswith("_:"):
+                ns = iri[: len(iri) - len(local_name(iri))]
+                counts[ns] = counts.get(ns, 0) + 1
+        if counts:
+            out[""] = max(sorted(counts), key=lambda k: counts[k])
+    return out
 
 
-def _write(conn: Connection, b: _Builder) -> LoadReport:
-    m = model()
-    report = LoadReport(individuals=len(b.ids), outside_model=len(b.triples) + len(b.types))
-    for table in m.metadata.sorted_tables:
-        rows = list(b.rows.get(table.name, {}).values()) or b.link_rows.get(table.name, [])
-        rows = rows or {"kitkb_type": b.types, "kitkb_literal": b.literals,
-                        "kitkb_triple": b.triples}.get(table.name, [])
-        if rows:
-            report.tables[table.name] = len(rows)
-            for chunk in _chunks(_complete(table, rows)):
-                conn.execute(insert(table), chunk)
-    if conn.dialect.name == "postgresql" and b.ids:
-        conn.execute(select(func.setval(func.pg_get_serial_sequence("kitkb_thing", "id"), len(b.ids))))
-    return report
+def _meta(built: Built, source: str) -> list[tuple[str, str]]:
+    values = stamp_values(source=source, prefixes=json.dumps(_prefixes(built.prefixes, built), sort_keys=True),
+                          loaded_at=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+                          load_id=uuid.uuid4().hex,
+                          individuals=str(built.individuals), statements=str(built.statements))
+    return sorted(values.items())
 
 
-def _complete(table: Table, rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
-    """Rows with every column present (executemany needs the same keys in each row)."""
-    names = [c.name for c in table.columns if not (table.name == "kitkb_triple" and c.name == "id")]
-    return [{n: r.get(n) for n in names} for r in rows]
+def _report(built: Built, replaced: str | None) -> LoadReport:
+    return LoadReport(individuals=built.individuals, statements=built.statements, outside_model=built.outside,
+                      tables={name: len(rows) for name, _, rows in built.tables if rows}, replaced=replaced)
 
 
-def _chunks(rows: list[dict[str, Any]]) -> Iterator[list[dict[str, Any]]]:
-    for i in range(0, len(rows), _BATCH):
-        yield rows[i:i + _BATCH]
+# --- what the database holds -------------------------------------------------------------------
+
+def _describe(url: str, names: list[str], meta: dict[str, str], things: int | None) -> str:
+    """The world model a database holds, in words (for ``--replace`` and its refusal)."""
+    parts = []
+    if meta.get("schema_version") != model().version:
+        return "a world model made from another ontology version"
+    if meta.get("source"):
+        parts.append(f"from {meta['source']}")
+    if meta.get("loaded_at"):
+        parts.append(f"loaded {meta['loaded_at']}")
+    count = meta.get("individuals") or (str(things) if things is not None else None)
+    if count:
+        parts.append(f"{int(count):,} individuals")
+    parts.append(f"{int(meta.get('stable_state', '0') or 0)} stable states committed")
+    history = [n for n in kitkb_tables(names) if n not in model().metadata.tables]
+    if history:
+        parts.append(f"run history in {len(history)} tables")
+    return "the world model " + " ".join(parts[:1]) + (" (" + ", ".join(parts[1:]) + ")" if parts[1:] else "")
+
+
+class _Writer:
+    """One load's transaction on one kind of database (raw driver connection)."""
+
+    dialect = ""
+
+    def __init__(self, engine: Engine):
+        self.engine = engine
+
+    def check(self, url: str, replace: bool) -> None:
+        """Refuse now (before the file is read) what :meth:`write` would refuse."""
+        raw = self.engine.raw_connection()
+        try:
+            cur = raw.driver_connection.cursor()  # type: ignore[union-attr]
+            self._existing(cur, url, replace)
+        except self._errors() as exc:
+            raise _DriverError(exc) from None
+        finally:
+            raw.rollback()
+            raw.close()
+
+    def write(self, url: str, built: Built, source: str, replace: bool) -> LoadReport:
+        """Replace the database's kitkb tables with ``built``; commit, or change nothing."""
+        raw = self.engine.raw_connection()
+        conn = raw.driver_connection
+        try:
+            return self._write(conn, url, built, source, replace)
+        except self._errors() as exc:
+            raise _DriverError(exc) from None
+        finally:
+            raw.close()
+
+    def _errors(self) -> type[BaseException]:
+        return self.engine.dialect.dbapi.Error  # type: ignore[union-attr, no-any-return]
+
+    def _existing(self, cur: Any, url: str, replace: bool) -> tuple[list[str], str | None]:
+        """(kitkb tables to drop, what they hold in words); refuses what may not be replaced."""
+        names = self._tables(cur)
+        if not names:
+            return [], None
+        if "kitkb_meta" not in names:
+            raise SchemaVersionError(f"database {safe_url(url)} is not a kitkb database (it has no kitkb_meta "
+                                     f"table); load into a new database")
+        cur.execute("SELECT key, value FROM kitkb_meta")
+        meta = {k: v for k, v in cur.fetchall()}
+        things = None
+        if "individuals" not in meta and "kitkb_thing" in names:
+            cur.execute("SELECT count(*) FROM kitkb_thing")
+            things = cur.fetchone()[0]
+        what = _describe(url, names, meta, things)
+        if not replace:
+            why = other_version(url, meta) if meta.get("schema_version") != model().version else \
+                f"database {safe_url(url)} already holds {what}"
+            raise InputError(f"{why}; kitkb db load --replace replaces it (and its run history)")
+        return kitkb_tables(names), what
+
+    def _tables(self, cur: Any) -> list[str]:
+        raise NotImplementedError
+
+    def _write(self, conn: Any, url: str, built: Built, source: str, replace: bool) -> LoadReport:
+        raise NotImplementedError
+
+
+class _SQLite(_Writer):
+    dialect = "sqlite"
+
+    def _tables(self, cur: Any) -> list[str]:
+        cur.execute("SELECT name FROM sqlite_master WHERE type = 'table' AND name NOT LIKE 'sqlite_%'")
+        return [r[0] for r in cur.fetchall()]
+
+    def _write(self, conn: Any, url: str, built: Built, source: str, replace: bool) -> LoadReport:
+        cur = conn.cursor()
+        cur.execute("PRAGMA foreign_keys = OFF")  # checked once below; cannot change inside a transaction
+        try:
+            cur.execute("BEGIN IMMEDIATE")
+            try:
+                report = self._fill(cur, url, built, source, replace)
+                cur.execute("COMMIT")
+                return report
+            except BaseException:
+                cur.execute("ROLLBACK")
+                raise
+        finally:
+            cur.execute("PRAGMA foreign_keys = ON")
+
+    def _fill(self, cur: Any, url: str, built: Built, source: str, replace: bool) -> LoadReport:
+        drop, replaced = self._existing(cur, url, replace)
+        for name in drop:
+            cur.execute(f'DROP TABLE "{name}"')
+        ddl = load_ddl("sqlite")
+        for stmt in ddl.create:
+            cur.execute(stmt)
+        insert_sqlite(cur, built.tables)
+        for stmt in ddl.index:
+            cur.execute(stmt)
+        cur.execute("PRAGMA foreign_key_check")
+        broken = cur.fetchmany(3)
+        if broken:
+            raise InputError("database refused the data: foreign keys without their rows: " +
+                             ", ".join(f"{t} row {r} -> {p}" for t, r, p, _ in broken))
+        cur.executemany("INSERT INTO kitkb_meta (key, value) VALUES (?, ?)", _meta(built, source))
+        return _report(built, replaced)
+
+
+class _PostgreSQL(_Writer):
+    dialect = "postgresql"
+
+    def _tables(self, cur: Any) -> list[str]:
+        cur.execute("SELECT tablename FROM pg_tables WHERE schemaname = current_schema()")
+        return [r[0] for r in cur.fetchall()]
+
+    def _write(self, conn: Any, url: str, built: Built, source: str, replace: bool) -> LoadReport:
+        cur = conn.cursor()
+        try:
+            report = self._fill(cur, url, built, source, replace)
+            conn.commit()
+            return report
+        except BaseException:
+            conn.rollback()
+            raise
+
+    def _fill(self, cur: Any, url: str, built: Built, source: str, replace: bool) -> LoadReport:
+        cur.execute("SELECT pg_advisory_xact_lock(%s)", (_PG_LOCK,))
+        drop, replaced = self._existing(cur, url, replace)
+        if drop:
+            cur.execute("DROP TABLE " + ", ".join(f'"{n}"' for n in drop) + " CASCADE")
+        ddl = load_ddl("postgresql")
+        cur.execute(";\n".join(ddl.create))
+        copy_postgresql(cur, built.tables)
+        cur.execute(";\n".join(ddl.index + ddl.keys))
+        cur.execute("SELECT setval(pg_get_serial_sequence('kitkb_thing', 'id'), %s)", (built.individuals,))
+        cur.executemany("INSERT INTO kitkb_meta (key, value) VALUES (%s, %s)", _meta(built, source))
+        filled = sorted({name for name, _, rows in built.tables if rows} | {"kitkb_meta"})
+        cur.execute("ANALYZE " + ", ".join(filled))  # fresh statistics, or the planner scans whole tables
+        return _report(built, replaced)
+
+
+def _writer(engine: Engine) -> _Writer:
+    if engine.dialect.name == "sqlite":
+        return _SQLite(engine)
+    if engine.dialect.name == "postgresql" and engine.dialect.driver == "psycopg2":
+        return _PostgreSQL(engine)
+    raise InputError(f"kitkb loads SQLite files and PostgreSQL (psycopg2) databases, not "
+                     f"{engine.dialect.name}+{engine.dialect.driver}")

@@ -24,15 +24,24 @@ class ValueProblem(ValueError):
 def to_sql(lit: Literal, info: dict[str, Any],
            checks: tuple[Check, ...] = ()) -> Any:
     """The value a literal is stored as in a column described by ``info`` (``checks``: its CHECKs)."""
-    kind, lex = info.get("value", "text"), str(lit)
+    value = parse_lexical(info.get("value", "text"), str(lit))
+    check_value(value, checks)
+    return value
+
+
+def parse_lexical(kind: str, lex: str) -> Any:
+    """The column value of lexical form ``lex`` for a column of value kind ``kind``."""
     try:
-        value = _PARSE[kind](lex)
+        return _PARSE[kind](lex)
     except (ValueError, InvalidOperation, TypeError, ArithmeticError):
         raise ValueProblem(f"{lex!r} is not a valid {kind} value") from None
+
+
+def check_value(value: Any, checks: tuple[Check, ...]) -> None:
+    """ValueProblem if ``value`` breaks one of the column's CHECKs."""
     for ok, text in checks:
         if not ok(value):
             raise ValueProblem(f"{value!r} violates {text}")
-    return value
 
 
 def _parse_bool(lex: str) -> bool:
@@ -45,7 +54,10 @@ def _parse_bool(lex: str) -> bool:
 
 
 def _parse_decimal(lex: str) -> float:
-    value = float(Decimal(lex.strip()))
+    try:
+        value = float(lex)  # the same float as float(Decimal(lex)): both round correctly
+    except ValueError:
+        value = float(Decimal(lex.strip()))
     if not math.isfinite(value):
         raise ValueError(lex)
     return value
@@ -104,17 +116,21 @@ _DEFAULT_TYPE = {"boolean": str(XSD.boolean), "integer": str(XSD.integer), "deci
                  "float": str(XSD.double), "datetime": str(XSD.dateTime), "date": str(XSD.date)}
 
 
+def datatype_of(info: dict[str, Any]) -> str | None:
+    """The datatype IRI of the canonical literals of a column (None: plain strings)."""
+    return info.get("datatype") or _DEFAULT_TYPE.get(info.get("value", "text"))
+
+
 def canonical(value: Any, info: dict[str, Any]) -> tuple[str, str | None]:
     """(lexical form, datatype IRI) of the canonical literal of a stored value."""
     kind = info.get("value", "text")
-    dt = info.get("datatype") or _DEFAULT_TYPE.get(kind)
+    dt = datatype_of(info)
     if kind == "boolean":
         return ("true" if value else "false"), dt
     if kind == "integer":
         return str(int(value)), dt
     if kind == "decimal":
-        text = format(Decimal(repr(float(value))), "f")
-        return (text if "." in text else text + ".0"), dt
+        return decimal_text(value), dt
     if kind == "float":
         return repr(float(value)), dt
     if kind == "datetime":
@@ -124,6 +140,24 @@ def canonical(value: Any, info: dict[str, Any]) -> tuple[str, str | None]:
     if kind == "date":
         return value.isoformat(), dt
     return str(value), dt
+
+
+def decimal_text(value: float) -> str:
+    """The canonical ``xsd:decimal`` form of a stored float: its shortest repr, in fixed point."""
+    text = repr(float(value))
+    if "e" in text or "n" in text:  # exponent (or inf/nan, which are never stored)
+        text = format(Decimal(text), "f")
+        if "." not in text:
+            text += ".0"
+    return text
+
+
+def is_canonical_parts(lex: str, datatype: str | None, lang: str | None, value: Any, info: dict[str, Any]) -> bool:
+    """:func:`is_canonical` of a literal given by its parts (datatype None for plain strings)."""
+    if lang is not None:
+        return False
+    text, dt = canonical(value, info)
+    return lex == text and datatype == dt
 
 
 def is_canonical(lit: Literal, value: Any, info: dict[str, Any]) -> bool:

@@ -1,0 +1,106 @@
+"""Rows into tables in bulk, through the driver: ``executemany`` on SQLite, ``COPY`` on PostgreSQL.
+
+Values arrive as the loader builds them (ints, floats, bools, str, naive UTC datetimes, dates);
+each driver gets them in the form SQLAlchemy's column types would have bound (the same
+storage, so SQLAlchemy reads them back as before).
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import io
+from typing import Any, Callable, Iterable, Sequence
+
+from sqlalchemy.dialects import sqlite
+
+from kb.world.schema import model
+
+Rows = Sequence[tuple[Any, ...]]
+
+#: Rows per COPY buffer (bounded memory; one COPY statement per buffer).
+COPY_ROWS = 50_000
+
+
+def quoted(*names: str) -> str:
+    """Identifiers quoted for SQL (a SOAP column is called ``limit``), comma-separated."""
+    return ", ".join(f'"{n}"' for n in names)
+
+
+def _sqlite_processors(table: str, columns: list[str]) -> list[tuple[int, Callable[[Any], Any]]]:
+    """SQLAlchemy's bind processors of the columns that need one on SQLite (dates and times)."""
+    dialect, t = sqlite.dialect(), model().table(table)
+    out = []
+    for i, name in enumerate(columns):
+        kind = t.c[name].info.get("value")
+        if kind in ("datetime", "date"):
+            proc = t.c[name].type.dialect_impl(dialect).bind_processor(dialect)
+            if proc is not None:
+                out.append((i, proc))
+    return out
+
+
+def insert_sqlite(cur: Any, tables: Iterable[tuple[str, list[str], Rows]]) -> None:
+    """``INSERT`` every row with ``executemany`` (SQLite's C loop over one prepared statement)."""
+    for name, columns, rows in tables:
+        procs = _sqlite_processors(name, columns)
+        if procs:
+            rows = [_processed(row, procs) for row in rows]
+        marks = ", ".join("?" * len(columns))
+        cur.executemany(f"INSERT INTO {quoted(name)} ({quoted(*columns)}) VALUES ({marks})", rows)
+
+
+def _processed(row: tuple[Any, ...], procs: list[tuple[int, Callable[[Any], Any]]]) -> tuple[Any, ...]:
+    out = list(row)
+    for i, proc in procs:
+        if out[i] is not None:
+            out[i] = proc(out[i])
+    return tuple(out)
+
+
+# --- PostgreSQL COPY (text format) ------------------------------------------------------------------
+
+_ESCAPES = str.maketrans({"\\": "\\\\", "\t": "\\t", "\n": "\\n", "\r": "\\r"})
+
+
+def _text(v: Any) -> str:
+    if v is None:
+        return "\\N"
+    if v.__class__ is str:
+        return v.translate(_ESCAPES)
+    if v is True:
+        return "t"
+    if v is False:
+        return "f"
+    if isinstance(v, _dt.datetime):  # naive UTC (kb.world.values), said so: the session's zone is not used
+        return (v if v.tzinfo else v.replace(tzinfo=_dt.timezone.utc)).isoformat()
+    if isinstance(v, _dt.date):
+        return v.isoformat()
+    return repr(v) if isinstance(v, float) else str(v)
+
+
+def _formatter(table: str, columns: list[str]) -> Callable[[tuple[Any, ...]], str]:
+    t = model().table(table)
+    plain = all(_is_number(t.c[c]) for c in columns)
+    if plain:  # ids and numbers only
+        return lambda row: "\t".join(["\\N" if v is None else str(v) for v in row])
+    return lambda row: "\t".join([_text(v) for v in row])
+
+
+def _is_number(col: Any) -> bool:
+    try:
+        return col.type.python_type in (int, float)
+    except NotImplementedError:
+        return False
+
+
+def copy_postgresql(cur: Any, tables: Iterable[tuple[str, list[str], Rows]]) -> None:
+    """``COPY ... FROM STDIN`` every table, in buffers of :data:`COPY_ROWS` rows."""
+    for name, columns, rows in tables:
+        line = _formatter(name, columns)
+        sql = f"COPY {quoted(name)} ({quoted(*columns)}) FROM STDIN"
+        for start in range(0, len(rows), COPY_ROWS):
+            buf = io.StringIO()
+            buf.write("\n".join([line(row) for row in rows[start:start + COPY_ROWS]]))
+            buf.write("\n")
+            buf.seek(0)
+            cur.copy_expert(sql, buf)

@@ -1,0 +1,479 @@
+"""Where each statement of a data file goes: triples in, rows of the world-model tables out.
+
+:class:`RowBuilder` reads the statements once, in file order, and fills the rows as it goes:
+a statement about a subject whose type is already known goes straight to its column or link
+table; the few whose subject is not typed yet wait until the end. An object property's value
+is taken on trust (its type may come later in the file) and checked when all types are
+known: a value outside the property's range becomes a plain statement, as before. Every
+statement is kept: what the class tables cannot hold goes to ``kitkb_triple``, other asserted
+types to ``kitkb_type``, unusual spellings of literals to ``kitkb_literal`` (docs/database.md).
+
+Each node (IRI or blank node) gets the next id when the file first names it; individuals keep
+it as their database id (so rows never need renumbering; ids of nodes that turn out not to
+be individuals are simply not used). Memory is that of the rows (one list per table row,
+values shared), not of the triples.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import lru_cache
+from typing import Any, Callable, Iterable
+
+import pyoxigraph as ox
+
+from kb.core.errors import InputError
+from kb.core.namespaces import local_name
+from kb.core.resources import model_files
+from kb.world.schema import Plan, model
+from kb.world.values import ValueProblem, check_value, is_canonical_parts, parse_lexical
+
+RDF_TYPE = "http://www.w3.org/1999/02/22-rdf-syntax-ns#type"
+THING = "kitkb_thing"
+#: Longest IRI an IRI column (and an individual's name) holds.
+MAX_IRI = 760
+
+# what a property is, for the loop
+_OBJECT, _IRI, _DATA = 0, 1, 2
+_TYPE = object()  # rdf:type
+_UNKNOWN = object()  # not seen yet
+
+Row = list[Any]
+Table = tuple[str, list[str], "list[Any]"]
+
+
+@dataclass
+class TableRows:
+    """The rows of one class table being built: id -> ``[id, value, ...]`` in column order."""
+
+    name: str
+    columns: list[str]  # "id" first
+    required: list[int]  # positions of NOT NULL columns
+    objects: list[int]  # positions of columns holding individuals' ids
+    rows: dict[int, Row] = field(default_factory=dict)
+
+    def new_row(self, node: int) -> None:
+        """An empty row for ``node``."""
+        row = [None] * len(self.columns)
+        row[0] = node
+        self.rows[node] = row
+
+
+class _Prop:
+    """A model property as the loop uses it."""
+
+    __slots__ = ("plan", "iri", "kind", "link", "rows", "pos", "domain", "target", "checks", "vtype", "values")
+
+    def __init__(self, plan: Plan, iri: str, tables: dict[str, TableRows], vtypes: dict[tuple, dict]):
+        self.plan, self.iri, self.link = plan, iri, plan.link
+        self.kind = {"object": _OBJECT, "iri": _IRI}.get(plan.info["kind"], _DATA)
+        self.domain, self.target, self.checks = plan.domain, plan.target, plan.checks
+        self.values: dict[tuple[int, Any], None] = {}  # link rows (subject id, value), in order
+        table = None if plan.link else tables[plan.table]
+        self.rows = table.rows if table is not None else None
+        self.pos = table.columns.index(plan.column) if table is not None else -1
+        key = (plan.info.get("value"), plan.info.get("datatype"))
+        #: parsed literals of this value type, shared by the properties of the same type
+        self.vtype = vtypes.setdefault(key, {}) if self.kind == _DATA else None
+
+
+@dataclass
+class Built:
+    """What :class:`RowBuilder` made: rows per table as ``(table, columns, rows)``, and counts."""
+
+    tables: list[Table]
+    individuals: int
+    statements: int
+    outside: int
+    prefixes: dict[str, str]
+
+
+@lru_cache(maxsize=1)
+def model_individuals() -> dict[str, tuple[str, ...]]:
+    """Individuals the shipped ontologies define (``soap:EffectCheck``...) with their model classes."""
+    m = model()
+    out: dict[str, list[str]] = {}
+    for path in model_files():
+        for s, p, o, _ in ox.parse(path=path, format=ox.RdfFormat.TURTLE):
+            if p.value == RDF_TYPE and type(s) is ox.NamedNode and o.value in m.class_table:
+                out.setdefault(s.value, []).append(o.value)
+    return {k: tuple(v) for k, v in out.items()}
+
+
+class _Named:
+    """Stands for an IRI the file names only as a plain value: the node of an individual of the
+    model ontologies that gets a row (:meth:`RowBuilder._external`)."""
+
+    def __init__(self, iri: str):
+        self.iri = iri
+
+
+class RowBuilder:
+    """Turns the statements of one data file into rows of the model's tables.
+
+    ``terms`` reads the file's terms (:mod:`kb.world.triples`); ``line_of(subject key,
+    predicate, object term)`` finds lines for error messages; ``file`` names the file in them.
+    Feed it the statements (:meth:`feed`), then :meth:`finish`.
+    """
+
+    def __init__(self, terms: Any, line_of: Callable[..., int | None], file: str):
+        self.terms, self.line_of, self.file, self.m = terms, line_of, file, model()
+        m = self.m
+        self.tables: dict[str, TableRows] = {}
+        for table in m.metadata.sorted_tables:
+            if "parent" in table.info and table.name != THING:
+                cols = list(table.columns)
+                self.tables[table.name] = TableRows(
+                    table.name, [c.name for c in cols],
+                    [i for i, c in enumerate(cols) if not c.nullable and not c.primary_key],
+                    [i for i, c in enumerate(cols) if c.info.get("kind") == "object"])
+        self._vtypes: dict[tuple, dict] = {}
+        self._chains = {iri: tuple(m.chain(t.name)) for iri, t in m.class_table.items()}
+        self._tablesets: dict[str, tuple[frozenset[str], list[TableRows]]] = {}
+        self.nodes: dict[Any, int] = {}  # term -> id
+        # id -> IRI or _:label; -> model classes stated; -> tables it has rows in (id 0 unused)
+        self.keys: list[str] = [""]
+        self.classes: list[list[str] | None] = [None]
+        self.in_tables: list[frozenset[str] | None] = [None]
+        self.props: dict[Any, Any] = {}  # predicate term -> _Prop, _TYPE or the IRI of another property
+        self.class_of: dict[Any, str | None] = {}  # type term -> model class IRI or None
+        self.pending: list[tuple[Any, Any, Any]] = []
+        self.other_types: dict[tuple[int, Any], None] = {}  # (node, type term) of non-model types
+        self.literals: dict[tuple[int, str], tuple[str, str | None, str | None]] = {}
+        self.outside: dict[tuple[str, str, str, str, str | None, str | None], None] = {}
+        self.statements = 0
+        self.duplicates = 0
+
+    # --- errors ---------------------------------------------------------------------------------
+    def fail(self, node: int, predicate: str | None, obj: Any, message: str) -> InputError:
+        """An input error at the line of the statement about ``node``."""
+        return InputError(message, file=self.file, line=self.line_of(self.keys[node], predicate, obj))
+
+    # --- the loop -------------------------------------------------------------------------------
+    def feed(self, quads: Iterable[Any]) -> None:
+        """Read the statements (``(s, p, o, graph)`` tuples); may raise :class:`InputError`."""
+        nodes, props, in_tables, classes = self.nodes, self.props, self.in_tables, self.classes
+        node, prop_of, store, pending = self._node, self._prop, self._store, self.pending.append
+        class_get, class_of, other = self.class_of.get, self._class_of, self.other_types
+        first_class, more_class, outside = self._first_class, self._more_class, self._outside
+        count = 0
+        for s, p, o, _ in quads:
+            count += 1
+            si = nodes.get(s)
+            if si is None:
+                si = node(s)
+            prop = props.get(p, _UNKNOWN)
+            if prop is _UNKNOWN:
+                prop = prop_of(p)
+            if prop is _TYPE:
+                cls = class_get(o, _UNKNOWN)
+                if cls is _UNKNOWN:
+                    cls = class_of(o)
+                if cls is None:
+                    if (si, o) in other:
+                        self.duplicates += 1
+                    other[(si, o)] = None
+                elif classes[si] is None:
+                    first_class(si, cls)
+                else:
+                    more_class(si, cls)
+            elif prop.__class__ is str:
+                outside(si, prop, o)
+            else:
+                tables = in_tables[si]
+                if tables is None or prop.domain not in tables:
+                    pending((s, p, o))  # its subject's type may come later
+                else:
+                    store(si, prop, o)
+        self.statements += count
+
+    def _node(self, term: Any, key: str | None = None) -> int:
+        key = key or self.terms.resource(term)
+        if key is None:
+            raise AssertionError("a literal as subject")  # parsers never give one
+        node = len(self.keys)
+        self.nodes[term] = node
+        self.keys.append(key)
+        self.classes.append(None)
+        self.in_tables.append(None)
+        return node
+
+    def _prop(self, p: Any) -> Any:
+        iri = self.terms.resource(p) or ""
+        if iri == RDF_TYPE:
+            prop: Any = _TYPE
+        else:
+            plan = self.m.plans.get(iri)
+            prop = _Prop(plan, iri, self.tables, self._vtypes) if plan is not None else iri
+        self.props[p] = prop
+        return prop
+
+    # --- types ----------------------------------------------------------------------------------
+    def _class_of(self, o: Any) -> str | None:
+        """The model class a type term names (None: another class, or not a class)."""
+        key = self.terms.resource(o) if self.terms.is_iri(o) else None
+        cls = self.class_of[o] = key if key in self.m.class_table else None
+        return cls
+
+    def _class_rows(self, cls: str) -> tuple[frozenset[str], list[TableRows]]:
+        """The tables an individual of ``cls`` has rows in (``kitkb_thing`` included), and
+        those of them that :class:`TableRows` builds."""
+        found = self._tablesets.get(cls)
+        if found is None:
+            names = frozenset(self._chains[cls])
+            found = self._tablesets[cls] = (names, [self.tables[t] for t in sorted(names) if t != THING])
+        return found
+
+    def _first_class(self, node: int, cls: str) -> None:
+        """``node`` is typed for the first time: rows in the tables of ``cls`` and its ancestors."""
+        self.classes[node] = [cls]
+        tables, rows = self._class_rows(cls)
+        for table in rows:
+            row = [None] * len(table.columns)
+            row[0] = node
+            table.rows[node] = row
+        self.in_tables[node] = tables
+
+    def _more_class(self, node: int, cls: str) -> None:
+        """Another model class for a typed node: rows in the tables it adds."""
+        mine = self.classes[node]
+        if cls in mine:  # type: ignore[operator]
+            self.duplicates += 1
+            return
+        mine.append(cls)  # type: ignore[union-attr]
+        tables, rows = self._class_rows(cls)
+        old = self.in_tables[node] or frozenset()
+        for table in rows:
+            if table.name not in old:
+                table.new_row(node)
+        self.in_tables[node] = old | tables
+
+    def primary(self, node: int) -> str:
+        """The most specific model class of a node ("" for an individual only referred to)."""
+        classes = self.classes[node]
+        if not classes:
+            return ""
+        if len(classes) == 1:
+            return classes[0]
+        depth = self.m.depth
+        return min(classes, key=lambda c: (-depth[c], c))
+
+    # --- statements -----------------------------------------------------------------------------
+    def _outside(self, node: int, p: str, o: Any) -> None:
+        """A statement kept as written (``kitkb_triple``): predicate IRI, object term."""
+        key = self.terms.resource(o)
+        if key is None:
+            lex, dt, lang = self.terms.literal(o)
+            self._keep((self.keys[node], p, lex, "literal", dt, lang))
+        else:
+            self._keep_resource(node, p, key)
+
+    def _keep_resource(self, node: int, p: str, key: str) -> None:
+        self._keep((self.keys[node], p, key, "bnode" if key.startswith("_:") else "iri", None, None))
+
+    def _keep(self, row: tuple[str, str, str, str, str | None, str | None]) -> None:
+        if row in self.outside:
+            self.duplicates += 1
+        self.outside[row] = None
+
+    def _store(self, node: int, prop: _Prop, o: Any) -> None:
+        """Put one statement in its column or link table (its subject has the domain's rows),
+        or keep it as a plain statement when its value does not fit there."""
+        kind = prop.kind
+        canonical = True
+        if kind == _OBJECT:
+            value = self.nodes.get(o)
+            if value is None:
+                key = self.terms.resource(o)
+                if key is None:  # a literal where the model expects an individual
+                    return self._outside(node, prop.iri, o)
+                value = self._node(o, key)
+        elif kind == _IRI:
+            value = self.terms.resource(o) if self.terms.is_iri(o) else None
+            if value is None or len(value) > MAX_IRI:
+                return self._outside(node, prop.iri, o)
+        else:
+            parsed = prop.vtype.get(o)  # type: ignore[union-attr]
+            if parsed is None:
+                parsed = self._literal(node, prop, o)
+            value, canonical = parsed
+            if prop.checks:
+                try:
+                    check_value(value, prop.checks)
+                except ValueProblem as exc:
+                    raise self._value_error(node, prop, o, exc) from None
+        if prop.link:
+            if not canonical:  # a literal spelled unusually stays a plain statement (lossless)
+                return self._outside(node, prop.iri, o)
+            pair = (node, value)
+            if pair in prop.values:
+                self.duplicates += 1
+            prop.values[pair] = None
+            return None
+        row = prop.rows[node]  # type: ignore[index]
+        old = row[prop.pos]
+        if old is not None:
+            if old == value and (kind != _DATA or self._same_spelling(node, prop, o, canonical)):
+                self.duplicates += 1  # the same statement twice
+                return None
+            raise self.fail(node, prop.iri, o, f"{local_name(self.keys[node])} has a second value for the "
+                                               f"functional property {local_name(prop.iri)}")
+        row[prop.pos] = value
+        if not canonical:
+            self.literals[(node, prop.iri)] = self.terms.literal(o)
+        return None
+
+    def _literal(self, node: int, prop: _Prop, o: Any) -> tuple[Any, bool]:
+        terms = self.terms
+        key = terms.resource(o)
+        if key is not None:
+            spelled = key if key.startswith("_:") else f"<{key}>"
+            raise self.fail(node, prop.iri, o, f"{local_name(prop.iri)} expects a literal value, not {spelled}")
+        lex, dt, lang = terms.literal(o)
+        info = prop.plan.info
+        try:
+            value = parse_lexical(info.get("value", "text"), lex)
+        except ValueProblem as exc:
+            raise self._value_error(node, prop, o, exc) from None
+        parsed = value, is_canonical_parts(lex, dt, lang, value, info)
+        prop.vtype[o] = parsed  # type: ignore[index]
+        return parsed
+
+    def _value_error(self, node: int, prop: _Prop, o: Any, exc: ValueProblem) -> InputError:
+        return self.fail(node, prop.iri, o, f"{local_name(prop.iri)} of {local_name(self.keys[node])}: {exc}")
+
+    def _same_spelling(self, node: int, prop: _Prop, o: Any, canonical: bool) -> bool:
+        spelled = self.literals.get((node, prop.iri))
+        if spelled is None:
+            return canonical
+        return not canonical and spelled == self.terms.literal(o)
+
+    # --- the end --------------------------------------------------------------------------------
+    def finish(self, prefixes: dict[str, str]) -> Built:
+        """Place the statements that waited, check ranges and required values; the rows."""
+        for s, p, o in self.pending:
+            node, prop = self.nodes[s], self.props[p]
+            tables = self.in_tables[node]
+            if tables is not None and prop.domain in tables:
+                self._store(node, prop, o)
+            else:
+                self._outside(node, prop.iri, o)
+        self.pending.clear()
+        self._external()
+        things = self._things()
+        self._ranges()
+        self._required()
+        types = self._types()
+        tables = self._emit(things, types)
+        return Built(tables, len(things), self.statements - self.duplicates, len(self.outside) + len(types),
+                     prefixes)
+
+    def _external(self) -> None:
+        """Rows for the individuals of the model ontologies the file refers to without defining them.
+
+        They get rows (so that foreign keys can point at them) but no type statements on dump.
+        Only those whose tables require no values are taken: their values are not in the file.
+        """
+        candidates = [i for i, c in enumerate(self.classes) if i and c is None and not self.keys[i].startswith("_:")]
+        referred = {row[2] for row in self.outside if row[3] == "iri"}
+        for prop in self.props.values():
+            if isinstance(prop, _Prop) and prop.kind == _IRI:
+                referred.update(v for _, v in prop.values) if prop.link else referred.update(
+                    row[prop.pos] for row in prop.rows.values() if row[prop.pos] is not None)  # type: ignore[union-attr]
+        referred.difference_update(self.keys)
+        if not candidates and not referred:
+            return
+        known = model_individuals()
+        candidates += [self._node(_Named(iri), iri) for iri in sorted(referred) if iri in known]
+        for node in candidates:
+            classes = known.get(self.keys[node])
+            if classes is None:
+                continue
+            tables = frozenset(t for c in classes for t in self._chains[c])
+            if not any(c.info.get("iri") and not c.nullable for t in tables for c in self.m.table(t).columns):
+                self.in_tables[node] = tables
+                for t in tables:
+                    if t != THING:
+                        self.tables[t].new_row(node)
+
+    def _things(self) -> list[tuple[int, str, str, str]]:
+        """``kitkb_thing`` rows: the individuals (typed with a model class, or external)."""
+        out = []
+        keys, classes, in_tables, primary = self.keys, self.classes, self.in_tables, self.primary
+        for node in range(1, len(keys)):
+            if in_tables[node] is None:
+                continue
+            key = keys[node]
+            if len(key) > MAX_IRI:
+                raise self.fail(node, RDF_TYPE, None, f"name longer than {MAX_IRI} characters: {key[:40]}...")
+            out.append((node, key, local_name(key), primary(node) if classes[node] else ""))
+        return out
+
+    def _ranges(self) -> None:
+        """Object values outside the property's range become plain statements."""
+        in_tables, keys = self.in_tables, self.keys
+        for prop in list(self.props.values()):
+            if not isinstance(prop, _Prop) or prop.kind != _OBJECT:
+                continue
+            target = prop.target
+            if prop.link:
+                bad = [pair for pair in prop.values if not _fits(in_tables[pair[1]], target)]
+                for node, value in bad:
+                    del prop.values[(node, value)]
+                    self._keep_resource(node, prop.iri, keys[value])
+                continue
+            pos = prop.pos
+            for node, row in prop.rows.items():  # type: ignore[union-attr]
+                value = row[pos]
+                if value is not None and not _fits(in_tables[value], target):
+                    row[pos] = None
+                    self._keep_resource(node, prop.iri, keys[value])
+
+    def _required(self) -> None:
+        """Every NOT NULL column of every row is filled, or the file is refused."""
+        for table in self.tables.values():
+            for pos in table.required:
+                for node, row in table.rows.items():
+                    if row[pos] is None:
+                        cls = self.primary(node)
+                        col = self.m.table(table.name).c[table.columns[pos]]
+                        raise self.fail(node, RDF_TYPE, None,
+                                        f"{local_name(self.keys[node])} ({local_name(cls)}) has no value for "
+                                        f"{local_name(col.info.get('iri', col.name))}, which the model requires")
+
+    def _types(self) -> dict[tuple[int, str], None]:
+        """``kitkb_type`` rows: asserted types of individuals other than their primary class."""
+        types: dict[tuple[int, str], None] = {}
+        for node, classes in enumerate(self.classes):
+            if classes is not None and len(classes) > 1:
+                primary = self.primary(node)
+                types.update(((node, c), None) for c in classes if c != primary)
+        for node, term in self.other_types:
+            if self.in_tables[node] is not None and self.terms.is_iri(term):
+                types[(node, self.terms.resource(term))] = None
+            else:
+                self._outside(node, RDF_TYPE, term)
+        return types
+
+    def _emit(self, things: list[tuple[int, str, str, str]], types: dict[tuple[int, str], None]) -> list[Table]:
+        out: list[Table] = [(THING, ["id", "iri", "name", "kind"], things)]
+        for table in self.tables.values():
+            if table.rows:
+                out.append((table.name, table.columns, list(table.rows.values())))
+                table.rows = {}
+        for prop in self.props.values():
+            if isinstance(prop, _Prop) and prop.link and prop.values:
+                out.append((prop.plan.table, ["subject_id", prop.plan.column], list(prop.values)))
+        if types:
+            out.append(("kitkb_type", ["thing_id", "class_iri"], list(types)))
+        if self.literals:
+            out.append(("kitkb_literal", ["thing_id", "property_iri", "lexical", "datatype", "lang"],
+                        [(node, p, *parts) for (node, p), parts in self.literals.items()]))
+        if self.outside:
+            out.append(("kitkb_triple", ["subject", "predicate", "object", "object_kind", "datatype", "lang"],
+                        list(self.outside)))
+        return out
+
+
+def _fits(tables: frozenset[str] | None, target: str | None) -> bool:
+    return tables is not None and target is not None and target in tables
