@@ -135,6 +135,24 @@ def test_attach_grasp_lift_release_detach() -> None:
     np.testing.assert_allclose(box(cell, GRIPPER)[0], Scene.from_files([INIT]).lo[cell.scene().index[GRIPPER]])
 
 
+def test_many_moves_keep_the_robot_and_its_load_rigid() -> None:
+    """A run moves the flange hundreds of times; rounding must not build up (it once doubled
+    per move until the poses overflowed)."""
+    cell = SimulatedCell(INIT)
+    mount(cell)
+    pick(cell)
+    size = np.subtract(*box(cell, PART)[::-1])
+    for k in range(400):
+        a = 0.3 + 0.001 * k
+        run(cell, crcl.MoveTo(crcl.Pose((1.0 + 0.2 * (k % 2), 0.5, 1.2), (np.cos(a), np.sin(a), 0), (0, 0, -1))))
+    w = cell.world
+    for name in (ROBOT, GRIPPER, PART):
+        r = w.poses[w.index[name], :3, :3]
+        np.testing.assert_allclose(r.T @ r, np.eye(3), atol=1e-9)
+    lo, hi = box(cell, PART)  # a yawed box of the part's size, not a blown-up one
+    assert np.all(hi[:2] - lo[:2] <= np.hypot(*size[:2]) + 1e-9) and hi[2] - lo[2] == pytest.approx(size[2])
+
+
 def test_a_grasp_with_the_wrong_effector_grasps_nothing() -> None:
     cell = SimulatedCell(INIT)
     mount(cell, TRAY_GRIPPER_MOUNT)

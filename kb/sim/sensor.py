@@ -17,18 +17,20 @@ a line reads back to the same floats), are the cell contract's (:mod:`kb.crcl.ce
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 from typing import Literal
 
 import numpy as np
 
 from kb.core.namespaces import KTW, local_name
 from kb.crcl.cell import Observation, parse_truth_line, truth_line
-from kb.sim.world import World
+from kb.sim.world import SKU, World
 from kb.spatial.scene import class_ancestors
 
 __all__ = ["matches", "most_specific", "observe", "parse_truth_line", "rpy", "truth_line"]
 
 
+@lru_cache(maxsize=None)
 def most_specific(classes: frozenset[str]) -> str:
     """Local name of the most specific kitting class among ``classes`` (the one with most ancestors)."""
     anc = class_ancestors()
@@ -70,6 +72,10 @@ def observe(world: World, query: str, by: Literal["class", "name"], time: float,
     """
     out = []
     sp, so = noise
+    skus: dict[str, str] = {}  # name -> its SKU, as World.sku gives it (one pass, not one per object)
+    for s, o in world.facts.get(SKU, ()):
+        if s not in skus or o < skus[s]:
+            skus[s] = o
     for i in sorted(range(len(world)), key=lambda k: world.names[k]):
         if not world.placed(i) or not matches(world, i, query, by):
             continue
@@ -78,7 +84,7 @@ def observe(world: World, query: str, by: Literal["class", "name"], time: float,
         if (sp or so) and rng is not None:
             loc = loc + rng.normal(0.0, sp, 3) if sp else loc
             ori = ori + rng.normal(0.0, so, 3) if so else ori
-        sku = world.sku(i)
+        sku = skus.get(world.names[i]) or (world.sku(i) if world.is_a(i, "Kit") else None)
         out.append(Observation(world.names[i], most_specific(world.classes[i]), float(time),
                                tuple(float(v) for v in loc), tuple(float(v) for v in ori),  # type: ignore[arg-type]
                                local_name(sku) if sku else None))

@@ -143,10 +143,15 @@ class World:
 
     # --- changes ----------------------------------------------------------------------
     def set_pose(self, i: int, pose: np.ndarray) -> None:
-        """Move ``i`` to the global ``pose``; everything that rests on or in it moves along."""
-        delta = np.asarray(pose, float) @ invert(self.poses[i])
+        """Move ``i`` to the global ``pose``; everything that rests on or in it moves along.
+
+        ``i`` gets ``pose`` itself, not ``delta @ old``: ``invert`` transposes the rotation, so
+        any rounding in the old pose would be squared on every move (the robot's flange moves
+        hundreds of times in a run, and the error doubled per move until poses overflowed)."""
+        pose = np.asarray(pose, float)
+        delta = pose @ invert(self.poses[i])
         for j in self.subtree(i):
-            self.poses[j] = delta @ self.poses[j]
+            self.poses[j] = pose if j == i else delta @ self.poses[j]
 
     def shift(self, i: int, dx: float, dy: float, dz: float) -> None:
         """Translate ``i`` (and what moves with it) in the world frame."""
