@@ -282,3 +282,57 @@ def test_nist_init_file_global_poses(tmp_path):
         for obj in wm.objects("SolidObject"):
             assert np.allclose(poses[obj.name], _rdf_global(graph, URIRef(obj.iri)), atol=1e-9), obj.name
         assert wm.transformation_tree()["kitting_workstation_1"] is None
+
+
+# --- batches: numpy arithmetic, one statement per table ----------------------------------------------
+
+def test_batch_of_parents_and_children_reaches_every_target(wm):
+    """A tray, the parts in it and parts elsewhere in one stable state: each object in the batch
+    reaches its sensed pose; every other object keeps its relative pose (and rides along)."""
+    tree = wm.transformation_tree()
+    before_local = {n: wm.pose(n) for n in tree}
+    tray = next(r for r in tree.values() if r and list(tree.values()).count(r) > 1 and tree[r] is not None)
+    inside = [c for c, r in tree.items() if r == tray][:2]
+    others = [o.name for o in wm.objects("Part") if tree[o.name] != tray][:3]
+    batch = [tray, *inside, *others]
+    rng = np.random.default_rng(7)
+    targets = {n: wm.global_pose(n) @ from_xyz_rpy(*rng.uniform(-0.05, 0.05, 3), 0, 0, rng.uniform(-1, 1))
+               for n in batch}
+    result = wm.commit_stable_state(dict(reversed(list(targets.items()))), True)  # children listed first
+    assert result.committed and result.state == 1
+    after = wm.global_poses()
+    for name, target in targets.items():
+        assert np.allclose(after[name], target, atol=1e-9), name
+    for name in tree:
+        if name not in targets:
+            assert np.allclose(wm.pose(name), before_local[name], atol=1e-12), name
+            ref = tree[name]
+            expected = before_local[name] if ref is None else after[ref] @ before_local[name]
+            assert np.allclose(after[name], expected, atol=1e-9), name
+
+
+def test_global_poses_of_some_objects_equal_those_of_all(wm):
+    everything = wm.global_poses()
+    names = [o.name for o in wm.objects("Part")][:4] + ["kitting_workstation_1"]
+    some = wm.global_poses(names)
+    assert list(some) == names
+    assert all(np.allclose(some[n], everything[n]) for n in names)
+
+
+def test_a_bad_pose_in_a_batch_names_it_and_writes_nothing(wm):
+    a, b = [o.name for o in wm.objects("Part")[:2]]
+    before = wm.global_poses()
+    with pytest.raises(InputError, match=f"pose of {b}: a pose must be a rigid transform"):
+        wm.commit_stable_state({a: from_xyz_rpy(0.1, 0.1, 1, 0, 0, 0), b: np.diag([1.0, 2, 1, 1])}, True)
+    after = wm.global_poses()
+    assert all(np.allclose(after[n], before[n]) for n in before) and wm.stable_state() == 0
+
+
+def test_poses_are_read_fresh_while_the_tree_is_kept(wm, url):
+    part = wm.objects("Part")[0].name
+    wm.global_pose(part)  # reads the tree
+    target = from_xyz_rpy(0.7, 0.2, 1.1, 0, 0, 0.3)
+    with WorldModel(url) as other:  # another writer
+        other.set_global_pose(part, target)
+    assert np.allclose(wm.global_pose(part), target)
+    assert np.allclose(wm.global_poses([part])[part], target)

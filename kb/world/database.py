@@ -175,12 +175,49 @@ def sqlite_file(url: str) -> Path | None:
 
 
 def drop_all(url: str | Path) -> None:
-    """Drop every table of database ``url`` (kitkb's and any other): a clean slate for tests."""
+    """Drop every table of database ``url`` (kitkb's and any other): a clean slate for tests.
+
+    One transaction; on PostgreSQL one ``DROP TABLE ... CASCADE`` of the tables of the current
+    schema (reflecting them first took seconds)."""
     engine = open_engine(url)
-    meta = MetaData()
-    meta.reflect(engine)
-    meta.drop_all(engine)
-    engine.dispose()
+    try:
+        if engine.dialect.name == "sqlite":
+            _drop_sqlite(engine)
+            return
+        with writing(engine.connect()) as conn, conn.begin():
+            if engine.dialect.name == "postgresql":
+                names = [r[0] for r in conn.exec_driver_sql(
+                    "SELECT tablename FROM pg_tables WHERE schemaname = current_schema()")]
+                if names:
+                    conn.exec_driver_sql("DROP TABLE " + ", ".join(f'"{n}"' for n in names) + " CASCADE")
+            else:
+                meta = MetaData()
+                meta.reflect(conn)
+                meta.drop_all(conn)
+    finally:
+        engine.dispose()
+
+
+def _drop_sqlite(engine: Engine) -> None:
+    """Drop every table of an SQLite database in one transaction, foreign keys off (a DROP
+    would otherwise delete and check every row first)."""
+    raw = engine.raw_connection()
+    try:
+        cur = raw.driver_connection.cursor()  # type: ignore[union-attr]
+        cur.execute("PRAGMA foreign_keys = OFF")
+        cur.execute("BEGIN IMMEDIATE")
+        try:
+            cur.execute("SELECT name FROM sqlite_master WHERE type = 'table' AND name NOT LIKE 'sqlite_%'")
+            for (name,) in cur.fetchall():
+                cur.execute(f'DROP TABLE "{name}"')
+            cur.execute("COMMIT")
+        except BaseException:
+            cur.execute("ROLLBACK")
+            raise
+        finally:
+            cur.execute("PRAGMA foreign_keys = ON")
+    finally:
+        raw.close()
 
 
 # --- terms ------------------------------------------------------------------------------------

@@ -16,12 +16,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import lru_cache
 
-from sqlalchemy.dialects import postgresql, sqlite
 from sqlalchemy.engine import Dialect
 from sqlalchemy.schema import AddConstraint, CreateIndex, CreateTable
 
 from kb.patches.sqlalchemy import ddl_scope
-from kb.world.schema import model
+from kb.world.schema import cached, model
 
 #: Table name prefixes of kitkb's tables (what ``--replace`` drops, whatever the schema version).
 PREFIXES = ("kitkb_", "ktw_", "soap_")
@@ -37,12 +36,22 @@ class LoadDDL:
 
 
 def _dialect(name: str) -> Dialect:
-    return postgresql.dialect() if name == "postgresql" else sqlite.dialect()
+    if name == "postgresql":
+        from sqlalchemy.dialects import postgresql
+
+        return postgresql.dialect()  # type: ignore[no-any-return]
+    from sqlalchemy.dialects import sqlite
+
+    return sqlite.dialect()  # type: ignore[no-any-return]
 
 
 @lru_cache(maxsize=None)
 def load_ddl(dialect_name: str) -> LoadDDL:
-    """The statements for ``sqlite`` or ``postgresql`` (compiled once per process)."""
+    """The statements for ``sqlite`` or ``postgresql`` (compiled once, kept with the cached tables)."""
+    return cached(f"ddl-{dialect_name}", lambda: _compile(dialect_name))  # type: ignore[no-any-return]
+
+
+def _compile(dialect_name: str) -> LoadDDL:
     dialect = _dialect(dialect_name)
     inline = not dialect.supports_alter
     with ddl_scope(model().metadata) as meta:

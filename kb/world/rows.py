@@ -17,7 +17,7 @@ values shared), not of the triples.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from functools import lru_cache
+from functools import lru_cache, partial
 from typing import Any, Callable, Iterable
 
 import pyoxigraph as ox
@@ -35,7 +35,6 @@ MAX_IRI = 760
 
 # what a property is, for the loop
 _OBJECT, _IRI, _DATA = 0, 1, 2
-_TYPE = object()  # rdf:type
 _UNKNOWN = object()  # not seen yet
 
 Row = list[Any]
@@ -135,10 +134,11 @@ class RowBuilder:
         self.keys: list[str] = [""]
         self.classes: list[list[str] | None] = [None]
         self.in_tables: list[frozenset[str] | None] = [None]
-        self.props: dict[Any, Any] = {}  # predicate term -> _Prop, _TYPE or the IRI of another property
+        self.handlers: dict[Any, Callable[[int, Any, Any], None]] = {}  # predicate term -> its handler
+        self.props: dict[Any, _Prop] = {}  # predicate term -> model property
         self.class_of: dict[Any, str | None] = {}  # type term -> model class IRI or None
-        self.pending: list[tuple[Any, Any, Any]] = []
-        self.other_types: dict[tuple[int, Any], None] = {}  # (node, type term) of non-model types
+        self.pending: list[Any] = []  # statements whose subject was not typed (yet)
+        self.other_types: list[tuple[int, Any]] = []  # (node, type term) of non-model types
         self.literals: dict[tuple[int, str], tuple[str, str | None, str | None]] = {}
         self.outside: dict[tuple[str, str, str, str, str | None, str | None], None] = {}
         self.statements = 0
@@ -151,40 +151,22 @@ class RowBuilder:
 
     # --- the loop -------------------------------------------------------------------------------
     def feed(self, quads: Iterable[Any]) -> None:
-        """Read the statements (``(s, p, o, graph)`` tuples); may raise :class:`InputError`."""
-        nodes, props, in_tables, classes = self.nodes, self.props, self.in_tables, self.classes
-        node, prop_of, store, pending = self._node, self._prop, self._store, self.pending.append
-        class_get, class_of, other = self.class_of.get, self._class_of, self.other_types
-        first_class, more_class, outside = self._first_class, self._more_class, self._outside
+        """Read the statements (``(s, p, o, graph)`` tuples); may raise :class:`InputError`.
+
+        Each predicate gets a handler made for it (:meth:`_handler`): the loop itself only finds
+        the subject's id and calls the handler with ``(subject id, object, statement)``."""
+        nodes, handlers, node, handler = self.nodes.get, self.handlers.get, self._node, self._handler
         count = 0
-        for s, p, o, _ in quads:
+        for q in quads:
             count += 1
-            si = nodes.get(s)
+            s = q[0]  # indexing a quad is cheaper than unpacking it
+            si = nodes(s)
             if si is None:
                 si = node(s)
-            prop = props.get(p, _UNKNOWN)
-            if prop is _UNKNOWN:
-                prop = prop_of(p)
-            if prop is _TYPE:
-                cls = class_get(o, _UNKNOWN)
-                if cls is _UNKNOWN:
-                    cls = class_of(o)
-                if cls is None:
-                    if (si, o) in other:
-                        self.duplicates += 1
-                    other[(si, o)] = None
-                elif classes[si] is None:
-                    first_class(si, cls)
-                else:
-                    more_class(si, cls)
-            elif prop.__class__ is str:
-                outside(si, prop, o)
-            else:
-                tables = in_tables[si]
-                if tables is None or prop.domain not in tables:
-                    pending((s, p, o))  # its subject's type may come later
-                else:
-                    store(si, prop, o)
+            fn = handlers(q[1])
+            if fn is None:
+                fn = handler(q[1])
+            fn(si, q[2], q)
         self.statements += count
 
     def _node(self, term: Any, key: str | None = None) -> int:
@@ -198,15 +180,67 @@ class RowBuilder:
         self.in_tables.append(None)
         return node
 
-    def _prop(self, p: Any) -> Any:
+    def _handler(self, p: Any) -> Callable[[int, Any, Any], None]:
+        """The handler of predicate ``p``: rdf:type, a model property (by kind), or another property."""
         iri = self.terms.resource(p) or ""
         if iri == RDF_TYPE:
-            prop: Any = _TYPE
+            fn = self._on_type
         else:
             plan = self.m.plans.get(iri)
-            prop = _Prop(plan, iri, self.tables, self._vtypes) if plan is not None else iri
-        self.props[p] = prop
-        return prop
+            if plan is None:
+                fn = partial(_outside_handler, self._outside, iri)
+            else:
+                prop = self.props[p] = _Prop(plan, iri, self.tables, self._vtypes)
+                fn = self._column_handler(prop) if not prop.link and prop.kind != _IRI else \
+                    partial(_general_handler, self.in_tables, self.pending.append, self._store, prop)
+        self.handlers[p] = fn
+        return fn
+
+    def _column_handler(self, prop: _Prop) -> Callable[[int, Any, Any], None]:
+        """The handler of a property held in a column: the common case (the subject is typed, the
+        column still empty, the value usual) on the spot, anything else by :meth:`_store`."""
+        in_tables, pending, store = self.in_tables, self.pending.append, self._store
+        rows, pos, domain = prop.rows, prop.pos, prop.domain
+        if prop.kind == _OBJECT:
+            nodes, node = self.nodes.get, self._node
+
+            def on_object(si: int, o: Any, q: Any) -> None:
+                tables = in_tables[si]
+                if tables is None or domain not in tables:
+                    pending(q)  # its subject's type may come later
+                    return
+                value = nodes(o)
+                row = rows[si]  # type: ignore[index]
+                if value is None or row[pos] is not None:
+                    store(si, prop, o)
+                else:
+                    row[pos] = value
+            return on_object
+        parsed_of, parse, checks = prop.vtype.get, self._literal, prop.checks  # type: ignore[union-attr]
+
+        def on_data(si: int, o: Any, q: Any) -> None:
+            tables = in_tables[si]
+            if tables is None or domain not in tables:
+                pending(q)
+                return
+            parsed = parsed_of(o)
+            row = rows[si]  # type: ignore[index]
+            if parsed is None or checks or not parsed[1] or row[pos] is not None:
+                store(si, prop, o)
+            else:
+                row[pos] = parsed[0]
+        return on_data
+
+    def _on_type(self, si: int, o: Any, q: Any) -> None:
+        cls = self.class_of.get(o, _UNKNOWN)
+        if cls is _UNKNOWN:
+            cls = self._class_of(o)
+        if cls is None:
+            self.other_types.append((si, o))
+        elif self.classes[si] is None:
+            self._first_class(si, cls)
+        else:
+            self._more_class(si, cls)
 
     # --- types ----------------------------------------------------------------------------------
     def _class_of(self, o: Any) -> str | None:
@@ -351,8 +385,8 @@ class RowBuilder:
     # --- the end --------------------------------------------------------------------------------
     def finish(self, prefixes: dict[str, str]) -> Built:
         """Place the statements that waited, check ranges and required values; the rows."""
-        for s, p, o in self.pending:
-            node, prop = self.nodes[s], self.props[p]
+        for q in self.pending:
+            node, prop, o = self.nodes[q[0]], self.props[q[1]], q[2]
             tables = self.in_tables[node]
             if tables is not None and prop.domain in tables:
                 self._store(node, prop, o)
@@ -448,9 +482,14 @@ class RowBuilder:
             if classes is not None and len(classes) > 1:
                 primary = self.primary(node)
                 types.update(((node, c), None) for c in classes if c != primary)
-        for node, term in self.other_types:
-            if self.in_tables[node] is not None and self.terms.is_iri(term):
-                types[(node, self.terms.resource(term))] = None
+        other = dict.fromkeys(self.other_types)
+        self.duplicates += len(self.other_types) - len(other)
+        iris = {t: self.terms.resource(t) if self.terms.is_iri(t) else None for t in {t for _, t in other}}
+        in_tables = self.in_tables
+        for node, term in other:
+            iri = iris[term]
+            if in_tables[node] is not None and iri is not None:
+                types[(node, iri)] = None
             else:
                 self._outside(node, RDF_TYPE, term)
         return types
@@ -473,6 +512,19 @@ class RowBuilder:
             out.append(("kitkb_triple", ["subject", "predicate", "object", "object_kind", "datatype", "lang"],
                         list(self.outside)))
         return out
+
+
+def _outside_handler(outside: Callable[[int, str, Any], None], iri: str, si: int, o: Any, q: Any) -> None:
+    outside(si, iri, o)
+
+
+def _general_handler(in_tables: list[Any], pending: Callable[[Any], None], store: Callable[..., None],
+                     prop: _Prop, si: int, o: Any, q: Any) -> None:
+    tables = in_tables[si]
+    if tables is None or prop.domain not in tables:
+        pending(q)
+    else:
+        store(si, prop, o)
 
 
 def _fits(tables: frozenset[str] | None, target: str | None) -> bool:

@@ -22,7 +22,7 @@ import sys
 from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
 import sqlalchemy
 from sqlalchemy import Column, MetaData, Table
@@ -126,37 +126,48 @@ def cache_dir() -> Path | None:
     return Path(base) / "kitkb"
 
 
-def _cache_file() -> Path | None:
-    folder = cache_dir()
+@lru_cache(maxsize=1)
+def _cache_key() -> str | None:
+    """What the cached files depend on: the accessors module's text, SQLAlchemy, Python, kitkb."""
     spec = importlib.util.find_spec(_ACCESSORS)
-    if folder is None or spec is None or not spec.origin:
+    if cache_dir() is None or spec is None or not spec.origin:
         return None
     try:
         source = Path(spec.origin).read_bytes()
     except OSError:
         return None
-    key = hashlib.sha256(b"\0".join([source, sqlalchemy.__version__.encode(), sys.version.encode(),
-                                     __version__.encode()])).hexdigest()[:24]
-    return folder / f"tables-{key}.pickle"
+    return hashlib.sha256(b"\0".join([source, sqlalchemy.__version__.encode(), sys.version.encode(),
+                                      __version__.encode()])).hexdigest()[:24]
+
+
+def cached(name: str, make: Callable[[], Any]) -> Any:
+    """``make()``, kept in the cache file ``name`` for the current generated schema (pickled)."""
+    key, folder = _cache_key(), cache_dir()
+    path = folder / f"{name}-{key}.pickle" if key is not None and folder is not None else None
+    if path is not None:
+        try:
+            return pickle.loads(path.read_bytes())
+        except Exception:  # noqa: BLE001 - a missing, stale or broken cache: make it again
+            pass
+    value = make()
+    if path is not None:
+        _write_cache(path, pickle.dumps(value, protocol=pickle.HIGHEST_PROTOCOL))
+    return value
 
 
 def _metadata() -> tuple[MetaData, str, tuple[tuple[str, str], ...]]:
     """The generated tables, schema version and ontology versions: from the cache file, else
     from the module."""
-    path = _cache_file()
-    if path is not None:
-        try:
-            metadata, version, ontologies = pickle.loads(path.read_bytes())
-            if isinstance(metadata, MetaData) and isinstance(version, str):
-                return metadata, version, ontologies
-        except Exception:  # noqa: BLE001 - a missing, stale or broken cache: import the module
-            pass
+    found = cached("tables", _from_module)
+    if not (isinstance(found, tuple) and isinstance(found[0], MetaData) and isinstance(found[1], str)):
+        found = _from_module()
+    return found  # type: ignore[no-any-return]
+
+
+def _from_module() -> tuple[MetaData, str, tuple[tuple[str, str], ...]]:
     from kb.world.generated import accessors as gen
 
-    found = gen.Base.metadata, gen.SCHEMA_VERSION, tuple(gen.ONTOLOGIES)
-    if path is not None:
-        _write_cache(path, pickle.dumps(found, protocol=pickle.HIGHEST_PROTOCOL))
-    return found
+    return gen.Base.metadata, gen.SCHEMA_VERSION, tuple(gen.ONTOLOGIES)
 
 
 def _write_cache(path: Path, data: bytes) -> None:
