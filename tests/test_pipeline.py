@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import io
+import json
+import sqlite3
 from pathlib import Path
 
 import pytest
@@ -13,13 +15,19 @@ from kb.core.resources import scenario_dirs
 
 @pytest.mark.slow
 def test_main_job_builds_every_shipped_scenario(tmp_path: Path) -> None:
-    from rdflib.compare import isomorphic
+    from rdflib.namespace import RDF
 
     from generators.pddl import PddlGenerator
+    from kb.core.namespaces import SOAP
+    from kb.core.resources import ontology_path
     from kb import planning, world
     from kb.io.loader import load_file
 
-    assert main(["run", "-o", str(tmp_path)]) == 0
+    report = tmp_path / "report.json"
+    assert main(["run", "-o", str(tmp_path), "--report", str(report)]) == 0
+    data = json.loads(report.read_text())
+    assert data["goal_holds"] is True and data["failures"] == [] and data["injected"] == []
+    assert sorted(r["scenario"] for r in data["runs"]) == sorted(s.name for s in scenario_dirs())
     for scenario in scenario_dirs():
         target = tmp_path / scenario.name
         init, goal = scenario / "init.ttl", scenario / "goal.ttl"
@@ -30,7 +38,17 @@ def test_main_job_builds_every_shipped_scenario(tmp_path: Path) -> None:
         plan = (target / "plan.txt").read_text().splitlines()
         assert plan == planning.plan_files(init, goal, None, None, "strips").lines
         assert plan[-1].startswith("(put-kit ")
-        assert isomorphic(world.read_graph(target / "world.sqlite"), load_file(init).graph)
+        # the world model: the initial state and the domain's SOAP individuals, then the run:
+        # one stable state per action, the run's record with the goal reached
+        held = world.read_graph(target / "world.sqlite")
+        start = load_file(init).graph
+        assert {s for s in start.subjects() if "_point" not in str(s) and "_axis" not in str(s)} <= set(held.subjects())
+        modes = set(load_file(ontology_path("kitting-domain.ttl")).graph.subjects(RDF.type, SOAP.FailureMode))
+        assert modes and modes == set(held.subjects(RDF.type, SOAP.FailureMode))
+        with sqlite3.connect(target / "world.sqlite") as db:
+            (goal_holds, stopped), = db.execute("SELECT goal_holds, stopped FROM kitkb_run").fetchall()
+            stable = int(db.execute("SELECT value FROM kitkb_meta WHERE key = 'stable_state'").fetchone()[0])
+        assert (goal_holds, stopped) == (1, None) and stable == len(plan)
 
 
 def test_main_job_reports_a_broken_scenario(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:

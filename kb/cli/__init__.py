@@ -166,8 +166,11 @@ def _add_run(sub: Any) -> None:
                         "KIND@ACTION (at that action), comma separated; kinds: missed-grasp, dropped-part, "
                         "part-moved, part-missing, kit-tray-moved, defective-part, wrong-sku")
     p.add_argument("--seed", type=int, default=0, help="seed of the simulated cell's faults (default 0)")
-    p.add_argument("--db", metavar="URL", help="world-model database for the run records (default: "
-                                               "out/<scenario>/world.sqlite); a postgresql:// URL works too")
+    p.add_argument("--db", metavar="URL", help="world-model database that gets the initial state, the domain, "
+                                               "the stable states and the run's records (with INIT GOAL; default: "
+                                               "a new out/<scenario>/world.sqlite); a postgresql:// URL works too")
+    p.add_argument("--replace", action="store_true",
+                   help="with --db: replace the world model and run history the database already holds")
     p.add_argument("--report", metavar="FILE", help="write the JSON report (goal_holds, injected, failures, ...)")
     p.add_argument("--cell", metavar="HOST:PORT", help="drive a cell server (kitkb sim serve) instead of the "
                                                         "in-process simulator")

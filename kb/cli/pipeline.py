@@ -32,18 +32,24 @@ from kb.core.namespaces import local_name
 from kb.core.resources import ontologies_dir, scenario_dirs
 from kb.crcl.remote import RemoteCell
 from kb.execution import run_plan
+from kb.execution.store import RunStore, prepare
 from kb.planning.geometry import check_geometry
 from kb.validation import validate
-from kb.world import WorldModel, load
+from kb.world import WorldModel
+from kb.world.database import safe_url
 
 
 def run(files: list[str], output: str, faults: str | None, seed: int, db: str | None, report: str | None,
-        cell: str | None, match_names: bool, out: Output) -> int:
+        cell: str | None, match_names: bool, out: Output, domain: list[str] | None = None,
+        replace: bool = False) -> int:
     """``kitkb run [INIT GOAL]``: the closed loop on the files, or the main job on every shipped
     scenario; progress on standard output (with ``--quiet`` only the problems found)."""
     if files and len(files) != 2:
         raise InputError(f"kitkb run takes an initial and a goal state file, not {len(files)} file(s)")
-    options = RunOptions(faults, seed, db, cell, match_names)
+    if db and not files:
+        raise InputError("--db takes one scenario (kitkb run INIT GOAL --db URL); the main job writes "
+                         "out/<scenario>/world.sqlite for each")
+    options = RunOptions(faults, seed, db, cell, match_names, domain, replace)
     if files:
         return run_files(out.results, files[0], files[1], output, options, report, quiet=out.quiet)
     return run_main_job(out.results, output, quiet=out.quiet, options=options, report_path=report)
@@ -58,6 +64,8 @@ class RunOptions:
     db: str | None = None
     cell: str | None = None
     match_names: bool = False
+    domain: list[str] | None = None  # domain files (failure modes, remediations) instead of the shipped one
+    replace: bool = False  # --db may replace what the database holds
 
 
 class _Progress:
@@ -139,14 +147,15 @@ def _scenario(name: str, init: Path, goal: Path, target: Path, progress: _Progre
     if not report.conforms:
         return 1
     t = time.perf_counter()
-    model = planning.kitting_model([init], [goal], "strips", match_names=options.match_names)
+    model = planning.kitting_model([init], [goal], "strips", match_names=options.match_names,
+                                   domain_files=options.domain)
     get_generator("pddl")(model).write_outputs(target)
     progress.stage(f"pddl: {target / 'domain.pddl'}, {target / 'problem.pddl'}", t)
     t = time.perf_counter()
     result = planning.run(model.up_problem, target / "plan.txt")
     progress.stage(f"plan: {len(result.lines)} actions by {result.planner}, validated -> {target / 'plan.txt'}", t)
     t = time.perf_counter()
-    geo = check_geometry([init], [goal], match_names=options.match_names)
+    geo = check_geometry([init], [goal], match_names=options.match_names, domain_files=options.domain)
     progress.stage(f"geometry: {geo.atoms} atoms hold in the initial state's boxes, "
                    f"{'equal to the PDDL init facts; every goal fact holds in the goal' if geo.agrees else 'DISAGREE'}",
                    t)
@@ -157,28 +166,35 @@ def _scenario(name: str, init: Path, goal: Path, target: Path, progress: _Progre
     if not geo.agrees:
         return 1
     t = time.perf_counter()
-    db_file = target / "world.sqlite"
-    db_file.unlink(missing_ok=True)
-    loaded = load(init, db_file)
+    db_file: str | Path = options.db or target / "world.sqlite"
+    if not options.db:  # the job's own output: made anew each time
+        Path(db_file).unlink(missing_ok=True)
+    loaded = prepare(db_file, init, options.domain, replace=options.replace)
     with WorldModel(db_file) as world:
         poses = world.global_poses()
-    progress.stage(f"world model: {loaded.individuals} individuals, {len(poses)} global poses -> {db_file}", t)
-    return _execute(name, init, goal, result.lines, progress, options, reports)
+    progress.stage(f"world model: {loaded.individuals} individuals (workstation and domain), {len(poses)} global "
+                   f"poses -> {safe_url(str(db_file))}", t)
+    return _execute(name, init, goal, result.lines, progress, options, reports, db_file)
 
 
 def _execute(name: str, init: Path, goal: Path, plan: list[str], progress: _Progress, options: RunOptions,
-             reports: list[dict]) -> int:
-    """Carry the plan out, every action checked from geometry; a line per action, a summary."""
+             reports: list[dict], db: str | Path) -> int:
+    """Carry the plan out, every action checked from geometry, stable states and records in
+    the database ``db``; a line per action, a summary."""
     t = time.perf_counter()
+    store = RunStore(db)
     cell = RemoteCell.from_address(options.cell) if options.cell else None
     where = f"the cell at {options.cell}" if options.cell else "the simulated cell" + (
         f" (faults {options.faults}, seed {options.seed})" if options.faults else "")
     progress.say(f"  execute in {where}:")
     try:
         run = run_plan(plan, init, goal, cell=cell, faults=options.faults, seed=options.seed,
-                       match_names=options.match_names, progress=lambda line: progress.say("  " + line),
-                       notifier=lambda who, text: progress.say(f"      notify {who}: {text}"), name=name)
+                       match_names=options.match_names, domain_files=options.domain,
+                       progress=lambda line: progress.say("  " + line),
+                       notifier=lambda who, text: progress.say(f"      notify {who}: {text}"), name=name,
+                       store=store)
     finally:
+        store.close()
         if cell is not None:
             cell.close()
     rec = run.record

@@ -7,8 +7,8 @@ why an action failed). Inside: the executor (:mod:`.executor`), its belief of th
 (:mod:`.records`).
 """
 
-from kb.execution.api import Run, run_plan, run_scenario
+from kb.execution.api import Run, open_run, run_plan, run_scenario
 from kb.execution.executor import Executor, Stop, log_notifier
 from kb.execution.records import FailureRecord, RunRecord
 
-__all__ = ["Executor", "FailureRecord", "Run", "RunRecord", "Stop", "log_notifier", "run_plan", "run_scenario"]
+__all__ = ["Executor", "FailureRecord", "Run", "RunRecord", "Stop", "log_notifier", "open_run", "run_plan", "run_scenario"]

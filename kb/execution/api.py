@@ -104,7 +104,8 @@ class Run:
 
 
 def run_plan(plan: Sequence[str], init: str | Path, goal: str | Path, *, cell: CellInterface | None = None,
-             faults: Any = None, seed: int = 0, match_names: bool = False, store: Any = None,
+             faults: Any = None, seed: int = 0, match_names: bool = False, db: str | Path | None = None,
+             replace: bool = False, store: Any = None,
              progress: Callable[[str], None] | None = None, notifier: Callable[[str, str], None] = log_notifier,
              planner: str | None = None, domain_files: Sequence[str | Path] | None = None,
              name: str | None = None) -> Run:
@@ -112,7 +113,10 @@ def run_plan(plan: Sequence[str], init: str | Path, goal: str | Path, *, cell: C
 
     ``cell``: any :class:`~kb.crcl.cell.CellInterface` (a real cell, :class:`kb.crcl.RemoteCell`);
     default: a simulated cell of ``init`` with ``faults`` (a :class:`kb.sim.FaultSpec` or its
-    text, ``"missed-grasp=0.2,part-missing@3"``) and ``seed``.
+    text, ``"missed-grasp=0.2,part-missing@3"``) and ``seed``. ``db``: a database (SQLite file
+    or URL) that gets the initial state and the domain (a database that already holds a world
+    model or run history only with ``replace``), then the stable states and the run's records
+    (:mod:`kb.execution.store`); or pass an open ``store``.
     """
     from kb.planning.model import read_specs
     domain, spec = read_specs([init], [goal], encoding="numeric", domain_files=domain_files,
@@ -125,6 +129,11 @@ def run_plan(plan: Sequence[str], init: str | Path, goal: str | Path, *, cell: C
         sim = SimulatedCell(Scene.from_files([init], declared=[goal], match_names=match_names), faults=spec_f,
                             seed=seed)
         cell = sim
+    own_store = None
+    if db is not None and store is None:
+        from kb.execution.store import RunStore, prepare
+        prepare(db, init, domain_files, replace=replace)
+        store = own_store = RunStore(db)
     record = RunRecord(name or Path(init).parent.name, seed)
     executor = Executor(cell, domain, spec, load_definitions(domain_files), load_failure_model(domain_files),
                         Belief(scene), store=store, notifier=notifier, progress=progress, planner=planner,
@@ -132,12 +141,21 @@ def run_plan(plan: Sequence[str], init: str | Path, goal: str | Path, *, cell: C
     if store is not None:
         store.begin_run(record, init, goal)
     executor.run(list(plan))
-    if sim is not None:
+    injected = getattr(sim if sim is not None else cell, "injected", None)  # a simulated cell's ground truth
+    if injected is not None:
         record.injected = [{"kind": x.kind, "action_index": x.action_index, "objects": [local(o) for o in x.objects],
-                            "detail": x.detail} for x in sim.injected]
+                            "detail": x.detail} for x in injected]
     if store is not None:
         store.end_run(record)
+    if own_store is not None:
+        own_store.close()
     return Run(record)
+
+
+def open_run(url: str | Path, run_id: int | None = None) -> Run:
+    """A run recorded in a world-model database (the latest one by default), to query."""
+    from kb.execution.store import read_run
+    return Run(read_run(url, run_id))
 
 
 def run_scenario(init: str | Path, goal: str | Path, **kw: Any) -> Run:

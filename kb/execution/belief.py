@@ -19,7 +19,6 @@ import numpy as np
 from kb.core.namespaces import KTW
 from kb.crcl.cell import Observation
 from kb.spatial.scene import Scene
-from kb.spatial.transforms import from_xyz_rpy
 
 SKU_OF, KIT_TRAY = str(KTW.hasSkuObject_Sku), str(KTW.hasKit_KitTray)
 
@@ -58,17 +57,25 @@ class Belief:
         believed gone. Returns the names whose pose changed."""
         changed = []
         seen = set()
+        rows, locs, rpys = [], [], []
         for obs in observations:
             i = self.index.get(obs.name)
             if i is None:
                 continue
             seen.add(obs.name)
-            pose = from_xyz_rpy(*obs.location, *obs.orientation)
-            if not np.allclose(pose, self.poses[i], atol=1e-9, equal_nan=False):
-                self.poses[i] = pose
-                changed.append(obs.name)
+            rows.append(i)
+            locs.append(obs.location)
+            rpys.append(obs.orientation)
             if obs.sku:
                 self._recognised(obs.name, obs.sku)
+        if rows:
+            poses = _poses(np.asarray(locs, float), np.asarray(rpys, float))
+            idx = np.asarray(rows)
+            old = self.poses[idx]
+            moved = ~np.all(np.abs(poses - old) <= 1e-9, axis=(1, 2))  # NaN (not placed before) counts as moved
+            if moved.any():
+                self.poses[idx[moved]] = poses[moved]
+                changed.extend(self.names[i] for i in idx[moved])
         for name in asked:
             i = self.index.get(name)
             if name not in seen and i is not None and not np.isnan(self.poses[i, 0, 0]):
@@ -88,7 +95,18 @@ class Belief:
             for s in current:
                 pairs.discard((name, s))
             pairs.add((name, match[0]))
+            self._sku_shape(name, match[0])
             self._scene = None
+
+    def _sku_shape(self, name: str, sku: str) -> None:
+        """An object recognised as of ``sku`` has that SKU's shape: the box of another object of
+        it (a part of another SKU is grasped at its own top face, not the planned part's)."""
+        i = self.index[name]
+        for other, s in sorted(self.facts.get(SKU_OF, ())):
+            j = self.index.get(other)
+            if s == sku and other != name and j is not None and not np.isnan(self.local_lo[j, 0]):
+                self.local_lo[i], self.local_hi[i] = self.local_lo[j], self.local_hi[j]
+                return
 
     def passed_inspection(self, name: str, ok: bool) -> None:
         if ok:
@@ -121,3 +139,18 @@ class Belief:
 
     def related(self, prop: str, subject: str) -> list[str]:
         return sorted(o for s, o in self.facts.get(prop, ()) if s == subject)
+
+
+def _poses(xyz: np.ndarray, rpy: np.ndarray) -> np.ndarray:
+    """(K, 4, 4) transforms of positions and roll, pitch, yaw (``Rz(yaw) Ry(pitch) Rx(roll)``,
+    as :func:`kb.spatial.transforms.from_xyz_rpy`), for K observations at once."""
+    cr, sr = np.cos(rpy[:, 0]), np.sin(rpy[:, 0])
+    cp, sp = np.cos(rpy[:, 1]), np.sin(rpy[:, 1])
+    cy, sy = np.cos(rpy[:, 2]), np.sin(rpy[:, 2])
+    out = np.zeros((len(xyz), 4, 4))
+    out[:, 0, 0], out[:, 0, 1], out[:, 0, 2] = cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr
+    out[:, 1, 0], out[:, 1, 1], out[:, 1, 2] = sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr
+    out[:, 2, 0], out[:, 2, 1], out[:, 2, 2] = -sp, cp * sr, cp * cr
+    out[:, :3, 3] = xyz
+    out[:, 3, 3] = 1.0
+    return out

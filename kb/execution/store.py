@@ -1,0 +1,231 @@
+"""A run in the world-model database: stable states, and the records executives query.
+
+The database (SQLite file or PostgreSQL URL) holds the workstation and the SOAP individuals of
+the domain (actions, their predicate atoms, failure modes, remediations: loaded together,
+:func:`prepare`). During a run, :class:`RunStore`
+
+* takes the poses the sensor reported and, when an action's effects hold, commits them as one
+  stable state with eq. (1) (:meth:`kb.world.WorldModel.commit_stable_state`): a run that is
+  killed leaves the last stable state;
+* records each failure as a ``soap:ActionFailure`` row of the generated tables (its action,
+  phase, violated predicate atoms and failure mode by key, so it can be queried in SQL) and,
+  in kitkb's run tables, everything else: the run, its actions, the failure's arguments,
+  objects, expected and seen positions, consequence, severity, recovery and outcome.
+
+Objects the database does not know (a kit that appears during the run) keep their poses in
+the run records only.
+"""
+
+from __future__ import annotations
+
+import datetime as dt
+import json
+import logging
+import tempfile
+import time
+from dataclasses import asdict
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+from sqlalchemy import (Boolean, Column, DateTime, Float, ForeignKey, Integer, MetaData, String, Table, Text,
+                        insert, select, update)
+
+from kb.core.resources import ontology_path
+from kb.io import load_file
+from kb.execution.records import ActionRecord, AtomCheck, FailureRecord, RunRecord, Sighting
+from kb.world import LoadReport, load, normalize_url, open_engine
+
+log = logging.getLogger("kitkb.execution")
+META = MetaData()
+
+RUNS = Table(
+    "kitkb_run", META,
+    Column("id", Integer, primary_key=True, autoincrement=True),
+    Column("scenario", String(200), nullable=False),
+    Column("seed", Integer),
+    Column("started_at", DateTime(timezone=True), nullable=False),
+    Column("ended_at", DateTime(timezone=True)),
+    Column("goal_holds", Boolean),
+    Column("stopped", Text),
+    Column("replans", Integer, nullable=False, default=0),
+    Column("report", Text),
+    comment="One execution of a plan: kitkb's run history (kb.execution.store).",
+)
+ACTIONS = Table(
+    "kitkb_run_action", META,
+    Column("run_id", Integer, ForeignKey("kitkb_run.id"), primary_key=True),
+    Column("idx", Integer, primary_key=True),
+    Column("action", String(200), nullable=False),
+    Column("args", Text, nullable=False),
+    Column("status", String(40), nullable=False),
+    Column("commands", Text, nullable=False),
+    Column("seconds", Float),
+    comment="Each action of a run as executed (arguments after late binding, CRCL commands sent).",
+)
+FAILURES = Table(
+    "kitkb_run_failure", META,
+    Column("id", Integer, primary_key=True, autoincrement=True),
+    Column("run_id", Integer, ForeignKey("kitkb_run.id"), nullable=False, index=True),
+    Column("action_failure", String(400), index=True),  # IRI of the soap:ActionFailure row
+    Column("idx", Integer, nullable=False),
+    Column("action", String(200), nullable=False),
+    Column("args", Text, nullable=False),
+    Column("phase", String(20), nullable=False),
+    Column("mode", String(200), nullable=False, index=True),
+    Column("kit", String(400)),
+    Column("consequence", Text),
+    Column("severity", Integer),
+    Column("recovery", String(40)),
+    Column("outcome", Text),
+    Column("violated", Text, nullable=False),
+    Column("sightings", Text, nullable=False),
+    Column("seconds", Float),
+    comment="A diagnosed action failure with what the soap:ActionFailure row does not hold.",
+)
+
+_SOAP = "https://w3id.org/kitkb/soap#"
+_KD = "https://w3id.org/kitkb/kitting-domain#"
+
+
+def prepare(url: str | Path, init: str | Path, domain_files: Sequence[str | Path] | None = None,
+            replace: bool = False) -> LoadReport:
+    """Load the initial state and the domain's SOAP individuals into ``url`` (one transaction;
+    a database that holds a world model or run history only with ``replace``)."""
+    domain = list(domain_files) if domain_files else [ontology_path("kitting-domain.ttl")]
+    with tempfile.TemporaryDirectory(prefix="kitkb-run-") as tmp:
+        both = Path(tmp) / f"{Path(init).stem}+domain.nt"
+        with open(both, "w", encoding="utf-8") as out:
+            for path in [init, *domain]:
+                for s, p, o in load_file(path).triples():
+                    out.write(f"{s.n3()} {p.n3()} {o.n3()} .\n")
+        return load(both, url, replace=replace)
+
+
+class RunStore:
+    """Writes one run into the database at ``url`` (which :func:`prepare` filled)."""
+
+    def __init__(self, url: str | Path):
+        from kb.world import WorldModel
+        self.url = normalize_url(url)
+        self.engine = open_engine(self.url)
+        META.create_all(self.engine, checkfirst=True)
+        self.world = WorldModel(self.url)
+        self.run_id: int | None = None
+        self.pending: dict[str, np.ndarray] = {}
+        self.failures = 0
+        self._known: set[str] | None = None
+        self._started = dt.datetime.now(dt.timezone.utc)
+        self._t0 = time.perf_counter()
+
+    def close(self) -> None:
+        self.world.close()
+        self.engine.dispose()
+
+    # --- the run ------------------------------------------------------------------------
+    def begin_run(self, record: RunRecord, init: Any = None, goal: Any = None) -> None:
+        self._t0 = time.perf_counter()
+        with self.engine.begin() as conn:
+            self.run_id = conn.execute(insert(RUNS).values(
+                scenario=record.scenario, seed=record.seed, started_at=self._started, replans=0)).inserted_primary_key[0]
+        record.run_id = self.run_id
+
+    def end_run(self, record: RunRecord) -> None:
+        with self.engine.begin() as conn:
+            conn.execute(update(RUNS).where(RUNS.c.id == self.run_id).values(
+                ended_at=dt.datetime.now(dt.timezone.utc), goal_holds=record.goal_holds, stopped=record.stopped,
+                replans=record.replans, report=json.dumps(record.report())))
+
+    # --- stable states ------------------------------------------------------------------
+    def poses_changed(self, poses: dict[str, np.ndarray]) -> None:
+        """Sensed global poses, kept until the next stable state."""
+        known = self._names()
+        self.pending.update({n: m for n, m in poses.items() if n in known})
+
+    def commit_stable(self, action_index: int) -> None:
+        """The action's effects hold: its sensed poses become the database's stable state."""
+        self.world.commit_stable_state(self.pending, True)  # one stable state per action, moved or not
+        self.pending = {}
+
+    def _names(self) -> set[str]:
+        if self._known is None:
+            self._known = {o.iri for o in self.world.objects()}
+        return self._known
+
+    # --- records ------------------------------------------------------------------------
+    def record_action(self, action: ActionRecord) -> None:
+        with self.engine.begin() as conn:
+            conn.execute(insert(ACTIONS).values(
+                run_id=self.run_id, idx=action.index, action=action.action, args=json.dumps(list(action.args)),
+                status=action.status, commands=json.dumps(action.commands),
+                seconds=max(0.0, action.ended - action.started)))
+
+    def record_failure(self, failure: FailureRecord) -> None:
+        """The failure as a soap:ActionFailure row (by key) and a kitkb_run_failure row."""
+        self.failures += 1
+        iri = f"urn:kitkb:run:{self.run_id}:failure:{self.failures}"
+        soap_row = self._action_failure(iri, failure)
+        with self.engine.begin() as conn:
+            conn.execute(insert(FAILURES).values(
+                run_id=self.run_id, action_failure=iri if soap_row else None, idx=failure.action_index,
+                action=failure.action, args=json.dumps(list(failure.args)), phase=failure.phase, mode=failure.mode,
+                kit=failure.kit, consequence=failure.consequence, severity=failure.severity,
+                recovery=failure.recovery, outcome=failure.outcome,
+                violated=json.dumps([asdict(a) for a in failure.violated]),
+                sightings=json.dumps([asdict(s) for s in failure.sightings]), seconds=failure.time - self._t0))
+
+    def _action_failure(self, iri: str, failure: FailureRecord) -> bool:
+        """Insert the soap:ActionFailure individual; False when the domain is not in the database."""
+        from kb.world.generated.accessors import ActionFailure, Thing, soap_has_action_failure_violated_atom
+        thing = Thing.__table__
+        action_iri = f"{_KD}{failure.action}"
+        phase_iri = f"{_SOAP}{'PreconditionCheck' if failure.phase == 'precondition' else 'EffectCheck'}"
+        mode_iri = f"{_KD}{failure.mode}"
+        atom_iris = [f"{_KD}{failure.action}_{'pre' if failure.phase == 'precondition' else 'eff'}"
+                     f"{'_not' if a.negated else ''}_{a.predicate}" for a in failure.violated]
+        with self.engine.begin() as conn:
+            ids = dict(conn.execute(select(thing.c.iri, thing.c.id).where(
+                thing.c.iri.in_([action_iri, phase_iri, mode_iri, *atom_iris]))).all())
+            if action_iri not in ids or phase_iri not in ids:
+                return False
+            new_id = conn.execute(insert(thing).values(iri=iri, name=iri.rsplit(":", 1)[0].rsplit(":", 1)[-1] +
+                                                        f"_{self.failures}",
+                                                        kind=f"{_SOAP}ActionFailure")).inserted_primary_key[0]
+            conn.execute(insert(ActionFailure.__table__).values(
+                id=new_id, action_id=ids[action_iri], phase_id=ids[phase_iri], failure_mode_id=ids.get(mode_iri),
+                timestamp=dt.datetime.now(dt.timezone.utc)))
+            atoms = [{"subject_id": new_id, "value_id": ids[a]} for a in dict.fromkeys(atom_iris) if a in ids]
+            if atoms:
+                conn.execute(insert(soap_has_action_failure_violated_atom), atoms)
+        return True
+
+
+def read_run(url: str | Path, run_id: int | None = None) -> RunRecord:
+    """A run back from the database (the latest one by default), as a :class:`RunRecord`."""
+    engine = open_engine(normalize_url(url))
+    try:
+        with engine.connect() as conn:
+            q = select(RUNS).order_by(RUNS.c.id.desc())
+            row = conn.execute(q.where(RUNS.c.id == run_id) if run_id is not None else q).first()
+            if row is None:
+                from kb.core.errors import InputError
+                raise InputError(f"no run {run_id if run_id is not None else ''} in the database".replace("  ", " "))
+            rec = RunRecord(row.scenario, row.seed, goal_holds=row.goal_holds, stopped=row.stopped,
+                            replans=row.replans, run_id=row.id)
+            rec.started, rec.ended = 0.0, (row.ended_at - row.started_at).total_seconds() if row.ended_at else 0.0
+            report = json.loads(row.report) if row.report else {}
+            rec.injected = report.get("injected", [])
+            for a in conn.execute(select(ACTIONS).where(ACTIONS.c.run_id == row.id).order_by(ACTIONS.c.idx)):
+                rec.actions.append(ActionRecord(a.idx, a.action, tuple(json.loads(a.args)), a.status,
+                                                json.loads(a.commands)))
+            for f in conn.execute(select(FAILURES).where(FAILURES.c.run_id == row.id).order_by(FAILURES.c.id)):
+                rec.failures.append(FailureRecord(
+                    f.idx, f.action, tuple(json.loads(f.args)), f.phase,
+                    [AtomCheck(d["predicate"], tuple(d["args"]), d["negated"], d["holds"]) for d in json.loads(f.violated)],
+                    [Sighting(d["name"], tuple(d["expected"]) if d["expected"] else None,
+                              tuple(d["seen"]) if d["seen"] else None) for d in json.loads(f.sightings)],
+                    f.mode, f.consequence or "", f.severity or 0, f.recovery or "", f.outcome or "", f.seconds or 0.0,
+                    kit=f.kit))
+            return rec
+    finally:
+        engine.dispose()
