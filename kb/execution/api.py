@@ -140,7 +140,15 @@ def run_plan(plan: Sequence[str], init: str | Path, goal: str | Path, *, cell: C
                         record=record)
     if store is not None:
         store.begin_run(record, init, goal)
-    executor.run(list(plan))
+    try:
+        executor.run(list(plan))
+    except KeyboardInterrupt:  # the database keeps its last stable state; the run says why it ended
+        record.stopped = "interrupted"
+        if store is not None:
+            store.end_run(record)
+        if own_store is not None:
+            own_store.close()
+        raise
     injected = getattr(sim if sim is not None else cell, "injected", None)  # a simulated cell's ground truth
     if injected is not None:
         record.injected = [{"kind": x.kind, "action_index": x.action_index, "objects": [local(o) for o in x.objects],
