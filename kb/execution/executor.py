@@ -317,10 +317,11 @@ class Executor:
         rem = mode.remediation if mode is not None else None
         kind = rem.recovery if rem is not None else "Replan"
         if rem is not None and (kind == "Abort" or rem.operator):
-            failure.recovery, failure.outcome = "stop", "stopped for an operator"
+            why = "the remediation asks for an operator" if rem.operator else "the remediation aborts the run"
+            failure.recovery, failure.outcome = "stop", "stopped for an operator" if rem.operator else "aborted"
             self._store_failure(failure)
             raise Stop(f"{failure.mode} at action {i} {step.line()}: {mode.consequence if mode else ''} "
-                       "(the remediation asks for an operator)")
+                       f"({why})" + self._shortage(step, queue))
         if kind == "RetryAction" and step.retries < (rem.max_retries if rem else 0):
             step.retries += 1
             failure.recovery, failure.outcome = "retry", f"retry {step.retries} of {rem.max_retries}"
@@ -351,6 +352,13 @@ class Executor:
         self._say(f"  rebound {local(old)} -> {local(part)} ({why})")
         queue.appendleft(step)
         return "next"
+
+    def _shortage(self, step: Step, queue: deque) -> str:
+        """Why a part to take cannot be replaced: no usable part of its SKU left in a tray."""
+        part = step.args.get("part") if step.action == "take-part" else None
+        if part is None or self._another_part(part, queue) is not None:
+            return ""
+        return f"; no usable part of {local(self._planned_sku(part))} is left in a parts tray"
 
     def _another_part(self, old: str, queue: deque) -> tuple[str, str] | None:
         """A usable part of ``old``'s SKU lying in a parts tray, preferring one the rest of the

@@ -92,7 +92,7 @@ def prepare(url: str | Path, init: str | Path, domain_files: Sequence[str | Path
             replace: bool = False) -> LoadReport:
     """Load the initial state and the domain's SOAP individuals into ``url`` (one transaction;
     a database that holds a world model or run history only with ``replace``)."""
-    domain = list(domain_files) if domain_files else [ontology_path("kitting-domain.ttl")]
+    domain = _domain_sources(domain_files) if domain_files else [ontology_path("kitting-domain.ttl")]
     with tempfile.TemporaryDirectory(prefix="kitkb-run-") as tmp:
         both = Path(tmp) / f"{Path(init).stem}+domain.nt"
         with open(both, "w", encoding="utf-8") as out:
@@ -100,6 +100,14 @@ def prepare(url: str | Path, init: str | Path, domain_files: Sequence[str | Path
                 for s, p, o in load_file(path).triples():
                     out.write(f"{s.n3()} {p.n3()} {o.n3()} .\n")
         return load(both, url, replace=replace)
+
+
+def _domain_sources(domain_files: Sequence[str | Path]) -> list[Path]:
+    """The domain files and the domain ontologies they import (an extension imports
+    kitting-domain), without the model ontologies (soap.ttl, kitting.ttl) they import."""
+    from kb.io import load as load_ontologies
+    model = {ontology_path(name).resolve() for name in ("soap.ttl", "kitting.ttl")}
+    return [s.path for s in load_ontologies(list(domain_files)).sources if Path(s.path).resolve() not in model]
 
 
 class RunStore:
