@@ -104,10 +104,10 @@ def test_run_history_counts_as_content(url):
         conn.exec_driver_sql("CREATE TABLE kitkb_run_event (id INTEGER PRIMARY KEY, what TEXT)")
         conn.exec_driver_sql("INSERT INTO kitkb_run_event VALUES (1, 'part dropped')")
     engine.dispose()
-    with pytest.raises(InputError, match="run history in 1 tables"):
+    with pytest.raises(InputError, match="run history: 1 rows in 1 tables"):
         world.load(OTHER, url)
     report = world.load(OTHER, url, replace=True)
-    assert "run history in 1 tables" in (report.replaced or "")
+    assert "run history: 1 rows in 1 tables" in (report.replaced or "")
     engine = world.open_engine(url)
     from sqlalchemy import inspect
 

@@ -162,8 +162,10 @@ def _report(built: Built, replaced: str | None) -> LoadReport:
 
 # --- what the database holds -------------------------------------------------------------------
 
-def _describe(url: str, names: list[str], meta: dict[str, str], things: int | None) -> str:
-    """The world model a database holds, in words (for ``--replace`` and its refusal)."""
+def _describe(url: str, names: list[str], meta: dict[str, str], things: int | None,
+              history: tuple[int, int]) -> str:
+    """The world model a database holds, in words (for ``--replace`` and its refusal);
+    ``history``: (rows, tables) of kitkb's tables beside the model's (the runs' records)."""
     parts = []
     if meta.get("schema_version") != model().version:
         return "a world model made from another ontology version"
@@ -175,9 +177,8 @@ def _describe(url: str, names: list[str], meta: dict[str, str], things: int | No
     if count:
         parts.append(f"{int(count):,} individuals")
     parts.append(f"{int(meta.get('stable_state', '0') or 0)} stable states committed")
-    history = [n for n in kitkb_tables(names) if n not in model().metadata.tables]
-    if history:
-        parts.append(f"run history in {len(history)} tables")
+    if history[0]:
+        parts.append(f"run history: {history[0]:,} rows in {history[1]} tables")
     return "the world model " + " ".join(parts[:1]) + (" (" + ", ".join(parts[1:]) + ")" if parts[1:] else "")
 
 
@@ -229,7 +230,12 @@ class _Writer:
         if "individuals" not in meta and "kitkb_thing" in names:
             cur.execute("SELECT count(*) FROM kitkb_thing")
             things = cur.fetchone()[0]
-        what = _describe(url, names, meta, things)
+        rows = 0
+        extra = [n for n in kitkb_tables(names) if n not in model().metadata.tables]
+        for name in extra:
+            cur.execute(f'SELECT count(*) FROM "{name}"')
+            rows += cur.fetchone()[0]
+        what = _describe(url, names, meta, things, (rows, len(extra)))
         if not replace:
             why = other_version(url, meta) if meta.get("schema_version") != model().version else \
                 f"database {safe_url(url)} already holds {what}"
