@@ -171,6 +171,9 @@ def _add_run(sub: Any) -> None:
                                                "a new out/<scenario>/world.sqlite); a postgresql:// URL works too")
     p.add_argument("--replace", action="store_true",
                    help="with --db: replace the world model and run history the database already holds")
+    p.add_argument("--domain", action="append", metavar="FILE",
+                   help="domain ontology with the actions, predicates, failure modes and remediations "
+                        "(repeatable; default: the shipped kitting-domain.ttl)")
     p.add_argument("--report", metavar="FILE", help="write the JSON report (goal_holds, injected, failures, ...)")
     p.add_argument("--cell", metavar="HOST:PORT", help="drive a cell server (kitkb sim serve) instead of the "
                                                         "in-process simulator")

@@ -360,7 +360,7 @@ class Executor:
             return ""
         return f"; no usable part of {local(self._planned_sku(part))} is left in a parts tray"
 
-    def _another_part(self, old: str, queue: deque) -> tuple[str, str] | None:
+    def _another_part(self, old: str, queue: deque, exclude: set[str] = frozenset()) -> tuple[str, str] | None:  # type: ignore[assignment]
         """A usable part of ``old``'s SKU lying in a parts tray, preferring one the rest of the
         plan does not use."""
         sku = self._planned_sku(old)
@@ -370,7 +370,7 @@ class Executor:
         found = []
         for r, t in zip(*np.nonzero(truth)):
             p = refs[r]
-            if p == old or p in self.belief.rejected or self.belief.related(SKU_OF, p) != [sku]:
+            if p == old or p in exclude or p in self.belief.rejected or self.belief.related(SKU_OF, p) != [sku]:
                 continue
             found.append((p in later, p, trays[t]))
         if not found:
@@ -387,12 +387,29 @@ class Executor:
         return skus[0] if skus else ""
 
     def _substitute(self, old: str, new: str, queue: deque) -> None:
+        """``new`` replaces ``old`` in the rest of the plan; steps that planned to use ``new``
+        get another usable part of its SKU (``old`` only if it is still usable, so a part known
+        missing or rejected never comes back into the plan)."""
+        took_new = [s for s in queue if new in s.args.values()]
         for s in queue:
             for k, v in s.args.items():
                 if v == old:
                     s.args[k] = new
-                elif v == new:
-                    s.args[k] = old
+        if not took_new:
+            return
+        usable = old not in self.belief.rejected and self._in_a_tray(old)
+        spare = (old, None) if usable else self._another_part(new, deque(s for s in queue if s not in took_new),
+                                                                exclude={old})
+        for s in took_new:
+            for k, v in list(s.args.items()):
+                if v == new and k == "part":
+                    s.args["part"] = spare[0] if spare else old
+                    if spare and spare[1] is not None and "partstray" in s.args:
+                        s.args["partstray"] = spare[1]
+
+    def _in_a_tray(self, part: str) -> bool:
+        refs, _trays, truth = self.evaluator().table("part-location-partstray", [part])
+        return bool(truth.any())
 
     def _reject_held(self, part: str) -> None:
         """Put a held part that must not go into a kit back where it was taken."""

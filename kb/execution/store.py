@@ -29,7 +29,7 @@ from typing import Any, Sequence
 
 import numpy as np
 from sqlalchemy import (Boolean, Column, DateTime, Float, ForeignKey, Integer, MetaData, String, Table, Text,
-                        insert, select, update)
+                        func, insert, select, update)
 
 from kb.core.resources import ontology_path
 from kb.io import load_file
@@ -196,9 +196,10 @@ class RunStore:
                 thing.c.iri.in_([action_iri, phase_iri, mode_iri, *atom_iris]))).all())
             if action_iri not in ids or phase_iri not in ids:
                 return False
-            new_id = conn.execute(insert(thing).values(iri=iri, name=iri.rsplit(":", 1)[0].rsplit(":", 1)[-1] +
-                                                        f"_{self.failures}",
-                                                        kind=f"{_SOAP}ActionFailure")).inserted_primary_key[0]
+            # explicit id: a bulk load (PostgreSQL COPY) writes ids without moving the serial sequence
+            new_id = (conn.execute(select(func.max(thing.c.id))).scalar() or 0) + 1
+            conn.execute(insert(thing).values(id=new_id, iri=iri, name=f"failure_{self.failures}",
+                                              kind=f"{_SOAP}ActionFailure"))
             conn.execute(insert(ActionFailure.__table__).values(
                 id=new_id, action_id=ids[action_iri], phase_id=ids[phase_iri], failure_mode_id=ids.get(mode_iri),
                 timestamp=dt.datetime.now(dt.timezone.utc)))

@@ -11,6 +11,8 @@ one action per line as in the seeds: ``(take-part robot_1 part_e1 ptr_e part_gri
 
 from __future__ import annotations
 
+import contextlib
+import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -101,7 +103,9 @@ def solve(problem: Any, planner: str, timeout: float | None = None, engine_defau
     except Exception as exc:  # an engine that cannot start (missing binary, Java, ...)
         raise ConfigurationError(f"planner {planner} cannot start: {exc} "
                                  f"(package {PACKAGES.get(planner, '?')})") from None
-    with engine_cm as engine:
+    # in a folder of its own: Fast Downward's driver writes its output.sas in the current
+    # folder, so two plans made at once from one folder would overwrite each other's file
+    with engine_cm as engine, tempfile.TemporaryDirectory(prefix="kitkb-plan-") as work, contextlib.chdir(work):
         try:
             result = engine.solve(problem, timeout=timeout)
         except FileNotFoundError as exc:

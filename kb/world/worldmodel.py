@@ -392,10 +392,14 @@ class WorldModel:
             return _bump(cur, False) if bump else 0
         row = "(%s, %s::numeric, %s::numeric, %s::numeric)"
         values = [",".join(cur.mogrify(row, r).decode() for r in rows) for rows in (points, vectors)]
-        sql = (f"WITH p AS (UPDATE ktw_point AS t SET x = v.x, y = v.y, z = v.z FROM (VALUES {values[0]}) "
-               f"AS v(id, x, y, z) WHERE t.id = v.id), "
-               f"a AS (UPDATE ktw_vector AS t SET i = v.i, j = v.j, k = v.k FROM (VALUES {values[1]}) "
-               f"AS v(id, i, j, k) WHERE t.id = v.id) ")
+        parts = []  # a stable state with no pose to change only counts (VALUES () is not SQL)
+        if values[0]:
+            parts.append(f"p AS (UPDATE ktw_point AS t SET x = v.x, y = v.y, z = v.z FROM (VALUES {values[0]}) "
+                         f"AS v(id, x, y, z) WHERE t.id = v.id)")
+        if values[1]:
+            parts.append(f"a AS (UPDATE ktw_vector AS t SET i = v.i, j = v.j, k = v.k FROM (VALUES {values[1]}) "
+                         f"AS v(id, i, j, k) WHERE t.id = v.id)")
+        sql = f"WITH {', '.join(parts)} " if parts else ""
         if not bump:
             self._execute(cur, sql + "SELECT 0")
             return 0
