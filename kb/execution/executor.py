@@ -333,9 +333,9 @@ class Executor:
         if failure.mode == "wrong-sku":
             self._reject_held(step.args["part"])
         if kind == "ExecuteRecoveryPlan" and rem is not None and rem.plan:
-            failure.recovery, failure.outcome = "recovery-plan", "then " + ", ".join(rem.plan)
-            self._store_failure(failure)
-            return self._replan(queue, failure)
+            # the recovery plan's actions (e.g. attach-endeffector) need arguments the failed
+            # step does not have; the planner finds them, from the current state
+            failure.recovery = "recovery-plan (" + ", ".join(rem.plan) + ") by replanning"
         return self._replan(queue, failure)
 
     def _rebind_or_replan(self, step: Step, i: int, queue: deque, failure: FailureRecord | None, why: str) -> str:
