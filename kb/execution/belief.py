@@ -18,7 +18,7 @@ import numpy as np
 
 from kb.core.namespaces import KTW
 from kb.crcl.cell import Observation
-from kb.spatial.scene import Scene
+from kb.spatial.scene import Scene, scene_boxes
 
 SKU_OF, KIT_TRAY = str(KTW.hasSkuObject_Sku), str(KTW.hasKit_KitTray)
 
@@ -40,6 +40,8 @@ class Belief:
         self.inspections: dict[str, set[str]] = {"quality-inspection": set()}
         self.rejected: set[str] = set()  # parts found defective or of the wrong SKU
         self.initial = self.poses.copy()
+        #: object -> local name of its SKU as believed (the model's, or what the sensor recognised)
+        self._sku_local = {n: sku.rsplit("#", 1)[-1] for n, sku in self.facts.get(SKU_OF, ())}
         self._stand_in_boxes()
         self._scene: Scene | None = None
 
@@ -86,15 +88,16 @@ class Belief:
         return changed
 
     def _recognised(self, name: str, sku_local: str) -> None:
+        if self._sku_local.get(name) == sku_local:  # what the model says already (the usual case)
+            return
         pairs = self.facts.setdefault(SKU_OF, set())
         current = [s for n, s in pairs if n == name]
-        if current and all(s.rsplit("#", 1)[-1] == sku_local for s in current):
-            return
         match = [n for n in self.names if n.rsplit("#", 1)[-1] == sku_local]
         if match:
             for s in current:
                 pairs.discard((name, s))
             pairs.add((name, match[0]))
+            self._sku_local[name] = sku_local
             self._sku_shape(name, match[0])
             self._scene = None
 
@@ -118,9 +121,10 @@ class Belief:
 
     # --- reading --------------------------------------------------------------------
     def scene(self) -> Scene:
-        if self._scene is None:
-            self._scene = Scene.from_parts(self.names, self.classes, self.poses, self.local_lo, self.local_hi,
-                                           self.facts, self.values, self.inspections, open_top=self.open_top)
+        if self._scene is None:  # classes are closed already: no Scene.from_parts closure per check
+            lo, hi = scene_boxes(self.poses, self.local_lo, self.local_hi)
+            self._scene = Scene(self.names, self.classes, lo, hi, self.facts, self.values, self.inspections,
+                                self.poses, None, None, self.local_lo, self.local_hi, self.open_top, self.slots)
         return self._scene
 
     def pose(self, name: str) -> np.ndarray:

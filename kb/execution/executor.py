@@ -398,8 +398,10 @@ class Executor:
         if not took_new:
             return
         usable = old not in self.belief.rejected and self._in_a_tray(old)
-        spare = (old, None) if usable else self._another_part(new, deque(s for s in queue if s not in took_new),
-                                                                exclude={old})
+        # a spare the rest of the plan does not take already (else the SKU would come up one
+        # part short far later, at a step no fault touched)
+        later = {a for s in queue if s not in took_new for a in s.args.values()}
+        spare = (old, None) if usable else self._another_part(new, queue, exclude={old} | later)
         for s in took_new:
             for k, v in list(s.args.items()):
                 if v == new and k == "part":
@@ -438,11 +440,12 @@ class Executor:
         excluded = {pddl_name(p) for p in self.belief.rejected}
         try:
             result = replan(self.domain, self.spec, facts, values, excluded, self.planner)
-        except NotSolvableError as e:
+        except Exception as e:  # no plan, or a planner that broke: the run stops, saying why
+            why = str(e) if isinstance(e, NotSolvableError) else f"replanning failed: {type(e).__name__}: {e}"
             if failure is not None:
-                failure.recovery, failure.outcome = "replan", f"stopped: {e}"
+                failure.recovery, failure.outcome = "replan", f"stopped: {why}"
                 self._store_failure(failure)
-            raise Stop(str(e)) from None
+            raise Stop(why) from None
         queue.clear()
         queue.extend(self.parse_plan(result.lines))
         if failure is not None:

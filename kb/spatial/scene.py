@@ -186,6 +186,12 @@ def _renamed(view, like: list) -> TripleView:  # noqa: ANN001
     return TripleView((alias.get(s, s), p, alias.get(o, o)) for s, p, o in view.triples((None, None, None)))
 
 
+def scene_boxes(poses: np.ndarray, llo: np.ndarray, lhi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """World boxes (K, 3) lo, hi of objects with global poses (K, 4, 4) and local boxes; NaN
+    rows where either is missing."""
+    return _boxes(poses, llo, lhi)
+
+
 def _boxes(poses: np.ndarray, llo: np.ndarray, lhi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     k = len(poses)
     lo, hi = np.full((k, 3), np.nan), np.full((k, 3), np.nan)
