@@ -169,15 +169,24 @@ def test_a_database_error_half_way_changes_nothing(url, monkeypatch):
     """The database fails after half the tables are written (a full disk, say): rolled back."""
     world.load(SMALL, url)
     load_module = sys.modules["kb.world.load"]
-    real = load_module.insert_sqlite if url.startswith("sqlite") else load_module.copy_postgresql
+    if url.startswith("sqlite"):
+        real = load_module.insert_sqlite
 
-    def half_then_fail(cur, tables):
-        tables = list(tables)
-        real(cur, tables[: len(tables) // 2])
-        cur.execute("SELECT no_such_column FROM kitkb_meta")  # the driver's own error
+        def half_then_fail(cur, tables):
+            tables = list(tables)
+            real(cur, tables[: len(tables) // 2])
+            cur.execute("SELECT no_such_column FROM kitkb_meta")  # the driver's own error
 
-    name = "insert_sqlite" if url.startswith("sqlite") else "copy_postgresql"
-    monkeypatch.setattr(load_module, name, half_then_fail)
+        monkeypatch.setattr(load_module, "insert_sqlite", half_then_fail)
+    else:
+        real_buffers = load_module.copy_buffers
+
+        def half_then_fail(tables):
+            buffers = list(real_buffers(tables))
+            yield from buffers[: len(buffers) // 2]
+            yield "COPY no_such_table FROM STDIN", b"1\n"  # the server's own error
+
+        monkeypatch.setattr(load_module, "copy_buffers", half_then_fail)
     with pytest.raises(InputError, match="database refused the data"):
         world.load(OTHER, url, replace=True)
     monkeypatch.undo()

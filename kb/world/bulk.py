@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import datetime as _dt
 import io
-from typing import Any, Callable, Iterable, Sequence
+from typing import Any, Callable, Iterable, Iterator, Sequence
 
 from sqlalchemy.dialects import sqlite
 
@@ -93,14 +93,18 @@ def _is_number(col: Any) -> bool:
         return False
 
 
-def copy_postgresql(cur: Any, tables: Iterable[tuple[str, list[str], Rows]]) -> None:
-    """``COPY ... FROM STDIN`` every table, in buffers of :data:`COPY_ROWS` rows."""
+def copy_buffers(tables: Iterable[tuple[str, list[str], Rows]]) -> Iterator[tuple[str, bytes]]:
+    """``(COPY ... FROM STDIN statement, its data)`` for every table, in buffers of
+    :data:`COPY_ROWS` rows (PostgreSQL's text format)."""
     for name, columns, rows in tables:
         line = _formatter(name, columns)
         sql = f"COPY {quoted(name)} ({quoted(*columns)}) FROM STDIN"
         for start in range(0, len(rows), COPY_ROWS):
-            buf = io.StringIO()
-            buf.write("\n".join([line(row) for row in rows[start:start + COPY_ROWS]]))
-            buf.write("\n")
-            buf.seek(0)
-            cur.copy_expert(sql, buf)
+            text = "\n".join([line(row) for row in rows[start:start + COPY_ROWS]]) + "\n"
+            yield sql, text.encode("utf-8")
+
+
+def copy_postgresql(cur: Any, tables: Iterable[tuple[str, list[str], Rows]]) -> None:
+    """``COPY ... FROM STDIN`` every table (psycopg2's ``copy_expert``)."""
+    for sql, data in copy_buffers(tables):
+        cur.copy_expert(sql, io.BytesIO(data), 1 << 20)

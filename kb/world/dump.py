@@ -63,6 +63,7 @@ class _reading:
 
     def __enter__(self) -> Connection:
         self.engine = open_engine(self.url, must_exist=True)
+        conn = None
         try:
             conn = self.engine.connect()
             if conn.dialect.name == "postgresql":
@@ -70,6 +71,8 @@ class _reading:
             self.conn, self.tx = conn, conn.begin()
             check_version(conn, self.url)
         except BaseException:
+            if conn is not None:
+                conn.close()  # ends the transaction: nothing is left holding a lock
             self.engine.dispose()
             raise
         return conn

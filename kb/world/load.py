@@ -14,9 +14,13 @@ that defines no individual of the model is an input error, not an empty world.
 from __future__ import annotations
 
 import datetime as _dt
+import io
 import json
+import queue
+import threading
 import uuid
 from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -28,7 +32,7 @@ from kb.core.errors import InputError
 from kb.core.memory import gc_paused
 from kb.core.namespaces import PREFIXES, local_name
 from kb.io.loader import load_file
-from kb.world.bulk import copy_postgresql, insert_sqlite
+from kb.world.bulk import copy_buffers, insert_sqlite
 from kb.world.database import (DEFAULT_DB, SchemaVersionError, first_line, model, normalize_url, open_engine,
                                other_version, safe_url, sqlite_file, stamp_values)
 from kb.world.ddl import kitkb_tables, load_ddl
@@ -99,9 +103,15 @@ def load(datafile: str | Path, url: str | Path = DEFAULT_DB, replace: bool = Fal
     existed = target is None or target.exists()
     engine = open_engine(url)
     try:
-        _writer(engine).check(url, replace)  # before reading the file: refuse at once
-        built = build(datafile)
-        report = _writer(engine).write(url, built, Path(datafile).name, replace)
+        writer = _writer(engine, url, replace)
+        writer.check()  # before reading the file: refuse at once
+        writer.start()
+        try:
+            built = build(datafile)
+        except BaseException:
+            writer.abort()
+            raise
+        report = writer.finish(built, Path(datafile).name)
     except (SQLAlchemyError, _DriverError) as exc:
         _discard(engine, target, existed)
         raise InputError(f"database refused the data: {first_line(exc)}", file=str(datafile)) from None
@@ -183,44 +193,44 @@ def _describe(url: str, names: list[str], meta: dict[str, str], things: int | No
 
 
 class _Writer:
-    """One load's transaction on one kind of database (raw driver connection)."""
+    """One load's transaction on one kind of database (raw driver connection):
+    :meth:`check` refuses early, :meth:`start` may begin the work while the file is read,
+    :meth:`finish` writes the rows and commits, :meth:`abort` rolls back."""
 
-    dialect = ""
+    def __init__(self, engine: Engine, url: str, replace: bool):
+        self.engine, self.url, self.replace = engine, url, replace
 
-    def __init__(self, engine: Engine):
-        self.engine = engine
-
-    def check(self, url: str, replace: bool) -> None:
-        """Refuse now (before the file is read) what :meth:`write` would refuse."""
+    def check(self) -> None:
+        """Refuse now (before the file is read) what the load would refuse."""
         raw = self.engine.raw_connection()
         try:
             cur = raw.driver_connection.cursor()  # type: ignore[union-attr]
-            self._existing(cur, url, replace)
+            self._existing(cur)
         except self._errors() as exc:
             raise _DriverError(exc) from None
         finally:
             raw.rollback()
             raw.close()
 
-    def write(self, url: str, built: Built, source: str, replace: bool) -> LoadReport:
+    def start(self) -> None:
+        """Begin what can be done before the rows exist (nothing, by default)."""
+
+    def abort(self) -> None:
+        """The rows will not come: change nothing."""
+
+    def finish(self, built: Built, source: str) -> LoadReport:
         """Replace the database's kitkb tables with ``built``; commit, or change nothing."""
-        raw = self.engine.raw_connection()
-        conn = raw.driver_connection
-        try:
-            return self._write(conn, url, built, source, replace)
-        except self._errors() as exc:
-            raise _DriverError(exc) from None
-        finally:
-            raw.close()
+        raise NotImplementedError
 
     def _errors(self) -> type[BaseException]:
         return self.engine.dialect.dbapi.Error  # type: ignore[union-attr, no-any-return]
 
-    def _existing(self, cur: Any, url: str, replace: bool) -> tuple[list[str], str | None]:
+    def _existing(self, cur: Any) -> tuple[list[str], str | None]:
         """(kitkb tables to drop, what they hold in words); refuses what may not be replaced."""
         names = self._tables(cur)
         if not names:
             return [], None
+        url = self.url
         if "kitkb_meta" not in names:
             raise SchemaVersionError(f"database {safe_url(url)} is not a kitkb database (it has no kitkb_meta "
                                      f"table); load into a new database")
@@ -236,7 +246,7 @@ class _Writer:
             cur.execute(f'SELECT count(*) FROM "{name}"')
             rows += cur.fetchone()[0]
         what = _describe(url, names, meta, things, (rows, len(extra)))
-        if not replace:
+        if not self.replace:
             why = other_version(url, meta) if meta.get("schema_version") != model().version else \
                 f"database {safe_url(url)} already holds {what}"
             raise InputError(f"{why}; kitkb db load --replace replaces it (and its run history)")
@@ -245,34 +255,37 @@ class _Writer:
     def _tables(self, cur: Any) -> list[str]:
         raise NotImplementedError
 
-    def _write(self, conn: Any, url: str, built: Built, source: str, replace: bool) -> LoadReport:
-        raise NotImplementedError
-
 
 class _SQLite(_Writer):
-    dialect = "sqlite"
+    """SQLite: all in :meth:`finish` (the write lock is taken once the rows are ready)."""
 
     def _tables(self, cur: Any) -> list[str]:
         cur.execute("SELECT name FROM sqlite_master WHERE type = 'table' AND name NOT LIKE 'sqlite_%'")
         return [r[0] for r in cur.fetchall()]
 
-    def _write(self, conn: Any, url: str, built: Built, source: str, replace: bool) -> LoadReport:
-        cur = conn.cursor()
-        cur.execute("PRAGMA foreign_keys = OFF")  # checked once below; cannot change inside a transaction
+    def finish(self, built: Built, source: str) -> LoadReport:
+        raw = self.engine.raw_connection()
         try:
-            cur.execute("BEGIN IMMEDIATE")
+            cur = raw.driver_connection.cursor()  # type: ignore[union-attr]
+            cur.execute("PRAGMA foreign_keys = OFF")  # checked once below; cannot change inside a transaction
             try:
-                report = self._fill(cur, url, built, source, replace)
-                cur.execute("COMMIT")
-                return report
-            except BaseException:
-                cur.execute("ROLLBACK")
-                raise
+                cur.execute("BEGIN IMMEDIATE")
+                try:
+                    report = self._fill(cur, built, source)
+                    cur.execute("COMMIT")
+                    return report
+                except BaseException:
+                    cur.execute("ROLLBACK")
+                    raise
+            finally:
+                cur.execute("PRAGMA foreign_keys = ON")
+        except self._errors() as exc:
+            raise _DriverError(exc) from None
         finally:
-            cur.execute("PRAGMA foreign_keys = ON")
+            raw.close()
 
-    def _fill(self, cur: Any, url: str, built: Built, source: str, replace: bool) -> LoadReport:
-        drop, replaced = self._existing(cur, url, replace)
+    def _fill(self, cur: Any, built: Built, source: str) -> LoadReport:
+        drop, replaced = self._existing(cur)
         for name in drop:
             cur.execute(f'DROP TABLE "{name}"')
         ddl = load_ddl("sqlite")
@@ -291,42 +304,91 @@ class _SQLite(_Writer):
 
 
 class _PostgreSQL(_Writer):
-    dialect = "postgresql"
+    """PostgreSQL: a worker thread owns the connection and runs the transaction's steps in order
+    while this thread reads the file and formats the rows: psycopg2 lets other threads run while
+    it waits for the server, so creating the tables (mostly the server's disk) overlaps reading
+    the file, and each table's ``COPY`` overlaps formatting the next."""
 
     def _tables(self, cur: Any) -> list[str]:
         cur.execute("SELECT tablename FROM pg_tables WHERE schemaname = current_schema()")
         return [r[0] for r in cur.fetchall()]
 
-    def _write(self, conn: Any, url: str, built: Built, source: str, replace: bool) -> LoadReport:
-        cur = conn.cursor()
-        try:
-            report = self._fill(cur, url, built, source, replace)
-            conn.commit()
-            return report
-        except BaseException:
-            conn.rollback()
-            raise
+    def start(self) -> None:
+        self.raw = self.engine.raw_connection()
+        self.cur = self.raw.driver_connection.cursor()  # type: ignore[union-attr]
+        self.jobs: queue.Queue[Any] = queue.Queue(maxsize=4)
+        self.error: BaseException | None = None
+        self.replaced: str | None = None
+        self.worker = threading.Thread(target=self._work, name="kitkb-load", daemon=True)
+        self.worker.start()
+        self.jobs.put(self._prepare)
 
-    def _fill(self, cur: Any, url: str, built: Built, source: str, replace: bool) -> LoadReport:
+    def _work(self) -> None:
+        while True:
+            job = self.jobs.get()
+            if job is None:
+                return
+            if self.error is None:
+                try:
+                    job()
+                except BaseException as exc:  # noqa: BLE001 - handed to the loading thread
+                    self.error = exc
+
+    def _prepare(self) -> None:
+        cur = self.cur
         cur.execute("SELECT pg_advisory_xact_lock(%s)", (_PG_LOCK,))
-        drop, replaced = self._existing(cur, url, replace)
+        drop, self.replaced = self._existing(cur)
         if drop:
             cur.execute("DROP TABLE " + ", ".join(f'"{n}"' for n in drop) + " CASCADE")
-        ddl = load_ddl("postgresql")
-        cur.execute(";\n".join(ddl.create))
-        copy_postgresql(cur, built.tables)
+        cur.execute(";\n".join(load_ddl("postgresql").create))
+
+    def _stop(self) -> None:
+        self.jobs.put(None)
+        self.worker.join()
+
+    def abort(self) -> None:
+        self._stop()
+        try:
+            self.raw.rollback()
+        finally:
+            self.raw.close()
+
+    def finish(self, built: Built, source: str) -> LoadReport:
+        try:
+            for sql, data in copy_buffers(built.tables):
+                if self.error is not None:
+                    break
+                self.jobs.put(partial(self.cur.copy_expert, sql, io.BytesIO(data), 1 << 20))
+            self.jobs.put(partial(self._complete, built, source))
+            self._stop()
+            if self.error is not None:
+                raise self.error
+            self.raw.commit()
+            return _report(built, self.replaced)
+        except BaseException as exc:
+            if self.worker.is_alive():
+                self._stop()
+            self.raw.rollback()
+            if isinstance(exc, self._errors()):
+                raise _DriverError(exc) from None
+            raise
+        finally:
+            self.raw.close()
+
+    def _complete(self, built: Built, source: str) -> None:
+        cur, ddl = self.cur, load_ddl("postgresql")
         cur.execute(";\n".join(ddl.index + ddl.keys))
-        cur.execute("SELECT setval(pg_get_serial_sequence('kitkb_thing', 'id'), %s)", (built.individuals,))
+        cur.execute("SELECT setval(pg_get_serial_sequence('kitkb_thing', 'id'), %s)",
+                    (max(r[0] for r in built.tables[0][2]),))
         cur.executemany("INSERT INTO kitkb_meta (key, value) VALUES (%s, %s)", _meta(built, source))
         filled = sorted({name for name, _, rows in built.tables if rows} | {"kitkb_meta"})
         cur.execute("ANALYZE " + ", ".join(filled))  # fresh statistics, or the planner scans whole tables
-        return _report(built, replaced)
 
 
-def _writer(engine: Engine) -> _Writer:
+def _writer(engine: Engine, url: str, replace: bool) -> _Writer:
     if engine.dialect.name == "sqlite":
-        return _SQLite(engine)
+        return _SQLite(engine, url, replace)
     if engine.dialect.name == "postgresql" and engine.dialect.driver == "psycopg2":
-        return _PostgreSQL(engine)
+        return _PostgreSQL(engine, url, replace)
     raise InputError(f"kitkb loads SQLite files and PostgreSQL (psycopg2) databases, not "
                      f"{engine.dialect.name}+{engine.dialect.driver}")
