@@ -211,8 +211,8 @@ _LOADER = [sys.executable, "-m", "kb.cli", "db", "load"]
 
 @pytest.fixture(scope="module")
 def big(tmp_path_factory) -> Path:
-    """A workstation big enough that writing it takes a while (2,000 parts)."""
-    init, _ = write_scenario(tmp_path_factory.mktemp("big"), parts=2000, kits=10, seed=3)
+    """A workstation big enough that writing it takes a while (5,000 parts)."""
+    init, _ = write_scenario(tmp_path_factory.mktemp("big"), parts=5000, kits=10, seed=3)
     return init
 
 
@@ -252,7 +252,7 @@ def test_sigkill_during_a_sqlite_load_leaves_the_last_stable_state(tmp_path, big
     wal = Path(str(db) + "-wal")
     env = {**os.environ, "PYTHONPATH": str(REPO)}
     killed_mid_way = 0
-    for _ in range(3):
+    for _ in range(5):
         start = wal.stat().st_size if wal.exists() else 0
         proc = subprocess.Popen([*_LOADER, str(big), "--db", str(db), "--replace"], env=env,
                                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
@@ -310,7 +310,7 @@ def test_sigkill_during_a_postgresql_load_leaves_the_last_stable_state(tmp_path,
 
         env = {**os.environ, "PYTHONPATH": str(REPO)}
         killed_mid_way = 0
-        for _ in range(3):
+        for _ in range(5):
             proc = subprocess.Popen([*_LOADER, str(big), "--db", PG_URL, "--replace"], env=env,
                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
             if _kill_when(proc, copying):
@@ -343,3 +343,32 @@ def test_an_open_world_model_sees_a_reload(url):
             assert set(after) == set(fresh.global_poses()) != set(poses)
         name = next(iter(set(after) - set(poses)))
         assert wm.global_pose(name).shape == (4, 4)
+
+
+# --- what a load into an SQLite file does without ----------------------------------------------------
+
+def test_an_sqlite_load_imports_neither_sqlalchemy_nor_the_accessors(tmp_path):
+    """The cached load plan and DDL stand in for them (kb.world.cache); a fresh process shows it."""
+    code = ("import sys; from kb.world import load; load(sys.argv[1], sys.argv[2]); "
+            "print(sorted(m for m in sys.modules if m.startswith('sqlalchemy') or m.endswith('accessors')))")
+    env = {**os.environ, "PYTHONPATH": str(REPO), "KITKB_CACHE_DIR": str(tmp_path / "cache")}
+    runs = [subprocess.run([sys.executable, "-c", code, str(SMALL), str(tmp_path / f"w{i}.sqlite")], env=env,
+                           capture_output=True, text=True, timeout=300) for i in range(2)]
+    assert all(r.returncode == 0 for r in runs), runs[0].stderr + runs[1].stderr
+    assert runs[1].stdout.strip() == "[]"  # the first run made the cache
+    assert _same_as(world.normalize_url(tmp_path / "w1.sqlite"), SMALL)
+
+
+def test_sqlite_dates_and_times_are_stored_as_sqlalchemy_stores_them():
+    import datetime as dt
+
+    from sqlalchemy import Date, DateTime
+    from sqlalchemy.dialects import sqlite as sqlite_dialect
+
+    from kb.world.bulk import sqlite_date, sqlite_datetime
+
+    dialect = sqlite_dialect.dialect()
+    stamp = dt.datetime(2024, 2, 29, 23, 59, 58, 123456)
+    day = dt.date(1999, 12, 31)
+    assert sqlite_datetime(stamp) == DateTime(timezone=True).dialect_impl(dialect).bind_processor(dialect)(stamp)
+    assert sqlite_date(day) == Date().dialect_impl(dialect).bind_processor(dialect)(day)

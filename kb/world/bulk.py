@@ -2,7 +2,8 @@
 
 Values arrive as the loader builds them (ints, floats, bools, str, naive UTC datetimes, dates);
 each driver gets them in the form SQLAlchemy's column types would have bound (the same
-storage, so SQLAlchemy reads them back as before).
+storage, so SQLAlchemy reads them back as before: ``tests/test_db_load.py`` compares the
+SQLite date and time forms with SQLAlchemy's own). No SQLAlchemy import here.
 """
 
 from __future__ import annotations
@@ -11,9 +12,7 @@ import datetime as _dt
 import io
 from typing import Any, Callable, Iterable, Iterator, Sequence
 
-from sqlalchemy.dialects import sqlite
-
-from kb.world.schema import model
+from kb.world.plan import load_plan
 
 Rows = Sequence[tuple[Any, ...]]
 
@@ -26,16 +25,28 @@ def quoted(*names: str) -> str:
     return ", ".join(f'"{n}"' for n in names)
 
 
+def sqlite_datetime(v: _dt.datetime) -> str:
+    """A datetime as SQLAlchemy's SQLite ``DATETIME`` stores it (its default storage format)."""
+    return (f"{v.year:04d}-{v.month:02d}-{v.day:02d} {v.hour:02d}:{v.minute:02d}:{v.second:02d}."
+            f"{v.microsecond:06d}")
+
+
+def sqlite_date(v: _dt.date) -> str:
+    """A date as SQLAlchemy's SQLite ``DATE`` stores it."""
+    return f"{v.year:04d}-{v.month:02d}-{v.day:02d}"
+
+
+_SQLITE_FORMS: dict[str, Callable[[Any], Any]] = {"datetime": sqlite_datetime, "date": sqlite_date}
+
+
 def _sqlite_processors(table: str, columns: list[str]) -> list[tuple[int, Callable[[Any], Any]]]:
-    """SQLAlchemy's bind processors of the columns that need one on SQLite (dates and times)."""
-    dialect, t = sqlite.dialect(), model().table(table)
+    """The columns that SQLite gets as text in SQLAlchemy's forms (dates and times)."""
+    t = load_plan().tables[table]
     out = []
     for i, name in enumerate(columns):
-        kind = t.c[name].info.get("value")
-        if kind in ("datetime", "date"):
-            proc = t.c[name].type.dialect_impl(dialect).bind_processor(dialect)
-            if proc is not None:
-                out.append((i, proc))
+        form = _SQLITE_FORMS.get(t.column(name).info.get("value", ""))
+        if form is not None:
+            out.append((i, form))
     return out
 
 
@@ -79,18 +90,11 @@ def _text(v: Any) -> str:
 
 
 def _formatter(table: str, columns: list[str]) -> Callable[[tuple[Any, ...]], str]:
-    t = model().table(table)
-    plain = all(_is_number(t.c[c]) for c in columns)
+    t = load_plan().tables[table]
+    plain = all(t.column(c).number for c in columns)
     if plain:  # ids and numbers only
         return lambda row: "\t".join(["\\N" if v is None else str(v) for v in row])
     return lambda row: "\t".join([_text(v) for v in row])
-
-
-def _is_number(col: Any) -> bool:
-    try:
-        return col.type.python_type in (int, float)
-    except NotImplementedError:
-        return False
 
 
 def copy_buffers(tables: Iterable[tuple[str, list[str], Rows]]) -> Iterator[tuple[str, bytes]]:

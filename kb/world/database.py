@@ -3,24 +3,30 @@ and how terms are keyed in it.
 
 A database carries the fingerprint of the schema it was made with (``kitkb_meta``); one made
 from another ontology version is refused with :class:`SchemaVersionError`. SQLite runs with
-real transactions (``BEGIN IMMEDIATE`` for writers), foreign keys on and WAL for files.
+real transactions (``BEGIN IMMEDIATE`` for writers), foreign keys on and WAL for files
+(:mod:`kb.world.sqlite`).
+
+SQLAlchemy is imported by the functions that use it, not with this module: ``kitkb db load``
+into an SQLite file does without it (:mod:`kb.world.load`).
 """
 
 from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from rdflib import BNode, URIRef
 from rdflib.term import Node
-from sqlalchemy import Engine, MetaData, create_engine, delete, event, insert, inspect, select
-from sqlalchemy.engine import Connection, make_url
-from sqlalchemy.exc import ArgumentError, DBAPIError, NoSuchModuleError, SQLAlchemyError
 
 from kb import __version__
 from kb.core.errors import InputError
-from kb.world.schema import Model, model
+from kb.world import sqlite
+from kb.world.plan import load_plan
+
+if TYPE_CHECKING:
+    from sqlalchemy import Engine
+    from sqlalchemy.engine import Connection
 
 #: Name of the SQLite file used when no database is given.
 DEFAULT_DB = "kitkb.sqlite"
@@ -42,6 +48,11 @@ def normalize_url(url: str | Path) -> str:
 
 def safe_url(url: str) -> str:
     """``url`` with any password hidden, for messages."""
+    if "@" not in url:  # no credentials (SQLite files)
+        return url
+    from sqlalchemy.engine import make_url
+    from sqlalchemy.exc import ArgumentError
+
     try:
         return make_url(url).render_as_string(hide_password=True)
     except ArgumentError:
@@ -53,15 +64,16 @@ def open_engine(url: str | Path, must_exist: bool = False) -> Engine:
 
     ``must_exist``: refuse an SQLite file that does not exist (instead of creating it).
     """
+    from sqlalchemy import create_engine
+    from sqlalchemy.engine import make_url
+    from sqlalchemy.exc import ArgumentError, DBAPIError, NoSuchModuleError, SQLAlchemyError
+
     url = normalize_url(url)
     path = sqlite_file(url) if "://" in url else None
     if must_exist and path is not None and not path.is_file():
         raise InputError(f"no such database file: {path}")
-    if path is not None and not path.parent.exists():
-        try:
-            path.parent.mkdir(parents=True)
-        except OSError as exc:
-            raise InputError(f"cannot create the folder of {path}: {exc.strerror or exc}") from None
+    if path is not None:
+        sqlite.make_folder(path)
     try:
         parsed = make_url(url)
         if parsed.get_backend_name() == "sqlite":
@@ -89,17 +101,11 @@ def first_line(exc: BaseException) -> str:
 
 def _sqlite_transactions(engine: Engine, database: str) -> None:
     """Real transactions on SQLite: BEGIN before DDL too, foreign keys on, WAL for files."""
+    from sqlalchemy import event
 
     @event.listens_for(engine, "connect")
     def _connect(dbapi_conn: Any, _record: Any) -> None:
-        dbapi_conn.isolation_level = None  # we issue BEGIN ourselves (below)
-        cur = dbapi_conn.cursor()
-        cur.execute("PRAGMA foreign_keys = ON")
-        cur.execute("PRAGMA busy_timeout = 60000")
-        if database and database != ":memory:":
-            cur.execute("PRAGMA journal_mode = WAL")
-            cur.execute("PRAGMA synchronous = NORMAL")
-        cur.close()
+        sqlite.settings(dbapi_conn, database)
 
     @event.listens_for(engine, "begin")
     def _begin(conn: Connection) -> None:
@@ -117,13 +123,17 @@ def writing(conn: Connection) -> Connection:
 def stamp_values(**extra: str) -> dict[str, str]:
     """The ``kitkb_meta`` entries of a new world model: schema fingerprint, ontology and kitkb
     versions, the stable-state counter at 0, and ``extra`` (source file, prefixes...)."""
-    m = model()
+    m = load_plan()
     return {"schema_version": m.version, "ontologies": json.dumps(m.ontologies),
             "kitkb_version": __version__, "stable_state": "0", **extra}
 
 
 def stamp(conn: Connection, **extra: str) -> None:
     """Write the schema fingerprint and ontology versions into ``kitkb_meta``."""
+    from sqlalchemy import delete, insert
+
+    from kb.world.schema import model
+
     meta = model().table("kitkb_meta")
     conn.execute(delete(meta))
     conn.execute(insert(meta), [{"key": k, "value": v} for k, v in sorted(stamp_values(**extra).items())])
@@ -131,25 +141,31 @@ def stamp(conn: Connection, **extra: str) -> None:
 
 def read_meta(conn: Connection) -> dict[str, str]:
     """The ``kitkb_meta`` entries."""
+    from sqlalchemy import select
+
+    from kb.world.schema import model
+
     meta = model().table("kitkb_meta")
     return {k: v for k, v in conn.execute(select(meta.c.key, meta.c.value))}
 
 
 def check_version(conn: Connection, url: str) -> None:
     """Refuse a database that is not kitkb's or was made from another ontology version."""
+    from sqlalchemy import inspect
+
     names = set(inspect(conn).get_table_names())
     if "kitkb_meta" not in names:
         what = "is empty (load a data file first: kitkb db load FILE --db URL)" if not names else \
             "is not a kitkb database (it has no kitkb_meta table)"
         raise SchemaVersionError(f"database {safe_url(url)} {what}")
     meta = read_meta(conn)
-    if meta.get("schema_version") != model().version:
+    if meta.get("schema_version") != load_plan().version:
         raise SchemaVersionError(other_version(url, meta) + ": load the data again into a new database")
 
 
 def other_version(url: str, meta: dict[str, str]) -> str:
     """What is wrong with a database made from another ontology version (no advice)."""
-    m: Model = model()
+    m = load_plan()
     made = _versions(meta.get("ontologies", "[]"))
     now = ", ".join(f"{i.rsplit('/', 1)[-1]} {v}" for i, v in m.ontologies)
     return (f"database {safe_url(url)} was made from another ontology version ({made}, schema "
@@ -165,6 +181,14 @@ def _versions(text: str) -> str:
 
 def sqlite_file(url: str) -> Path | None:
     """The file of an SQLite URL (None for another database or an in-memory one)."""
+    if not url.startswith("sqlite"):
+        return None
+    plain = sqlite.plain_file(url)
+    if plain is not None:
+        return plain
+    from sqlalchemy.engine import make_url
+    from sqlalchemy.exc import ArgumentError
+
     try:
         parsed = make_url(url)
     except ArgumentError:
@@ -191,6 +215,8 @@ def drop_all(url: str | Path) -> None:
                 if names:
                     conn.exec_driver_sql("DROP TABLE " + ", ".join(f'"{n}"' for n in names) + " CASCADE")
             else:
+                from sqlalchemy import MetaData
+
                 meta = MetaData()
                 meta.reflect(conn)
                 meta.drop_all(conn)
@@ -230,3 +256,10 @@ def term_key(node: Node) -> str:
 def key_term(key: str) -> URIRef | BNode:
     """The node of a :func:`term_key` string."""
     return BNode(key[2:]) if key.startswith("_:") else URIRef(key)
+
+
+def model() -> Any:
+    """The SQLAlchemy model of the schema (:func:`kb.world.schema.model`; imported on use)."""
+    from kb.world.schema import model as schema_model
+
+    return schema_model()

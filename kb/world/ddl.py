@@ -15,12 +15,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import lru_cache
+from typing import Any
 
-from sqlalchemy.engine import Dialect
-from sqlalchemy.schema import AddConstraint, CreateIndex, CreateTable
-
-from kb.patches.sqlalchemy import ddl_scope
-from kb.world.schema import cached, model
+from kb.world.cache import cached
 
 #: Table name prefixes of kitkb's tables (what ``--replace`` drops, whatever the schema version).
 PREFIXES = ("kitkb_", "ktw_", "soap_")
@@ -35,7 +32,7 @@ class LoadDDL:
     keys: tuple[str, ...]
 
 
-def _dialect(name: str) -> Dialect:
+def _dialect(name: str) -> Any:
     if name == "postgresql":
         from sqlalchemy.dialects import postgresql
 
@@ -47,11 +44,17 @@ def _dialect(name: str) -> Dialect:
 
 @lru_cache(maxsize=None)
 def load_ddl(dialect_name: str) -> LoadDDL:
-    """The statements for ``sqlite`` or ``postgresql`` (compiled once, kept with the cached tables)."""
-    return cached(f"ddl-{dialect_name}", lambda: _compile(dialect_name))  # type: ignore[no-any-return]
+    """The statements for ``sqlite`` or ``postgresql`` (compiled once, kept in :mod:`kb.world.cache`)."""
+    found = cached(f"ddl-{dialect_name}", lambda: _compile(dialect_name))
+    return found if isinstance(found, LoadDDL) else _compile(dialect_name)
 
 
 def _compile(dialect_name: str) -> LoadDDL:
+    from sqlalchemy.schema import AddConstraint, CreateIndex, CreateTable
+
+    from kb.patches.sqlalchemy import ddl_scope
+    from kb.world.schema import model
+
     dialect = _dialect(dialect_name)
     inline = not dialect.supports_alter
     with ddl_scope(model().metadata) as meta:

@@ -15,19 +15,22 @@ import json
 import shutil
 import tempfile
 from pathlib import Path
-from typing import IO, Any, Callable, Iterator
+from typing import IO, TYPE_CHECKING, Any, Callable, Iterator
 
 from rdflib import BNode, Graph, Literal, URIRef
-from sqlalchemy import Table
-from sqlalchemy.engine import Connection
 
 from kb.core.files import atomic_paths
 from kb.io.parsing import new_graph, parse_text
 from kb.io.turtle import Names, TurtleWriter, string
 from kb.world.bulk import quoted
 from kb.world.database import DEFAULT_DB, check_version, normalize_url, open_engine, read_meta
-from kb.world.schema import model
+from kb.world.plan import TablePlan, load_plan
 from kb.world.values import ValueProblem, canonical, datatype_of, decimal_text, from_db, parse_lexical
+
+if TYPE_CHECKING:
+    from sqlalchemy.engine import Connection
+
+Table = TablePlan
 
 #: Individuals read per range.
 CHUNK = 20_000
@@ -108,7 +111,7 @@ class _Dump:
     """One dump: spellings of the individuals, then the rows range by range."""
 
     def __init__(self, conn: Connection, names: Names, writer: TurtleWriter):
-        self.conn, self.names, self.writer, self.m = conn, names, writer, model()
+        self.conn, self.names, self.writer, self.m = conn, names, writer, load_plan()
         self.dbapi = conn.connection.driver_connection
         self.pg = conn.dialect.name == "postgresql"
         self.param = "%s" if self.pg else "?"
@@ -134,7 +137,7 @@ class _Dump:
 
     def _filled(self) -> list[Table]:
         """The tables that have rows (one query)."""
-        tables = self.m.metadata.sorted_tables
+        tables = list(self.m.tables.values())
         cur = self.cursor()
         cur.execute(" UNION ALL ".join(f"SELECT {i} FROM (SELECT 1 AS x FROM {quoted(t.name)} LIMIT 1) q{i}"
                                        for i, t in enumerate(tables)))

@@ -16,26 +16,27 @@ from __future__ import annotations
 import datetime as _dt
 import io
 import json
+import sqlite3 as _sqlite3
 import queue
 import threading
 import uuid
 from dataclasses import dataclass, field
 from functools import partial
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
 from rdflib import Graph
-from sqlalchemy import Engine
-from sqlalchemy.exc import SQLAlchemyError
 
 from kb.core.errors import InputError
 from kb.core.memory import gc_paused
 from kb.core.namespaces import PREFIXES, local_name
 from kb.io.loader import load_file
 from kb.world.bulk import copy_buffers, insert_sqlite
-from kb.world.database import (DEFAULT_DB, SchemaVersionError, first_line, model, normalize_url, open_engine,
+from kb.world import sqlite
+from kb.world.database import (DEFAULT_DB, SchemaVersionError, first_line, normalize_url, open_engine,
                                other_version, safe_url, sqlite_file, stamp_values)
 from kb.world.ddl import kitkb_tables, load_ddl
+from kb.world.plan import load_plan
 from kb.world.rows import Built, RowBuilder
 from kb.world.triples import DataFile
 
@@ -101,9 +102,8 @@ def load(datafile: str | Path, url: str | Path = DEFAULT_DB, replace: bool = Fal
     url = normalize_url(url)
     target = sqlite_file(url)
     existed = target is None or target.exists()
-    engine = open_engine(url)
+    writer = _writer(url, replace)
     try:
-        writer = _writer(engine, url, replace)
         writer.check()  # before reading the file: refuse at once
         writer.start()
         try:
@@ -112,13 +112,13 @@ def load(datafile: str | Path, url: str | Path = DEFAULT_DB, replace: bool = Fal
             writer.abort()
             raise
         report = writer.finish(built, Path(datafile).name)
-    except (SQLAlchemyError, _DriverError) as exc:
-        _discard(engine, target, existed)
+    except _DriverError as exc:
+        _discard(writer, target, existed)
         raise InputError(f"database refused the data: {first_line(exc)}", file=str(datafile)) from None
     except BaseException:
-        _discard(engine, target, existed)
+        _discard(writer, target, existed)
         raise
-    engine.dispose()
+    writer.dispose()
     return report
 
 
@@ -130,11 +130,14 @@ class _DriverError(Exception):
         self.orig = orig
 
 
-def _discard(engine: Engine, path: Path | None, existed: bool) -> None:
-    engine.dispose()
+def _discard(writer: "_Writer", path: Path | None, existed: bool) -> None:
+    writer.dispose()
     if path is not None and not existed:
         for suffix in ("", "-wal", "-shm", "-journal"):
-            Path(str(path) + suffix).unlink(missing_ok=True)
+            try:
+                Path(str(path) + suffix).unlink(missing_ok=True)
+            except OSError:  # its folder could not be made: nothing there to remove
+                pass
 
 
 def _prefixes(file_prefixes: dict[str, str], built: Built) -> dict[str, str]:
@@ -177,7 +180,7 @@ def _describe(url: str, names: list[str], meta: dict[str, str], things: int | No
     """The world model a database holds, in words (for ``--replace`` and its refusal);
     ``history``: (rows, tables) of kitkb's tables beside the model's (the runs' records)."""
     parts = []
-    if meta.get("schema_version") != model().version:
+    if meta.get("schema_version") != load_plan().version:
         return "a world model made from another ontology version"
     if meta.get("source"):
         parts.append(f"from {meta['source']}")
@@ -197,16 +200,24 @@ class _Writer:
     :meth:`check` refuses early, :meth:`start` may begin the work while the file is read,
     :meth:`finish` writes the rows and commits, :meth:`abort` rolls back."""
 
-    def __init__(self, engine: Engine, url: str, replace: bool):
-        self.engine, self.url, self.replace = engine, url, replace
+    def __init__(self, url: str, replace: bool, connect: Callable[[], Any], errors: tuple[type[BaseException], ...],
+                 dispose: Callable[[], None]):
+        self.url, self.replace, self._connect, self.errors, self.dispose = url, replace, connect, errors, dispose
+
+    def connect(self) -> Any:
+        """A raw connection (``driver_connection``, ``commit``, ``rollback``, ``close``)."""
+        try:
+            return self._connect()
+        except self.errors as exc:
+            raise _DriverError(exc) from None
 
     def check(self) -> None:
         """Refuse now (before the file is read) what the load would refuse."""
-        raw = self.engine.raw_connection()
+        raw = self.connect()
         try:
-            cur = raw.driver_connection.cursor()  # type: ignore[union-attr]
+            cur = raw.driver_connection.cursor()
             self._existing(cur)
-        except self._errors() as exc:
+        except self.errors as exc:
             raise _DriverError(exc) from None
         finally:
             raw.rollback()
@@ -221,9 +232,6 @@ class _Writer:
     def finish(self, built: Built, source: str) -> LoadReport:
         """Replace the database's kitkb tables with ``built``; commit, or change nothing."""
         raise NotImplementedError
-
-    def _errors(self) -> type[BaseException]:
-        return self.engine.dialect.dbapi.Error  # type: ignore[union-attr, no-any-return]
 
     def _existing(self, cur: Any) -> tuple[list[str], str | None]:
         """(kitkb tables to drop, what they hold in words); refuses what may not be replaced."""
@@ -241,13 +249,13 @@ class _Writer:
             cur.execute("SELECT count(*) FROM kitkb_thing")
             things = cur.fetchone()[0]
         rows = 0
-        extra = [n for n in kitkb_tables(names) if n not in model().metadata.tables]
+        extra = [n for n in kitkb_tables(names) if n not in load_plan().tables]
         for name in extra:
             cur.execute(f'SELECT count(*) FROM "{name}"')
             rows += cur.fetchone()[0]
         what = _describe(url, names, meta, things, (rows, len(extra)))
         if not self.replace:
-            why = other_version(url, meta) if meta.get("schema_version") != model().version else \
+            why = other_version(url, meta) if meta.get("schema_version") != load_plan().version else \
                 f"database {safe_url(url)} already holds {what}"
             raise InputError(f"{why}; kitkb db load --replace replaces it (and its run history)")
         return kitkb_tables(names), what
@@ -264,9 +272,9 @@ class _SQLite(_Writer):
         return [r[0] for r in cur.fetchall()]
 
     def finish(self, built: Built, source: str) -> LoadReport:
-        raw = self.engine.raw_connection()
+        raw = self.connect()
         try:
-            cur = raw.driver_connection.cursor()  # type: ignore[union-attr]
+            cur = raw.driver_connection.cursor()
             cur.execute("PRAGMA foreign_keys = OFF")  # checked once below; cannot change inside a transaction
             try:
                 cur.execute("BEGIN IMMEDIATE")
@@ -279,7 +287,7 @@ class _SQLite(_Writer):
                     raise
             finally:
                 cur.execute("PRAGMA foreign_keys = ON")
-        except self._errors() as exc:
+        except self.errors as exc:
             raise _DriverError(exc) from None
         finally:
             raw.close()
@@ -314,8 +322,8 @@ class _PostgreSQL(_Writer):
         return [r[0] for r in cur.fetchall()]
 
     def start(self) -> None:
-        self.raw = self.engine.raw_connection()
-        self.cur = self.raw.driver_connection.cursor()  # type: ignore[union-attr]
+        self.raw = self.connect()
+        self.cur = self.raw.driver_connection.cursor()
         self.jobs: queue.Queue[Any] = queue.Queue(maxsize=4)
         self.error: BaseException | None = None
         self.replaced: str | None = None
@@ -369,7 +377,7 @@ class _PostgreSQL(_Writer):
             if self.worker.is_alive():
                 self._stop()
             self.raw.rollback()
-            if isinstance(exc, self._errors()):
+            if isinstance(exc, self.errors):
                 raise _DriverError(exc) from None
             raise
         finally:
@@ -385,10 +393,36 @@ class _PostgreSQL(_Writer):
         cur.execute("ANALYZE " + ", ".join(filled))  # fresh statistics, or the planner scans whole tables
 
 
-def _writer(engine: Engine, url: str, replace: bool) -> _Writer:
+class _Direct:
+    """An sqlite3 connection opened without SQLAlchemy, with the face of SQLAlchemy's raw connections."""
+
+    def __init__(self, conn: Any):
+        self.driver_connection = conn
+
+    def commit(self) -> None:
+        self.driver_connection.commit()
+
+    def rollback(self) -> None:
+        self.driver_connection.rollback()
+
+    def close(self) -> None:
+        self.driver_connection.close()
+
+
+def _writer(url: str, replace: bool) -> _Writer:
+    """The writer for database ``url``: an SQLite file is opened by the driver itself (no
+    SQLAlchemy import: 0.1 s of a load), anything else through an SQLAlchemy engine."""
+    path = sqlite.plain_file(url)
+    if path is not None:
+        return _SQLite(url, replace, lambda: _Direct(sqlite.connect(path, url)), (_sqlite3.Error,), lambda: None)
+    from sqlalchemy.exc import SQLAlchemyError
+
+    engine = open_engine(url)
+    errors = (engine.dialect.dbapi.Error, SQLAlchemyError)  # type: ignore[union-attr]
     if engine.dialect.name == "sqlite":
-        return _SQLite(engine, url, replace)
+        return _SQLite(url, replace, engine.raw_connection, errors, engine.dispose)
     if engine.dialect.name == "postgresql" and engine.dialect.driver == "psycopg2":
-        return _PostgreSQL(engine, url, replace)
+        return _PostgreSQL(url, replace, engine.raw_connection, errors, engine.dispose)
+    engine.dispose()
     raise InputError(f"kitkb loads SQLite files and PostgreSQL (psycopg2) databases, not "
                      f"{engine.dialect.name}+{engine.dialect.driver}")

@@ -25,7 +25,7 @@ import pyoxigraph as ox
 from kb.core.errors import InputError
 from kb.core.namespaces import local_name
 from kb.core.resources import model_files
-from kb.world.schema import Plan, model
+from kb.world.plan import PropertyPlan, load_plan
 from kb.world.values import ValueProblem, check_value, is_canonical_parts, parse_lexical
 
 RDF_TYPE = "http://www.w3.org/1999/02/22-rdf-syntax-ns#type"
@@ -63,7 +63,7 @@ class _Prop:
 
     __slots__ = ("plan", "iri", "kind", "link", "rows", "pos", "domain", "target", "checks", "vtype", "values")
 
-    def __init__(self, plan: Plan, iri: str, tables: dict[str, TableRows], vtypes: dict[tuple, dict]):
+    def __init__(self, plan: PropertyPlan, iri: str, tables: dict[str, TableRows], vtypes: dict[tuple, dict]):
         self.plan, self.iri, self.link = plan, iri, plan.link
         self.kind = {"object": _OBJECT, "iri": _IRI}.get(plan.info["kind"], _DATA)
         self.domain, self.target, self.checks = plan.domain, plan.target, plan.checks
@@ -90,7 +90,7 @@ class Built:
 @lru_cache(maxsize=1)
 def model_individuals() -> dict[str, tuple[str, ...]]:
     """Individuals the shipped ontologies define (``soap:EffectCheck``...) with their model classes."""
-    m = model()
+    m = load_plan()
     out: dict[str, list[str]] = {}
     for path in model_files():
         for s, p, o, _ in ox.parse(path=path, format=ox.RdfFormat.TURTLE):
@@ -116,10 +116,10 @@ class RowBuilder:
     """
 
     def __init__(self, terms: Any, line_of: Callable[..., int | None], file: str):
-        self.terms, self.line_of, self.file, self.m = terms, line_of, file, model()
+        self.terms, self.line_of, self.file, self.m = terms, line_of, file, load_plan()
         m = self.m
         self.tables: dict[str, TableRows] = {}
-        for table in m.metadata.sorted_tables:
+        for table in m.tables.values():
             if "parent" in table.info and table.name != THING:
                 cols = list(table.columns)
                 self.tables[table.name] = TableRows(
@@ -127,7 +127,7 @@ class RowBuilder:
                     [i for i, c in enumerate(cols) if not c.nullable and not c.primary_key],
                     [i for i, c in enumerate(cols) if c.info.get("kind") == "object"])
         self._vtypes: dict[tuple, dict] = {}
-        self._chains = {iri: tuple(m.chain(t.name)) for iri, t in m.class_table.items()}
+        self._chains = {iri: tuple(m.chain(t)) for iri, t in m.class_table.items()}
         self._tablesets: dict[str, tuple[frozenset[str], list[TableRows]]] = {}
         self.nodes: dict[Any, int] = {}  # term -> id
         # id -> IRI or _:label; -> model classes stated; -> tables it has rows in (id 0 unused)
@@ -184,9 +184,9 @@ class RowBuilder:
         """The handler of predicate ``p``: rdf:type, a model property (by kind), or another property."""
         iri = self.terms.resource(p) or ""
         if iri == RDF_TYPE:
-            fn = self._on_type
+            fn = self._type_handler()
         else:
-            plan = self.m.plans.get(iri)
+            plan = self.m.properties.get(iri)
             if plan is None:
                 fn = partial(_outside_handler, self._outside, iri)
             else:
@@ -202,7 +202,7 @@ class RowBuilder:
         in_tables, pending, store = self.in_tables, self.pending.append, self._store
         rows, pos, domain = prop.rows, prop.pos, prop.domain
         if prop.kind == _OBJECT:
-            nodes, node = self.nodes.get, self._node
+            nodes, node, resource = self.nodes.get, self._node, self.terms.resource
 
             def on_object(si: int, o: Any, q: Any) -> None:
                 tables = in_tables[si]
@@ -210,8 +210,14 @@ class RowBuilder:
                     pending(q)  # its subject's type may come later
                     return
                 value = nodes(o)
+                if value is None:
+                    key = resource(o)
+                    if key is None:  # a literal: kept as written (by _store)
+                        store(si, prop, o)
+                        return
+                    value = node(o, key)
                 row = rows[si]  # type: ignore[index]
-                if value is None or row[pos] is not None:
+                if row[pos] is not None:
                     store(si, prop, o)
                 else:
                     row[pos] = value
@@ -231,16 +237,29 @@ class RowBuilder:
                 row[pos] = parsed[0]
         return on_data
 
-    def _on_type(self, si: int, o: Any, q: Any) -> None:
-        cls = self.class_of.get(o, _UNKNOWN)
-        if cls is _UNKNOWN:
-            cls = self._class_of(o)
-        if cls is None:
-            self.other_types.append((si, o))
-        elif self.classes[si] is None:
-            self._first_class(si, cls)
-        else:
-            self._more_class(si, cls)
+    def _type_handler(self) -> Callable[[int, Any, Any], None]:
+        """The handler of ``rdf:type``: a model class gives the node its rows, another type is
+        kept for ``kitkb_type`` (or as written, if the node turns out not to be an individual)."""
+        class_get, class_of, other = self.class_of.get, self._class_of, self.other_types.append
+        classes, in_tables, more, rows_of = self.classes, self.in_tables, self._more_class, self._class_rows
+
+        def on_type(si: int, o: Any, q: Any) -> None:
+            cls = class_get(o, _UNKNOWN)
+            if cls is _UNKNOWN:
+                cls = class_of(o)
+            if cls is None:
+                other((si, o))
+            elif classes[si] is None:  # typed for the first time: rows in its class's tables
+                classes[si] = [cls]
+                tables, rows = rows_of(cls)
+                for table, width in rows:
+                    row = [None] * width
+                    row[0] = si
+                    table[si] = row
+                in_tables[si] = tables
+            else:
+                more(si, cls)
+        return on_type
 
     # --- types ----------------------------------------------------------------------------------
     def _class_of(self, o: Any) -> str | None:
@@ -249,24 +268,15 @@ class RowBuilder:
         cls = self.class_of[o] = key if key in self.m.class_table else None
         return cls
 
-    def _class_rows(self, cls: str) -> tuple[frozenset[str], list[TableRows]]:
-        """The tables an individual of ``cls`` has rows in (``kitkb_thing`` included), and
-        those of them that :class:`TableRows` builds."""
+    def _class_rows(self, cls: str) -> tuple[frozenset[str], list[tuple[dict[int, Row], int]]]:
+        """The tables an individual of ``cls`` has rows in (``kitkb_thing`` included), and the
+        rows and row width of those that :class:`TableRows` builds."""
         found = self._tablesets.get(cls)
         if found is None:
             names = frozenset(self._chains[cls])
-            found = self._tablesets[cls] = (names, [self.tables[t] for t in sorted(names) if t != THING])
+            found = self._tablesets[cls] = (names, [(self.tables[t].rows, len(self.tables[t].columns))
+                                                    for t in sorted(names) if t != THING])
         return found
-
-    def _first_class(self, node: int, cls: str) -> None:
-        """``node`` is typed for the first time: rows in the tables of ``cls`` and its ancestors."""
-        self.classes[node] = [cls]
-        tables, rows = self._class_rows(cls)
-        for table in rows:
-            row = [None] * len(table.columns)
-            row[0] = node
-            table.rows[node] = row
-        self.in_tables[node] = tables
 
     def _more_class(self, node: int, cls: str) -> None:
         """Another model class for a typed node: rows in the tables it adds."""
@@ -275,11 +285,11 @@ class RowBuilder:
             self.duplicates += 1
             return
         mine.append(cls)  # type: ignore[union-attr]
-        tables, rows = self._class_rows(cls)
+        tables, _ = self._class_rows(cls)
         old = self.in_tables[node] or frozenset()
-        for table in rows:
-            if table.name not in old:
-                table.new_row(node)
+        for name in tables - old:
+            if name != THING:
+                self.tables[name].new_row(node)
         self.in_tables[node] = old | tables
 
     def primary(self, node: int) -> str:
@@ -424,7 +434,7 @@ class RowBuilder:
             if classes is None:
                 continue
             tables = frozenset(t for c in classes for t in self._chains[c])
-            if not any(c.info.get("iri") and not c.nullable for t in tables for c in self.m.table(t).columns):
+            if not any(c.info.get("iri") and not c.nullable for t in tables for c in self.m.tables[t].columns):
                 self.in_tables[node] = tables
                 for t in tables:
                     if t != THING:
@@ -437,10 +447,10 @@ class RowBuilder:
         for node in range(1, len(keys)):
             if in_tables[node] is None:
                 continue
-            key = keys[node]
+            key, mine = keys[node], classes[node]
             if len(key) > MAX_IRI:
                 raise self.fail(node, RDF_TYPE, None, f"name longer than {MAX_IRI} characters: {key[:40]}...")
-            out.append((node, key, local_name(key), primary(node) if classes[node] else ""))
+            out.append((node, key, local_name(key), (mine[0] if len(mine) == 1 else primary(node)) if mine else ""))
         return out
 
     def _ranges(self) -> None:
@@ -470,7 +480,7 @@ class RowBuilder:
                 for node, row in table.rows.items():
                     if row[pos] is None:
                         cls = self.primary(node)
-                        col = self.m.table(table.name).c[table.columns[pos]]
+                        col = self.m.tables[table.name].column(table.columns[pos])
                         raise self.fail(node, RDF_TYPE, None,
                                         f"{local_name(self.keys[node])} ({local_name(cls)}) has no value for "
                                         f"{local_name(col.info.get('iri', col.name))}, which the model requires")

@@ -90,7 +90,9 @@ _PARSE: dict[str, Callable[[str], Any]] = {
 }
 
 
-def check_spec(ck: Any) -> tuple[str, Callable[[Any], bool], str] | tuple[()]:
+def check_spec(ck: Any) -> tuple[str, str, Any, str] | tuple[()]:
+    """``(column, operator, bound, text)`` of a CHECK constraint kitkb can test in Python
+    (``>``, ``>=``, ``<``, ``<=`` a number, ``in`` an enumeration), else ``()``."""
     from sqlalchemy.sql import operators
     from sqlalchemy.sql.elements import BinaryExpression
 
@@ -103,13 +105,23 @@ def check_spec(ck: Any) -> tuple[str, Callable[[Any], bool], str] | tuple[()]:
         return ()
     if expr.operator is operators.in_op:
         allowed = set(getattr(expr.right, "value", None) or [v.value for v in getattr(expr.right, "clauses", [])])
-        return name, (lambda v: v in allowed), f"the enumeration {sorted(allowed)}"
-    ops = {operators.gt: ("> ", lambda a, b: a > b), operators.ge: (">= ", lambda a, b: a >= b),
-           operators.lt: ("< ", lambda a, b: a < b), operators.le: ("<= ", lambda a, b: a <= b)}
+        return name, "in", frozenset(allowed), f"the enumeration {sorted(allowed)}"
+    ops = {operators.gt: ">", operators.ge: ">=", operators.lt: "<", operators.le: "<="}
     if expr.operator in ops and right is not None:
-        text, fn = ops[expr.operator]
-        return name, (lambda v: fn(v, right)), f"{name} {text}{right}"
+        return name, ops[expr.operator], right, f"{name} {ops[expr.operator]} {right}"
     return ()
+
+
+_TESTS: dict[str, Callable[[Any, Any], bool]] = {
+    "in": lambda v, b: v in b, ">": lambda v, b: v > b, ">=": lambda v, b: v >= b,
+    "<": lambda v, b: v < b, "<=": lambda v, b: v <= b,
+}
+
+
+def make_check(op: str, bound: Any, text: str) -> Check:
+    """The :data:`Check` of a :func:`check_spec`."""
+    test = _TESTS[op]
+    return (lambda v: test(v, bound)), text
 
 
 _DEFAULT_TYPE = {"boolean": str(XSD.boolean), "integer": str(XSD.integer), "decimal": str(XSD.decimal),

@@ -1,0 +1,60 @@
+"""SQLite files as kitkb opens them: the file of an ``sqlite:///`` URL, and a connection with
+kitkb's settings (used by the SQLAlchemy engines of :mod:`kb.world.database` and, without
+SQLAlchemy, by the bulk load of :mod:`kb.world.load`).
+
+Settings: transactions begun explicitly (``isolation_level=None``; writers ``BEGIN IMMEDIATE``),
+foreign keys on, a busy timeout of 60 s, and for files WAL with ``synchronous=NORMAL`` (a
+committed transaction survives a crash of the application; an OS crash may lose the last ones).
+"""
+
+from __future__ import annotations
+
+import re
+import sqlite3
+from pathlib import Path
+from typing import Any
+
+from kb.core.errors import InputError
+
+#: Seconds a connection waits for another writer's lock.
+BUSY_TIMEOUT = 60
+_PLAIN_FILE = re.compile(r"sqlite(?:\+pysqlite)?:///(/[^?#]*)\Z")
+
+
+def plain_file(url: str) -> Path | None:
+    """The file of an ``sqlite:///ABSOLUTE/PATH`` URL with no options (what a plain path
+    becomes); None for anything else (other URLs are left to SQLAlchemy)."""
+    m = _PLAIN_FILE.match(url)
+    return Path(m.group(1)) if m else None
+
+
+def settings(dbapi_conn: Any, database: str) -> None:
+    """kitkb's settings on a new sqlite3 connection (``database``: its file, or "" / ":memory:")."""
+    dbapi_conn.isolation_level = None  # kitkb issues BEGIN itself
+    cur = dbapi_conn.cursor()
+    cur.execute("PRAGMA foreign_keys = ON")
+    cur.execute(f"PRAGMA busy_timeout = {BUSY_TIMEOUT * 1000}")
+    if database and database != ":memory:":
+        cur.execute("PRAGMA journal_mode = WAL")
+        cur.execute("PRAGMA synchronous = NORMAL")
+    cur.close()
+
+
+def make_folder(path: Path) -> None:
+    """Create the folder of database file ``path`` if needed; one-line InputError if it cannot."""
+    if not path.parent.exists():
+        try:
+            path.parent.mkdir(parents=True)
+        except OSError as exc:
+            raise InputError(f"cannot create the folder of {path}: {exc.strerror or exc}") from None
+
+
+def connect(path: Path, url: str) -> sqlite3.Connection:
+    """A connection to database file ``path`` (made if missing) with kitkb's settings."""
+    make_folder(path)
+    try:
+        conn = sqlite3.connect(str(path), timeout=BUSY_TIMEOUT, isolation_level=None)
+        settings(conn, str(path))
+    except sqlite3.Error as exc:
+        raise InputError(f"cannot open database {url}: {str(exc).splitlines()[0] if str(exc) else exc}") from None
+    return conn
