@@ -76,16 +76,30 @@ def observe(world: World, query: str, by: Literal["class", "name"], time: float,
     for s, o in world.facts.get(SKU, ()):
         if s not in skus or o < skus[s]:
             skus[s] = o
-    for i in sorted(range(len(world)), key=lambda k: world.names[k]):
-        if not world.placed(i) or not matches(world, i, query, by):
-            continue
-        loc = np.array(world.poses[i, :3, 3], float)
-        ori = np.array(rpy(world.poses[i]), float)
+    placed = ~(np.isnan(world.poses[:, 0, 0]) | np.isnan(world.local_lo[:, 0]))
+    chosen = [i for i in sorted(range(len(world)), key=lambda k: world.names[k])
+              if placed[i] and matches(world, i, query, by)]
+    if not chosen:
+        return out
+    locs = world.poses[chosen, :3, 3].astype(float)
+    oris = _rpy_many(world.poses[chosen])
+    for k, i in enumerate(chosen):
+        loc, ori = locs[k], oris[k]
         if (sp or so) and rng is not None:
             loc = loc + rng.normal(0.0, sp, 3) if sp else loc
             ori = ori + rng.normal(0.0, so, 3) if so else ori
         sku = skus.get(world.names[i]) or (world.sku(i) if world.is_a(i, "Kit") else None)
         out.append(Observation(world.names[i], most_specific(world.classes[i]), float(time),
-                               tuple(float(v) for v in loc), tuple(float(v) for v in ori),  # type: ignore[arg-type]
+                               tuple(loc.tolist()), tuple(ori.tolist()),  # type: ignore[arg-type]
                                local_name(sku) if sku else None))
     return out
+
+
+def _rpy_many(m: np.ndarray) -> np.ndarray:
+    """(K, 3) roll, pitch, yaw of K rotations, as :func:`rpy` gives them one by one."""
+    r20 = m[:, 2, 0]
+    pitch = np.arcsin(np.clip(-r20, -1.0, 1.0))
+    regular = np.abs(r20) < 1 - 1e-9
+    roll = np.where(regular, np.arctan2(m[:, 2, 1], m[:, 2, 2]), 0.0)
+    yaw = np.where(regular, np.arctan2(m[:, 1, 0], m[:, 0, 0]), np.arctan2(-m[:, 0, 1], m[:, 1, 1]))
+    return np.stack([roll, pitch, yaw], axis=1)
