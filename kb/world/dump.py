@@ -94,9 +94,10 @@ def write_turtle(conn: Connection, out: IO[str]) -> dict[str, str]:
     names = Names(prefixes)
     with tempfile.TemporaryFile("w+", encoding="utf-8", newline="\n") as body:
         writer = TurtleWriter(body)
-        _Dump(conn, names, writer).run()
+        dump = _Dump(conn, names, writer)
+        dump.run()
         writer.flush()
-        used = names.used()
+        used = names.used() | dump.used
         declared = {p: ns for p, ns in sorted(prefixes.items()) if p in used}
         head = TurtleWriter(out)
         head.prefixes(declared.items())
@@ -115,6 +116,8 @@ class _Dump:
         self.dbapi = conn.connection.driver_connection
         self.pg = conn.dialect.name == "postgresql"
         self.param = "%s" if self.pg else "?"
+        #: prefixes the individuals' names use (their spellings are not kept in ``names``' cache)
+        self.used: set[str] = set()
 
     def cursor(self) -> Any:
         cur = self.dbapi.cursor()  # type: ignore[union-attr]
@@ -130,7 +133,7 @@ class _Dump:
         self.spelled = spelled
         columns = [(t, self._columns(t)) for t in tables if "parent" in t.info and t.name != "kitkb_thing"]
         links = [(t, self._link(t)) for t in tables if t.info.get("link")]
-        top = max(kinds, default=0)
+        top = len(kinds) - 1
         for lo in range(1, top + 1, CHUNK):
             self._chunk(lo, min(lo + CHUNK, top + 1), kinds, columns, links, tables)
         self._triples()
@@ -144,15 +147,32 @@ class _Dump:
         found = {r[0] for r in cur.fetchall()}
         return [t for i, t in enumerate(tables) if i in found]
 
-    def _individuals(self) -> tuple[dict[int, str], dict[int, str]]:
-        """Each individual's spelled name and class (its ``kind``), by id."""
-        spelled, kinds = {}, {}
-        iri, term = self.names.iri, self.names.term
+    def _individuals(self) -> tuple[list[str | None], list[str | None]]:
+        """Each individual's spelled name and spelled class (``kind``; None: no type statement),
+        indexed by id (one entry per id: lists, not dictionaries, as there are many)."""
+        names = self.names
+        spelled: list[str | None] = [None]
+        kinds: list[str | None] = [None]
+        spelled_kind: dict[str, str | None] = {"": None}
+        cache, used = names.cache, self.used
         cur = self.cursor()
         cur.execute("SELECT id, iri, kind FROM kitkb_thing ORDER BY id")
         for id_, key, kind in cur:
-            spelled[id_] = term(BNode(key[2:])) if key.startswith("_:") else iri(key)
-            kinds[id_] = kind
+            if id_ >= len(spelled):
+                spelled.extend([None] * (id_ + 1 - len(spelled)))
+                kinds.extend([None] * (id_ + 1 - len(kinds)))
+            if key.startswith("_:"):
+                text = names.term(BNode(key[2:]))
+            else:
+                text = names.iri(key)
+                del cache[key]  # spelled once: no need to keep it in the shared cache
+                if not text.startswith("<"):
+                    used.add(text.split(":", 1)[0])
+            spelled[id_] = text
+            k = spelled_kind.get(kind, "")
+            if k == "":
+                k = spelled_kind[kind] = names.iri(kind)
+            kinds[id_] = k
         return spelled, kinds
 
     def _columns(self, table: Table) -> list[tuple[str, str, Callable[[Any], str], dict[str, Any]]]:
@@ -199,14 +219,15 @@ class _Dump:
         return self.names.term(Literal(lex, datatype=URIRef(dt) if dt else None, lang=lang))
 
     # --- one range of individuals ----------------------------------------------------------------
-    def _chunk(self, lo: int, hi: int, kinds: dict[int, str], columns: list, links: list, tables: list[Table]) -> None:
+    def _chunk(self, lo: int, hi: int, kinds: list[str | None], columns: list, links: list,
+               tables: list[Table]) -> None:
         pairs: dict[int, list[tuple[str, str]]] = {}
         types: dict[int, list[str]] = {}
         names = self.names
         for id_ in range(lo, hi):
-            kind = kinds.get(id_)
+            kind = kinds[id_]
             if kind:
-                types[id_] = [names.iri(kind)]
+                types[id_] = [kind]
         filled = {t.name for t in tables}
         if "kitkb_type" in filled:
             for thing, cls in self._range("SELECT thing_id, class_iri FROM kitkb_type WHERE thing_id >= {p} AND "
