@@ -265,26 +265,45 @@ class _Writer:
 
 
 class _SQLite(_Writer):
-    """SQLite: all in :meth:`finish` (the write lock is taken once the rows are ready)."""
+    """SQLite: all in :meth:`finish` (the write lock is taken once the rows are ready).
+
+    A new file is filled with a rollback journal (``journal_mode=DELETE``, ``synchronous=FULL``:
+    the pages are written once, into the file, and synced at commit) and switched to WAL after
+    the commit; an existing database keeps WAL, so that its readers go on reading the old world
+    model until the new one commits. Killed half way, a new file's journal rolls it back to empty.
+    """
+
+    #: the database file did not exist when the load began
+    new = False
 
     def _tables(self, cur: Any) -> list[str]:
         cur.execute("SELECT name FROM sqlite_master WHERE type = 'table' AND name NOT LIKE 'sqlite_%'")
         return [r[0] for r in cur.fetchall()]
+
+    def check(self) -> None:
+        if not self.new:  # a new file holds nothing to refuse (and is not made before the rows are ready)
+            super().check()
 
     def finish(self, built: Built, source: str) -> LoadReport:
         raw = self.connect()
         try:
             cur = raw.driver_connection.cursor()
             cur.execute("PRAGMA foreign_keys = OFF")  # checked once below; cannot change inside a transaction
+            if self.new:
+                cur.execute("PRAGMA journal_mode = DELETE")
+                cur.execute("PRAGMA synchronous = FULL")
             try:
                 cur.execute("BEGIN IMMEDIATE")
                 try:
                     report = self._fill(cur, built, source)
                     cur.execute("COMMIT")
-                    return report
                 except BaseException:
                     cur.execute("ROLLBACK")
                     raise
+                if self.new:
+                    cur.execute("PRAGMA journal_mode = WAL")  # as every kitkb SQLite database
+                    cur.execute("PRAGMA synchronous = NORMAL")
+                return report
             finally:
                 cur.execute("PRAGMA foreign_keys = ON")
         except self.errors as exc:
@@ -414,7 +433,11 @@ def _writer(url: str, replace: bool) -> _Writer:
     SQLAlchemy import: 0.1 s of a load), anything else through an SQLAlchemy engine."""
     path = sqlite.plain_file(url)
     if path is not None:
-        return _SQLite(url, replace, lambda: _Direct(sqlite.connect(path, url)), (_sqlite3.Error,), lambda: None)
+        new = not path.exists()
+        writer = _SQLite(url, replace, lambda: _Direct(sqlite.connect(path, url, wal=not new)), (_sqlite3.Error,),
+                         lambda: None)
+        writer.new = new
+        return writer
     from sqlalchemy.exc import SQLAlchemyError
 
     engine = open_engine(url)

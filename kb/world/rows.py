@@ -48,7 +48,6 @@ class TableRows:
     name: str
     columns: list[str]  # "id" first
     required: list[int]  # positions of NOT NULL columns
-    objects: list[int]  # positions of columns holding individuals' ids
     rows: dict[int, Row] = field(default_factory=dict)
 
     def new_row(self, node: int) -> None:
@@ -124,8 +123,7 @@ class RowBuilder:
                 cols = list(table.columns)
                 self.tables[table.name] = TableRows(
                     table.name, [c.name for c in cols],
-                    [i for i, c in enumerate(cols) if not c.nullable and not c.primary_key],
-                    [i for i, c in enumerate(cols) if c.info.get("kind") == "object"])
+                    [i for i, c in enumerate(cols) if not c.nullable and not c.primary_key])
         self._vtypes: dict[tuple, dict] = {}
         self._chains = {iri: tuple(m.chain(t)) for iri, t in m.class_table.items()}
         self._tablesets: dict[str, tuple[frozenset[str], list[TableRows]]] = {}

@@ -28,13 +28,14 @@ def plain_file(url: str) -> Path | None:
     return Path(m.group(1)) if m else None
 
 
-def settings(dbapi_conn: Any, database: str) -> None:
-    """kitkb's settings on a new sqlite3 connection (``database``: its file, or "" / ":memory:")."""
+def settings(dbapi_conn: Any, database: str, wal: bool = True) -> None:
+    """kitkb's settings on a new sqlite3 connection (``database``: its file, or "" / ":memory:";
+    ``wal=False``: leave the journal mode alone, for a load that makes the file)."""
     dbapi_conn.isolation_level = None  # kitkb issues BEGIN itself
     cur = dbapi_conn.cursor()
     cur.execute("PRAGMA foreign_keys = ON")
     cur.execute(f"PRAGMA busy_timeout = {BUSY_TIMEOUT * 1000}")
-    if database and database != ":memory:":
+    if wal and database and database != ":memory:":
         cur.execute("PRAGMA journal_mode = WAL")
         cur.execute("PRAGMA synchronous = NORMAL")
     cur.close()
@@ -49,12 +50,12 @@ def make_folder(path: Path) -> None:
             raise InputError(f"cannot create the folder of {path}: {exc.strerror or exc}") from None
 
 
-def connect(path: Path, url: str) -> sqlite3.Connection:
+def connect(path: Path, url: str, wal: bool = True) -> sqlite3.Connection:
     """A connection to database file ``path`` (made if missing) with kitkb's settings."""
     make_folder(path)
     try:
         conn = sqlite3.connect(str(path), timeout=BUSY_TIMEOUT, isolation_level=None)
-        settings(conn, str(path))
+        settings(conn, str(path), wal)
     except sqlite3.Error as exc:
         raise InputError(f"cannot open database {url}: {str(exc).splitlines()[0] if str(exc) else exc}") from None
     return conn
