@@ -8,8 +8,9 @@ For each workstation (``kb.scenario.write_scenario(parts, kits, seed=0)``, its `
 
 * the anchor: a whole process that bulk-loads the file into pyoxigraph's on-disk store
   (``Store(path).bulk_load``, all its indexes), wall time and peak memory;
-* ``kitkb db load`` and ``kitkb db dump`` as whole processes (Python start, imports, the work),
-  wall time and peak memory (the children's ``ru_maxrss``), on SQLite and PostgreSQL;
+* ``kitkb db load`` (into a new SQLite file / an empty PostgreSQL database, then again with
+  ``--replace`` over it) and ``kitkb db dump`` as whole processes (Python start, imports, the
+  work), wall time and peak memory (the children's ``ru_maxrss``), on SQLite and PostgreSQL;
 * in one process on the loaded database: global poses of every solid object, one global pose,
   sensed pose updates with eq. (1) one transaction each, and stable-state batches of 1,000.
 
@@ -152,6 +153,8 @@ def bench_size(parts: int, kits: int, runs: int, pg: str | None, tmp: Path, args
             wall, mem = run_process(_kitkb("db", "dump", "--db", url, "-o", str(tmp / "dump.ttl")))
             add(f"{name}_dump_s", wall)
             add(f"{name}_dump_mb", mem)
+            wall, mem = run_process(_kitkb("db", "load", str(init), "--db", url, "--replace"))
+            add(f"{name}_replace_s", wall)
             if r == runs - 1:  # pose figures once, on the last load
                 for key, value in poses(url, args.updates, args.batch, args.batches, seed=1).items():
                     add(f"{name}_{key}", value)
@@ -162,6 +165,7 @@ _ROWS = [
     # label, key (without database prefix), format, anchor key or None
     ("load `init.ttl`, whole process", "load_s", "{:.2f} s", "anchor_load_s"),
     ("peak memory of the load", "load_mb", "{:.0f} MB", "anchor_load_mb"),
+    ("load again with `--replace` (over the same world model)", "replace_s", "{:.2f} s", None),
     ("dump to Turtle, whole process", "dump_s", "{:.2f} s", None),
     ("peak memory of the dump", "dump_mb", "{:.0f} MB", None),
     ("global poses of all solid objects (first call reads the tree)", "global_all_first_s", "{:.3f} s", None),
