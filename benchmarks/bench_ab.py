@@ -26,6 +26,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
+
+import common  # noqa: E402
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from bench_validate import machine, make_e2e  # noqa: E402
@@ -113,11 +115,7 @@ def main(argv: list[str] | None = None) -> None:
 
 def write_doc(section: str) -> None:
     """Replace this benchmark's section of docs/benchmarks.md (or append it)."""
-    doc = ROOT / "docs" / "benchmarks.md"
-    text = doc.read_text()
-    pattern = re.compile(rf"^## {re.escape(SECTION)}\n.*?(?=^## |\Z)", re.S | re.M)
-    text = pattern.sub(lambda _: section + "\n", text) if pattern.search(text) else text.rstrip("\n") + "\n\n" + section
-    doc.write_text(text.rstrip("\n") + "\n")
+    common.write_doc(SECTION, section)
 
 
 def render(rows: list[tuple[str, dict]], args: argparse.Namespace, started: str) -> str:

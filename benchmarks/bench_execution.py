@@ -57,6 +57,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
+import common  # noqa: E402
+
 from kb.sim import FAULT_KINDS  # noqa: E402
 from kb.sim.faults import ELIGIBLE  # noqa: E402
 
@@ -791,11 +793,8 @@ def render(run: dict) -> str:
 
 
 def write_doc(section: str) -> None:
-    doc = ROOT / "docs" / "benchmarks.md"
-    text = doc.read_text()
-    pattern = re.compile(rf"^## {re.escape(SECTION)}\n.*?(?=^## |\Z)", re.S | re.M)
-    text = pattern.sub(lambda _: section + "\n", text) if pattern.search(text) else text.rstrip("\n") + "\n\n" + section
-    doc.write_text(text.rstrip("\n") + "\n")
+    """Replace this benchmark's section of docs/benchmarks.md (or append it)."""
+    common.write_doc(SECTION, section)
 
 
 def save(run: dict) -> None:

@@ -40,6 +40,8 @@ import tempfile
 import time
 from pathlib import Path
 
+import common
+
 ROOT = Path(__file__).resolve().parent.parent
 RESULTS = ROOT / "benchmarks" / "results" / "plan.json"
 DOC = ROOT / "docs" / "benchmarks.md"
@@ -152,21 +154,11 @@ def measure(label: str, parts: int, kits: int, args: argparse.Namespace, work: P
             "runs": len(walls), "plan_length": length,
             "minimum_length": minimum_length(parts, kits, per_part), "timing": timing,
             "load_before": os.getloadavg()[0], "date": dt.datetime.now(dt.timezone.utc).isoformat(timespec="seconds"),
-            "run": args.run, "cpu": cpu_model(),
+            "run": args.run, "cpu": common.cpu_model(),
         }
         print(json.dumps(results[key]), flush=True)
         save(results)
 
-
-def cpu_model() -> str:
-    """The processor's model name (``/proc/cpuinfo``), else the architecture."""
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.machine()
 
 
 def save(results: dict) -> None:
@@ -247,7 +239,7 @@ cells marked "earlier run" were not re-run in the latest run (their date is give
 NIST's encoding with ENHSP under kitkb's ENHSP settings (`-planner sat-hmrphj`), and kitkb's own
 numeric encoding (`--encoding numeric`, ENHSP with kitkb's settings).
 
-Machine of the latest run: {cpu_model()}, {os.cpu_count()} cores, Python {platform.python_version()} (an earlier
+Machine of the latest run: {common.cpu_model()}, {os.cpu_count()} cores, Python {platform.python_version()} (an earlier
 run names its CPU: compare figures of one CPU);
 latest run {day}, shared with other jobs (1-minute load average {loads[0]:.1f} to {loads[-1]:.1f} on 2 cores when runs started):
 wall times are pessimistic and noisy, CPU times are the steadier measure.

@@ -38,6 +38,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
+import common  # noqa: E402
+
 from kb.io import load  # noqa: E402
 from kb.model.definitions import load_definitions  # noqa: E402
 from kb.planning.model import read_specs  # noqa: E402
@@ -49,15 +51,6 @@ SECTION = "Predicates from geometry"
 RESULTS = ROOT / "benchmarks" / "results" / "predicates.json"
 KITKB = ROOT / ".venv" / "bin" / "kitkb"
 
-
-def cpu_model() -> str:
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown"
 
 
 def timed(fn, repeat: int) -> tuple[float, object]:  # noqa: ANN001
@@ -143,7 +136,7 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         init, goal = generate(args.parts, args.kits, Path(tmp))
         r = measure(init, goal, args.repeat)
-    r.update(date=dt.date.today().isoformat(), cpu=cpu_model(), cores=os.cpu_count(), parts=args.parts,
+    r.update(date=dt.date.today().isoformat(), cpu=common.cpu_model(), cores=os.cpu_count(), parts=args.parts,
              kits=args.kits, repeat=args.repeat)
     for k, v in r.items():
         print(f"{k:>24}: {v:.3f}" if isinstance(v, float) else f"{k:>24}: {v}")

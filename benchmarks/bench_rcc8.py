@@ -42,6 +42,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
+import common  # noqa: E402
+
 from kb.spatial.rcc8 import BIT, DEFAULT_TOLERANCE, RELATIONS, relate, relate_pair  # noqa: E402
 
 SECTION = "Spatial relations (3-D RCC8)"
@@ -239,11 +241,7 @@ def render(run: dict) -> str:
 
 def write_doc(section: str) -> None:
     """Replace this benchmark's section of docs/benchmarks.md (or append it)."""
-    doc = ROOT / "docs" / "benchmarks.md"
-    text = doc.read_text()
-    pattern = re.compile(rf"^## {re.escape(SECTION)}\n.*?(?=^## |\Z)", re.S | re.M)
-    text = pattern.sub(lambda _: section + "\n", text) if pattern.search(text) else text.rstrip("\n") + "\n\n" + section
-    doc.write_text(text.rstrip("\n") + "\n")
+    common.write_doc(SECTION, section)
 
 
 def save(run: dict) -> None:
