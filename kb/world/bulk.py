@@ -9,7 +9,6 @@ SQLite date and time forms with SQLAlchemy's own). No SQLAlchemy import here.
 from __future__ import annotations
 
 import datetime as _dt
-import io
 from typing import Any, Callable, Iterable, Iterator, Sequence
 
 from kb.world.plan import load_plan
@@ -106,9 +105,3 @@ def copy_buffers(tables: Iterable[tuple[str, list[str], Rows]]) -> Iterator[tupl
         for start in range(0, len(rows), COPY_ROWS):
             text = "\n".join([line(row) for row in rows[start:start + COPY_ROWS]]) + "\n"
             yield sql, text.encode("utf-8")
-
-
-def copy_postgresql(cur: Any, tables: Iterable[tuple[str, list[str], Rows]]) -> None:
-    """``COPY ... FROM STDIN`` every table (psycopg2's ``copy_expert``)."""
-    for sql, data in copy_buffers(tables):
-        cur.copy_expert(sql, io.BytesIO(data), 1 << 20)

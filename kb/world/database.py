@@ -16,9 +16,6 @@ import json
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from rdflib import BNode, URIRef
-from rdflib.term import Node
-
 from kb import __version__
 from kb.core.errors import InputError
 from kb.world import sqlite
@@ -128,17 +125,6 @@ def stamp_values(**extra: str) -> dict[str, str]:
             "kitkb_version": __version__, "stable_state": "0", **extra}
 
 
-def stamp(conn: Connection, **extra: str) -> None:
-    """Write the schema fingerprint and ontology versions into ``kitkb_meta``."""
-    from sqlalchemy import delete, insert
-
-    from kb.world.schema import model
-
-    meta = model().table("kitkb_meta")
-    conn.execute(delete(meta))
-    conn.execute(insert(meta), [{"key": k, "value": v} for k, v in sorted(stamp_values(**extra).items())])
-
-
 def read_meta(conn: Connection) -> dict[str, str]:
     """The ``kitkb_meta`` entries."""
     from sqlalchemy import select
@@ -244,18 +230,6 @@ def _drop_sqlite(engine: Engine) -> None:
             cur.execute("PRAGMA foreign_keys = ON")
     finally:
         raw.close()
-
-
-# --- terms ------------------------------------------------------------------------------------
-
-def term_key(node: Node) -> str:
-    """How a node is written in IRI columns: the IRI, or ``_:label`` for a blank node."""
-    return f"_:{node}" if isinstance(node, BNode) else str(node)
-
-
-def key_term(key: str) -> URIRef | BNode:
-    """The node of a :func:`term_key` string."""
-    return BNode(key[2:]) if key.startswith("_:") else URIRef(key)
 
 
 def model() -> Any:

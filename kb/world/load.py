@@ -16,8 +16,8 @@ from __future__ import annotations
 import datetime as _dt
 import io
 import json
-import sqlite3 as _sqlite3
 import queue
+import sqlite3 as _sqlite3
 import threading
 import uuid
 from dataclasses import dataclass, field
@@ -25,14 +25,12 @@ from functools import partial
 from pathlib import Path
 from typing import Any, Callable
 
-from rdflib import Graph
 
 from kb.core.errors import InputError
 from kb.core.memory import gc_paused
 from kb.core.namespaces import PREFIXES, local_name
-from kb.io.loader import load_file
-from kb.world.bulk import copy_buffers, insert_sqlite
 from kb.world import sqlite
+from kb.world.bulk import copy_buffers, insert_sqlite
 from kb.world.database import (DEFAULT_DB, SchemaVersionError, first_line, normalize_url, open_engine,
                                other_version, safe_url, sqlite_file, stamp_values)
 from kb.world.ddl import kitkb_tables, load_ddl
@@ -46,13 +44,6 @@ _CORE_PREFIXES = {"owl": "http://www.w3.org/2002/07/owl#",
                   "xsd": "http://www.w3.org/2001/XMLSchema#"}
 #: Key of the PostgreSQL advisory lock loads take (two loads into one database queue).
 _PG_LOCK = 0x6B69746B62  # "kitkb"
-
-
-def read_data(path: str | Path) -> tuple[Graph, Any]:
-    """The statements of one data file as an rdflib graph, and a line finder (for tools and
-    tests; :func:`load` does not build a graph)."""
-    src = load_file(Path(path))
-    return src.graph, src.line_of
 
 
 @dataclass
