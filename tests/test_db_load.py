@@ -373,3 +373,19 @@ def test_sqlite_dates_and_times_are_stored_as_sqlalchemy_stores_them():
     day = dt.date(1999, 12, 31)
     assert sqlite_datetime(stamp) == DateTime(timezone=True).dialect_impl(dialect).bind_processor(dialect)(stamp)
     assert sqlite_date(day) == Date().dialect_impl(dialect).bind_processor(dialect)(day)
+
+
+def test_a_new_file_ignores_what_a_deleted_database_left_beside_it(tmp_path):
+    """A database deleted by hand while a writer was killed leaves a hot journal behind; the
+    load that makes a new file of that name must not be rolled back with it (SQLite drops a
+    journal, or a write-ahead log, found beside an empty database file)."""
+    target = tmp_path / "w.sqlite"
+    writer = ("import sqlite3, os, sys; c = sqlite3.connect(sys.argv[1], isolation_level=None); "
+              "c.execute('CREATE TABLE kitkb_meta (key TEXT, value TEXT)'); "
+              "c.executemany('INSERT INTO kitkb_meta VALUES (?, ?)', [(str(i), 'x' * 500) for i in range(2000)]); "
+              "c.execute('BEGIN'); c.execute('UPDATE kitkb_meta SET value = ?', ('y' * 600,)); os._exit(0)")
+    subprocess.run([sys.executable, "-c", writer, str(target)], check=True, timeout=120)
+    assert Path(str(target) + "-journal").stat().st_size > 0  # a hot journal
+    target.unlink()
+    world.load(SMALL, target)
+    assert _same_as(world.normalize_url(target), SMALL)
