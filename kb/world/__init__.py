@@ -2,16 +2,18 @@
 reads and writes.
 
 :func:`load` fills the database from a data file in one transaction (:mod:`.load`: the file
-streamed into rows, :mod:`.rows`, written in bulk, :mod:`.bulk`, into tables made by
-:mod:`.ddl`); :func:`dump` streams it back as Turtle (:mod:`.dump`); :class:`WorldModel`
-(:mod:`.worldmodel`) reads objects, poses and the transformation tree and stores sensed poses
-with eq. (1), alone or in stable-state batches (:mod:`.poses`: the batch arithmetic).
-:mod:`.database` opens databases and checks their version stamp, :mod:`.schema` maps classes
-and properties to the tables of the generated accessors (:mod:`.generated.accessors`),
+read as a stream, :mod:`.triples`, into rows, :mod:`.rows`, written in bulk, :mod:`.bulk`,
+into tables made by :mod:`.ddl`); :func:`dump` streams it back as Turtle (:mod:`.dump`);
+:class:`WorldModel` (:mod:`.worldmodel`) reads objects, poses and the transformation tree and
+stores sensed poses with eq. (1), alone or in stable-state batches (:mod:`.poses`: the batch
+arithmetic and the kept tree). :mod:`.database` opens databases and checks their version
+stamp (:mod:`.sqlite`: SQLite files as kitkb opens them), :mod:`.schema` maps classes and
+properties to the tables of the generated accessors (:mod:`.generated.accessors`), :mod:`.plan`
+is the same as plain data for loads, kept with the tables and DDL in :mod:`.cache`;
 :mod:`.values` converts literals to column values and back.
 
 The world model API is imported on first use (``kb.world.WorldModel``), so ``kitkb db load``
-does not import numpy.
+imports neither numpy nor, for an SQLite file, SQLAlchemy.
 """
 
 from __future__ import annotations
