@@ -37,7 +37,9 @@ import numpy as np
 
 REPO = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))
+sys.path.insert(0, str(REPO / "benchmarks"))
 
+from common import cpu_model  # noqa: E402
 from kb import world  # noqa: E402
 from kb.spatial.transforms import from_xyz_rpy  # noqa: E402
 
@@ -52,15 +54,9 @@ assert len(store) > 0
 
 def machine() -> dict[str, str]:
     """The machine and the versions that ran the benchmark."""
-    cpu = platform.processor() or "unknown CPU"
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
     import pyoxigraph
+
+    cpu = cpu_model()
 
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     return {"cpu": cpu, "cores": str(os.cpu_count()), "system": f"{platform.system()} {platform.release()}",
