@@ -31,18 +31,6 @@ SMALL = SCENARIOS["small-kit"] / "init.ttl"
 OTHER = SCENARIOS["two-designs"] / "init.ttl"
 
 
-@pytest.fixture(params=["sqlite", pytest.param("postgresql", marks=pytest.mark.postgres)])
-def url(request, tmp_path):
-    if request.param == "sqlite":
-        yield world.normalize_url(tmp_path / "world.sqlite")
-        return
-    if not PG_URL:
-        pytest.skip("KITKB_PG_URL is not set")
-    world.drop_all(PG_URL)
-    yield PG_URL
-    world.drop_all(PG_URL)
-
-
 def _same_as(url: str, path: Path) -> bool:
     return isomorphic(world.read_graph(url), load_file(path).graph)
 

@@ -30,18 +30,6 @@ NIST = NIST_DIR
 PG_URL = os.environ.get("KITKB_PG_URL")
 
 
-@pytest.fixture(params=["sqlite", pytest.param("postgresql", marks=pytest.mark.postgres)])
-def url(request, tmp_path):
-    if request.param == "sqlite":
-        yield world.normalize_url(tmp_path / "world.sqlite")
-        return
-    if not PG_URL:
-        pytest.skip("KITKB_PG_URL is not set")
-    world.drop_all(PG_URL)
-    yield PG_URL
-    world.drop_all(PG_URL)
-
-
 def _data_files() -> list[Path]:
     files = [d / f for d in scenario_dirs() for f in ("init.ttl", "goal.ttl") if (d / f).is_file()]
     files += [NIST / f for f in ("kittingInstancesInit1.owl", "kittingInstancesGoal1.owl") if (NIST / f).is_file()]

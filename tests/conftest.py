@@ -1,0 +1,25 @@
+"""Fixtures the database tests share."""
+
+from __future__ import annotations
+
+import os
+
+import pytest
+
+from kb import world
+
+PG_URL = os.environ.get("KITKB_PG_URL")
+
+
+@pytest.fixture(params=["sqlite", pytest.param("postgresql", marks=pytest.mark.postgres)])
+def url(request, tmp_path):
+    """A world-model database URL: a new SQLite file, and the test PostgreSQL server (wiped
+    before and after) when ``KITKB_PG_URL`` is set."""
+    if request.param == "sqlite":
+        yield world.normalize_url(tmp_path / "world.sqlite")
+        return
+    if not PG_URL:
+        pytest.skip("KITKB_PG_URL is not set")
+    world.drop_all(PG_URL)
+    yield PG_URL
+    world.drop_all(PG_URL)
