@@ -26,7 +26,7 @@ import re
 import time
 from collections import deque
 from dataclasses import dataclass, field
-from typing import Any, Callable, Protocol
+from typing import Callable, Protocol
 
 import numpy as np
 
@@ -38,7 +38,7 @@ from kb.diagnosis import diagnose
 from kb.execution.belief import SKU_OF, Belief
 from kb.execution.records import (ActionRecord, AtomCheck, Check, FailureRecord, RunRecord, Sighting, local)
 from kb.execution.targets import TargetError, Targets, raised
-from kb.model.definitions import Definitions, Exists, Relation
+from kb.model.definitions import Definitions, variable_classes
 from kb.model.failures import EFF, PRE, FailureModel, FailureModeDef
 from kb.model.soap import ActionSpec, DomainSpec
 from kb.planning.problem import ProblemSpec
@@ -205,7 +205,7 @@ class Executor:
                 if p is None:
                     continue
                 classes.update(c for c in (p.reference_type, p.target_type) if c)
-                classes.update(_variable_classes(p.formula))
+                classes.update(variable_classes(p.formula))
             if action == "take-part":
                 classes.add(str(KTW.Part))
             self._focus[action] = classes
@@ -560,23 +560,3 @@ def _along(d: float) -> np.ndarray:
     m = np.eye(4)
     m[2, 3] = d
     return m
-
-
-def _variable_classes(formula: Any) -> set[str]:
-    out: set[str] = set()
-    stack = [formula]
-    while stack:
-        f = stack.pop()
-        if isinstance(f, Exists):
-            out.add(f.variable.cls)
-        var = getattr(f, "variable", None)
-        if var is not None and hasattr(var, "cls"):
-            out.add(var.cls)
-        for attr in ("operands",):
-            stack.extend(getattr(f, attr, ()))
-        for attr in ("operand", "body", "condition"):
-            if hasattr(f, attr):
-                stack.append(getattr(f, attr))
-        if isinstance(f, Relation):
-            continue
-    return out

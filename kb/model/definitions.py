@@ -489,19 +489,16 @@ class _Reader:
                                "unionOf, intersectionOf, complementOf or a named class")
 
 
-def relation_iris(defs: Definitions) -> Iterable[str]:
-    """The relations that predicates use (for documentation and tests)."""
-    seen: set[str] = set()
+def subformulas(formula: Formula) -> Iterable[Formula]:
+    """``formula`` and every formula inside it (operands, bodies, count conditions)."""
+    stack = [formula]
+    while stack:
+        f = stack.pop()
+        yield f
+        stack.extend(getattr(f, "operands", ()))
+        stack.extend(getattr(f, attr) for attr in ("operand", "body", "condition") if hasattr(f, attr))
 
-    def walk(f) -> None:  # noqa: ANN001
-        if isinstance(f, Relation):
-            seen.add(f.relation)
-        for attr in ("operands",):
-            for o in getattr(f, attr, ()):
-                walk(o)
-        for attr in ("operand", "body", "condition"):
-            if hasattr(f, attr):
-                walk(getattr(f, attr))
-    for p in defs.predicates.values():
-        walk(p.formula)
-    return sorted(seen)
+
+def variable_classes(formula: Formula) -> set[str]:
+    """Classes the quantified variables of ``formula`` range over (what it searches)."""
+    return {f.variable.cls for f in subformulas(formula) if isinstance(f, (Exists, Count))}
