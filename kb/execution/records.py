@@ -6,7 +6,7 @@ JSON report (:meth:`RunRecord.report`); the executives' API (:mod:`kb.execution.
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 from typing import Any
 
 
@@ -145,6 +145,3 @@ class RunRecord:
                           "outcome": f.outcome} for f in self.failures],
             "time_s": round(self.ended - self.started, 3),
         }
-
-    def as_dict(self) -> dict[str, Any]:
-        return asdict(self)

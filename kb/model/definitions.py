@@ -156,7 +156,6 @@ class Exists:
 
 
 Formula = Union[And, Or, Not, Exists, Relation, Sku, Model, Count, Sensor, PredicateLeaf]
-ATOMS = (Relation, Sku, Model, Count, Sensor, PredicateLeaf)
 
 
 # ------------------------------------------------------------------------------ relations
@@ -170,10 +169,6 @@ class RelationExpr:
     op: str
     name: str = ""
     args: tuple["RelationExpr", ...] = ()
-
-    def primitives(self) -> set[str]:
-        """The primitive relations the expression mentions."""
-        return {self.name} if self.op == "prim" else set().union(*(a.primitives() for a in self.args))
 
 
 # ------------------------------------------------------------------------------ definitions
