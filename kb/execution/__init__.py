@@ -2,9 +2,10 @@
 
 :func:`run_scenario` / :func:`run_plan` carry out a plan on a cell (simulated by default) and
 return a :class:`Run` to query (failures by kit, action, predicate, mode and time; the history;
-why an action failed). Inside: the executor (:mod:`.executor`), its belief of the cell
-(:mod:`.belief`), late-bound CRCL targets (:mod:`.targets`), the records a run leaves
-(:mod:`.records`).
+why an action failed). Inside: the executor (:mod:`.executor`), its recovery from failed
+checks (:mod:`.recovery`: diagnosis, retry, rebind, replan, stop), the plan's steps
+(:mod:`.steps`), its belief of the cell (:mod:`.belief`), late-bound CRCL targets
+(:mod:`.targets`), the records a run leaves (:mod:`.records`) and their store (:mod:`.store`).
 """
 
 from kb.execution.api import Run, open_run, run_plan, run_scenario

@@ -7,7 +7,9 @@ JSON report (:meth:`RunRecord.report`); the executives' API (:mod:`kb.execution.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Protocol
+
+import numpy as np
 
 
 def local(iri: str) -> str:
@@ -145,3 +147,14 @@ class RunRecord:
                           "outcome": f.outcome} for f in self.failures],
             "time_s": round(self.ended - self.started, 3),
         }
+
+
+class StoreLike(Protocol):
+    """Where stable states and run records go (:class:`kb.execution.store.RunStore`)."""
+
+    def begin_run(self, record: RunRecord, init: object = None, goal: object = None) -> None: ...
+    def end_run(self, record: RunRecord) -> None: ...
+    def poses_changed(self, poses: dict[str, np.ndarray]) -> None: ...
+    def commit_stable(self, action_index: int) -> None: ...
+    def record_failure(self, failure: FailureRecord) -> None: ...
+    def record_action(self, action: ActionRecord) -> None: ...

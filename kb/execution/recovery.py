@@ -1,0 +1,269 @@
+"""Recovery: what the executor does when a check fails.
+
+A violated check is diagnosed (:mod:`kb.diagnosis`: the ontology's failure modes of that action
+and phase), recorded with the objects' expected and seen positions (:class:`FailureRecord`),
+notified (the remediation's recipients) and recovered as the remediation says:
+
+* **retry** the action, up to the remediation's limit;
+* **rebind**: another usable part of the planned part's SKU lying in a parts tray replaces the
+  missing or defective one, in this step and the rest of the plan;
+* **replan** from the current state, decided from geometry, with the same goal
+  (:mod:`kb.planning.replan`), parts the executor rejected excluded;
+* **stop** for an operator (:class:`~kb.execution.steps.Stop`), saying why.
+
+:class:`Recovery` is the half of :class:`kb.execution.executor.Executor` that does this; the
+executor provides the cell, the belief, the records and the methods declared at the top.
+"""
+
+from __future__ import annotations
+
+import time
+from collections import deque
+from typing import Callable
+
+import numpy as np
+
+from kb.core.errors import NotSolvableError
+from kb.core.namespaces import KTW
+from kb.crcl import COMMANDS, EndCanon, InitCanon, Message, MoveTo, Pose
+from kb.crcl.cell import CellInterface, execute_program
+from kb.diagnosis import diagnose
+from kb.execution.belief import SKU_OF, Belief
+from kb.execution.records import AtomCheck, Check, FailureRecord, RunRecord, Sighting, StoreLike, local
+from kb.execution.steps import Fields, Step, Stop
+from kb.execution.targets import Targets, raised
+from kb.model.failures import FailureModel, FailureModeDef
+from kb.model.soap import DomainSpec
+from kb.planning.problem import ProblemSpec
+from kb.planning.replan import replan
+from kb.planning.state import pddl_name
+from kb.spatial.predicates import Evaluator
+
+
+class Recovery:
+    """Diagnosis, records and recovery of failed checks (a base of the executor)."""
+
+    cell: CellInterface
+    domain: DomainSpec
+    spec: ProblemSpec
+    failures: FailureModel
+    belief: Belief
+    store: StoreLike | None
+    notifier: Callable[[str, str], None]
+    planner: str | None
+    max_replans: int
+    record: RunRecord
+    by_name: dict[str, str]
+    stable: np.ndarray
+    targets: Targets
+    taken_from: dict[str, np.ndarray]
+    _queue: deque
+
+    # provided by the executor
+    def evaluator(self) -> Evaluator:
+        raise NotImplementedError
+
+    def parse_plan(self, lines: list[str]) -> list[Step]:
+        raise NotImplementedError
+
+    def _sense_all(self) -> None:
+        raise NotImplementedError
+
+    def _say(self, text: str) -> None:
+        raise NotImplementedError
+
+    # --- failures -------------------------------------------------------------------
+    def _failed(self, step: Step, i: int, phase: str, check: Check, queue: deque) -> str:
+        violated = check.violated
+        diag = diagnose(self.failures, self.evaluator(), step.action, phase, {a.predicate for a in violated},
+                        step.args)
+        failure = self._record_failure(i, step, phase, violated, diag)
+        return self._recover(step, i, queue, failure, diag.mode)
+
+    def _record_failure(self, i: int, step: Step, phase: str, violated: list[AtomCheck], diag) -> FailureRecord:  # noqa: ANN001
+        names = []
+        for a in violated:
+            names.extend(x for x in a.args if x not in names)
+        sightings = []
+        for n in names:
+            j = self.belief.index.get(n)
+            if j is None:
+                continue
+            exp = None if np.isnan(self.stable[j, 0, 0]) else tuple(float(v) for v in self.stable[j, :3, 3])
+            seen = tuple(float(v) for v in self.belief.poses[j, :3, 3]) if self.belief.placed(n) else None
+            sightings.append(Sighting(n, exp, seen))
+        mode = diag.mode
+        failure = FailureRecord(i, step.action, tuple(step.args.values()), phase, list(violated), sightings,
+                                diag.name, mode.consequence if mode else "", mode.severity if mode else 0,
+                                time=time.perf_counter(), considered=list(diag.considered),
+                                kit=self._kit_of(step))
+        self.record.failures.append(failure)
+        self._say(f"  failure at action {i} ({step.line()}, {phase}): " + ", ".join(a.text() for a in violated)
+                  + f" -> {failure.mode}")
+        if mode is not None:
+            fields = Fields({k: local(v) for k, v in step.args.items()})
+            for n in mode.remediation.notifications:
+                self.notifier(n.recipient, n.message.format_map(fields))
+        return failure
+
+    def _kit_of(self, step: Step) -> str | None:
+        """The kit an action works for: its kit argument, the kit its part is planned for, or
+        the kit of its kit tray."""
+        if "kit" in step.args:
+            return step.args["kit"]
+        part = step.args.get("part")
+        if part is not None:
+            for s in self._queue:
+                if s.action == "put-part" and s.args.get("part") == part:
+                    return s.args.get("kit")
+        tray = step.args.get("kittray")
+        if tray is not None:
+            kits = [k for k, t in self.belief.facts.get(str(KTW.hasKit_KitTray), ()) if t == tray]
+            return kits[0] if kits else None
+        return None
+
+    def _recover(self, step: Step, i: int, queue: deque, failure: FailureRecord, mode: FailureModeDef | None) -> str:
+        rem = mode.remediation if mode is not None else None
+        kind = rem.recovery if rem is not None else "Replan"
+        if rem is not None and (kind == "Abort" or rem.operator):
+            why = "the remediation asks for an operator" if rem.operator else "the remediation aborts the run"
+            failure.recovery, failure.outcome = "stop", "stopped for an operator" if rem.operator else "aborted"
+            self._store_failure(failure)
+            raise Stop(f"{failure.mode} at action {i} {step.line()}: {mode.consequence if mode else ''} "
+                       f"({why})" + self._shortage(step, queue))
+        if kind == "RetryAction" and step.retries < (rem.max_retries if rem else 0):
+            step.retries += 1
+            failure.recovery, failure.outcome = "retry", f"retry {step.retries} of {rem.max_retries}"
+            self._store_failure(failure)
+            queue.appendleft(step)
+            return "next"
+        if failure.mode in ("part-missing-from-tray", "parts-tray-empty", "defective-part"):
+            return self._rebind_or_replan(step, i, queue, failure, failure.mode)
+        if failure.mode == "wrong-sku":
+            self._reject_held(step.args["part"])
+        if kind == "ExecuteRecoveryPlan" and rem is not None and rem.plan:
+            # the recovery plan's actions (e.g. attach-endeffector) need arguments the failed
+            # step does not have; the planner finds them, from the current state
+            failure.recovery = "recovery-plan (" + ", ".join(rem.plan) + ") by replanning"
+        return self._replan(queue, failure)
+
+    def _rebind_or_replan(self, step: Step, i: int, queue: deque, failure: FailureRecord | None, why: str) -> str:
+        old = step.args["part"]
+        new = self._another_part(old, queue)
+        if new is None:
+            return self._replan(queue, failure)
+        part, tray = new
+        self._substitute(old, part, queue)
+        step.args["part"], step.args["partstray"] = part, tray
+        if failure is not None:
+            failure.recovery, failure.outcome = "rebind", f"recovered: bound {local(part)} from {local(tray)}"
+            self._store_failure(failure)
+        self._say(f"  rebound {local(old)} -> {local(part)} ({why})")
+        queue.appendleft(step)
+        return "next"
+
+    def _shortage(self, step: Step, queue: deque) -> str:
+        """Why a part to take cannot be replaced: no usable part of its SKU left in a tray."""
+        part = step.args.get("part") if step.action == "take-part" else None
+        if part is None or self._another_part(part, queue) is not None:
+            return ""
+        return f"; no usable part of {local(self._planned_sku(part))} is left in a parts tray"
+
+    def _another_part(self, old: str, queue: deque, exclude: set[str] = frozenset()) -> tuple[str, str] | None:  # type: ignore[assignment]
+        """A usable part of ``old``'s SKU lying in a parts tray, preferring one the rest of the
+        plan does not use."""
+        sku = self._planned_sku(old)
+        ev = self.evaluator()
+        refs, trays, truth = ev.table("part-location-partstray")
+        later = {a for s in queue for a in s.args.values()}
+        found = []
+        for r, t in zip(*np.nonzero(truth)):
+            p = refs[r]
+            if p == old or p in exclude or p in self.belief.rejected or self.belief.related(SKU_OF, p) != [sku]:
+                continue
+            found.append((p in later, p, trays[t]))
+        if not found:
+            return None
+        found.sort()
+        return found[0][1], found[0][2]
+
+    def _planned_sku(self, part: str) -> str:
+        name = pddl_name(part)
+        for f in self.spec.facts:
+            if f[0] == "part-sku" and f[1] == name:
+                return self.by_name.get(f[2], f[2])
+        skus = self.belief.related(SKU_OF, part)
+        return skus[0] if skus else ""
+
+    def _substitute(self, old: str, new: str, queue: deque) -> None:
+        """``new`` replaces ``old`` in the rest of the plan; steps that planned to use ``new``
+        get another usable part of its SKU (``old`` only if it is still usable, so a part known
+        missing or rejected never comes back into the plan)."""
+        took_new = [s for s in queue if new in s.args.values()]
+        for s in queue:
+            for k, v in s.args.items():
+                if v == old:
+                    s.args[k] = new
+        if not took_new:
+            return
+        usable = old not in self.belief.rejected and self._in_a_tray(old)
+        # a spare the rest of the plan does not take already (else the SKU would come up one
+        # part short far later, at a step no fault touched)
+        later = {a for s in queue if s not in took_new for a in s.args.values()}
+        spare = (old, None) if usable else self._another_part(new, queue, exclude={old} | later)
+        for s in took_new:
+            for k, v in list(s.args.items()):
+                if v == new and k == "part":
+                    s.args["part"] = spare[0] if spare else old
+                    if spare and spare[1] is not None and "partstray" in s.args:
+                        s.args["partstray"] = spare[1]
+
+    def _in_a_tray(self, part: str) -> bool:
+        refs, _trays, truth = self.evaluator().table("part-location-partstray", [part])
+        return bool(truth.any())
+
+    def _reject_held(self, part: str) -> None:
+        """Put a held part that must not go into a kit back where it was taken."""
+        self.belief.rejected.add(part)
+        grasp = self.taken_from.get(part)
+        if grasp is None:
+            return
+        commands = [InitCanon(), Message(f"reject {local(part)}"), MoveTo(Pose.from_matrix(raised(grasp, 0.1))),
+                    MoveTo(Pose.from_matrix(grasp)), COMMANDS["OpenGripper"](),
+                    MoveTo(Pose.from_matrix(raised(grasp, 0.1))), EndCanon()]
+        execute_program(self.cell, commands)
+        self.targets.tip = raised(grasp, 0.1)
+        self._say(f"  rejected {local(part)}: put back where it was taken")
+
+    def _replan(self, queue: deque, failure: FailureRecord | None) -> str:
+        if self.record.replans >= self.max_replans:
+            raise Stop(f"gave up after {self.record.replans} replans")
+        self.record.replans += 1
+        self._sense_all()
+        ev = self.evaluator()
+        facts = {(n, *map(pddl_name, a)) for n, a in ev.facts()}
+        values: dict[tuple[str, ...], float] = {}
+        for fn in self.domain.functions:
+            for args, v in ev.function_values(fn).items():
+                values[(fn, *map(pddl_name, args))] = v
+        excluded = {pddl_name(p) for p in self.belief.rejected}
+        try:
+            result = replan(self.domain, self.spec, facts, values, excluded, self.planner)
+        except Exception as e:  # no plan, or a planner that broke: the run stops, saying why
+            why = str(e) if isinstance(e, NotSolvableError) else f"replanning failed: {type(e).__name__}: {e}"
+            if failure is not None:
+                failure.recovery, failure.outcome = "replan", f"stopped: {why}"
+                self._store_failure(failure)
+            raise Stop(why) from None
+        queue.clear()
+        queue.extend(self.parse_plan(result.lines))
+        if failure is not None:
+            failure.recovery = failure.recovery or "replan"
+            failure.outcome = failure.outcome or f"recovered: new plan of {len(result.lines)} actions"
+            self._store_failure(failure)
+        self._say(f"  replanned: {len(result.lines)} actions")
+        return "next"
+
+    def _store_failure(self, failure: FailureRecord) -> None:
+        if self.store is not None:
+            self.store.record_failure(failure)
