@@ -29,10 +29,11 @@ from typing import Any, Sequence
 
 import numpy as np
 from sqlalchemy import (Boolean, Column, DateTime, Float, ForeignKey, Integer, MetaData, String, Table, Text,
-                        func, insert, select, update)
+                        func, insert, select, text, update)
 
 from kb.core.resources import ontology_path
 from kb.io import load_file
+from kb.core.units import LENGTH
 from kb.execution.records import ActionRecord, AtomCheck, FailureRecord, RunRecord, Sighting
 from kb.world import LoadReport, load, normalize_url, open_engine
 
@@ -121,6 +122,7 @@ class RunStore:
         self.world = WorldModel(self.url)
         self.run_id: int | None = None
         self.pending: dict[str, np.ndarray] = {}
+        self.metres = _metres(self.engine)  # poses are sensed in metres; the database keeps its file's unit
         self.failures = 0
         self._known: set[str] | None = None
         self._started = dt.datetime.now(dt.timezone.utc)
@@ -148,7 +150,7 @@ class RunStore:
     def poses_changed(self, poses: dict[str, np.ndarray]) -> None:
         """Sensed global poses, kept until the next stable state."""
         known = self._names()
-        self.pending.update({n: m for n, m in poses.items() if n in known})
+        self.pending.update({n: _in_units(m, self.metres) for n, m in poses.items() if n in known})
 
     def commit_stable(self, action_index: int) -> None:
         """The action's effects hold: its sensed poses become the database's stable state."""
@@ -238,3 +240,19 @@ def read_run(url: str | Path, run_id: int | None = None) -> RunRecord:
             return rec
     finally:
         engine.dispose()
+
+
+def _metres(engine: Any) -> float:
+    """Metres per length unit of the world model in the database (its workstation's unit)."""
+    with engine.connect() as conn:
+        unit = conn.execute(text("SELECT length_unit FROM ktw_kitting_workstation")).scalar()
+    return LENGTH.get(str(unit), 1.0) if unit is not None else 1.0
+
+
+def _in_units(pose: np.ndarray, metres: float) -> np.ndarray:
+    """A global pose sensed in metres, with its translation in the database's length unit."""
+    if metres == 1.0:
+        return pose
+    out = np.array(pose, float)
+    out[:3, 3] /= metres
+    return out

@@ -20,6 +20,13 @@ Geometry, as the kitting model states it:
 * an object's box in the world is the axis-aligned box of its oriented local box
   (:func:`kb.spatial.rcc8.world_boxes`).
 
+Units: a scene is always in SI (metres, radians, kilograms), whatever the units the
+workstation declares (``hasKittingWorkstation_LengthUnit`` etc.): every value of a data
+property the kitting model annotates with a ``ktw:quantityKind`` (points, vectors' lengths are
+unitless, shapes, cup diameters, weights) is converted when the file is read, and
+:attr:`Scene.units` keeps the file's units for what goes back to it (database poses, reports).
+A unit kitkb cannot convert is an :class:`~kb.core.errors.InputError` at its line.
+
 Objects with no pose (declared in another state file only, such as NIST's kits, which first
 appear in the goal; or individuals that are not solids: SKUs, designs) are in the scene for
 the non-spatial atoms and have no box (``placed`` is False): spatial atoms are false for them.
@@ -29,6 +36,7 @@ from __future__ import annotations
 
 from collections import defaultdict
 from dataclasses import dataclass, field
+from decimal import Decimal
 from functools import lru_cache
 from pathlib import Path
 from typing import Iterable, Sequence
@@ -40,8 +48,10 @@ from rdflib.namespace import OWL, RDF, RDFS
 from kb.core.errors import InputError
 from kb.core.namespaces import KTW
 from kb.core.resources import ontology_path
+from kb.core.units import SI, Units
 from kb.io import load, load_file
 from kb.io.views import TripleView
+from kb.model.units import quantity_kinds, read_units
 from kb.spatial.rcc8 import world_boxes
 from kb.spatial.transforms import pose_matrix
 
@@ -105,6 +115,8 @@ class Scene:
     open_top: np.ndarray | None = None
     #: a kit design's slot (``PartRefAndPose`` IRI) -> its pose in the kit tray's frame
     slots: dict[str, np.ndarray] = field(default_factory=dict)
+    #: the units of the file the scene was read from (its numbers are SI: metres, radians, kg)
+    units: Units = SI
 
     def __post_init__(self) -> None:
         k = len(self.names)
@@ -206,6 +218,10 @@ class _Builder:
 
     def __init__(self, views: list, extra: list, path: str, locate) -> None:  # noqa: ANN001
         self.views, self.extra, self.path, self.locate = views, extra, path, locate
+        self.units = read_units(views, path, locate)
+        kinds = quantity_kinds()
+        #: data property -> SI per file unit, for the properties that hold a quantity
+        self.scale = {p: self.units.factor(k) for p, k in kinds.items()}
 
     def value(self, s, p, everywhere: bool = False):  # noqa: ANN001, ANN201
         """The value of (s, p) in the state's files (with ``everywhere``, also the declared ones)."""
@@ -242,7 +258,7 @@ class _Builder:
         self.shape(names, classes, index, poses, llo, lhi, open_top)
         lo, hi = _boxes(poses, llo, lhi)
         return Scene([str(n) for n in names], classes, lo, hi, facts, values, {}, poses, self.path, parents,
-                     llo, lhi, open_top, self.slots(asserted))
+                     llo, lhi, open_top, self.slots(asserted), self.units)
 
     def slots(self, asserted: dict) -> dict[str, np.ndarray]:
         """Kit design slots: PartRefAndPose -> its pose (point, x and z axes) in the kit tray's frame."""
@@ -251,7 +267,7 @@ class _Builder:
 
         def num(node, prop) -> float:  # noqa: ANN001
             v = self.value(node, prop, everywhere=True)
-            return float(v.toPython()) if isinstance(v, Literal) else 0.0
+            return float(v.toPython()) * self.scale.get(str(prop), 1.0) if isinstance(v, Literal) else 0.0
         for n, cs in asserted.items():
             point = self.value(n, KTW.hasPartRefAndPose_Point, everywhere=True) if prp in cs else None
             if point is None:
@@ -277,8 +293,15 @@ class _Builder:
                 if o in individuals:
                     facts[str(p)].add((str(s), str(o)))
                 elif isinstance(o, Literal):
-                    values[str(p)].setdefault(str(s), o.toPython())
+                    values[str(p)].setdefault(str(s), self.quantity(str(p), o.toPython()))
         return dict(facts), dict(values)
+
+    def quantity(self, prop: str, v: object) -> object:
+        """A literal's value, in SI where ``prop`` holds a quantity."""
+        factor = self.scale.get(prop)
+        if factor is None or factor == 1.0 or isinstance(v, bool) or not isinstance(v, (int, float, Decimal)):
+            return v
+        return float(v) * factor
 
     # --- poses ----------------------------------------------------------------------
     def local(self, loc) -> np.ndarray | None:  # noqa: ANN001
@@ -298,7 +321,7 @@ class _Builder:
         if v is None:
             raise InputError(f"{_local(node)} has no {_local(prop)}", self.path, self.locate(node))
         try:
-            return float(v.toPython() if isinstance(v, Literal) else v)
+            return float(v.toPython() if isinstance(v, Literal) else v) * self.scale.get(str(prop), 1.0)
         except (TypeError, ValueError):
             raise InputError(f"{_local(node)}: {_local(prop)} is not a number: {v}", self.path,
                              self.locate(node)) from None

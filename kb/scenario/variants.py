@@ -1,0 +1,144 @@
+"""Variants of a state file: the same workstation written in another unit, or turned.
+
+What the first paper's test methods vary between runs (the location and yaw of kit trays and
+parts trays) and what other people's files differ in (millimetres, inches), made from any
+state file kitkb reads (Turtle, OWL functional syntax, RDF/XML):
+
+* :func:`rescale` rewrites every quantity in another unit of its kind — the values of the
+  data properties the kitting model annotates with ``ktw:quantityKind`` — and the
+  workstation's unit declaration: the same workstation, other numbers;
+* :func:`turn` turns the whole workstation about the world's z axis (every location given in
+  the workstation's frame), or named objects about their own z axis (their own pose
+  location; what they hold follows, its poses being relative to them).
+
+``kitkb scenario transform IN -o OUT --unit U --yaw DEG [--turn OBJ,...]`` is the command.
+"""
+
+from __future__ import annotations
+
+import math
+from decimal import Decimal
+from pathlib import Path
+from typing import Iterable
+
+import numpy as np
+from rdflib import Graph, Literal, URIRef
+from rdflib.namespace import RDF, XSD
+
+from kb.core.errors import InputError
+from kb.core.files import write_atomic
+from kb.core.namespaces import KTW, local_name
+from kb.core.units import KINDS
+from kb.io import load_file
+from kb.io.turtle import decimal, turtle
+from kb.model.units import UNIT_PROPS, quantity_kinds, read_units
+
+_POINT, _XAXIS, _ZAXIS = KTW.hasPoseLocation_Point, KTW.hasPoseLocation_XAxis, KTW.hasPoseLocation_ZAxis
+_XYZ = (KTW.hasPoint_X, KTW.hasPoint_Y, KTW.hasPoint_Z)
+_IJK = (KTW.hasVector_I, KTW.hasVector_J, KTW.hasVector_K)
+
+
+def number(v: float) -> Literal:
+    """``v`` as an ``xsd:decimal`` literal (12 decimals at most, as kitkb writes numbers)."""
+    return Literal(decimal(float(v)), datatype=XSD.decimal)
+
+
+def rescale(graph: Graph, kind: str, unit: str) -> Graph:
+    """``graph`` with every quantity of ``kind`` ("length", "angle", "weight") written in
+    ``unit``, and the workstation declaring it. The graph is changed in place and returned."""
+    if unit not in KINDS[kind]:
+        raise InputError(f"unknown {kind} unit {unit!r} (kitkb knows {', '.join(KINDS[kind])})")
+    prop = UNIT_PROPS[kind]
+    table = KINDS[kind]
+    workstations = list(graph.subject_objects(prop))
+    if not workstations:
+        raise InputError(f"no workstation declares its {kind} unit: nothing says what the numbers are")
+    old = {str(u).strip().lower() for _, u in workstations}
+    if len(old) > 1 or next(iter(old)) not in table:
+        raise InputError(f"{kind} unit {', '.join(sorted(old))} cannot be converted (kitkb knows {', '.join(table)})")
+    factor = table[old.pop()] / table[unit]
+    props = {URIRef(p) for p, k in quantity_kinds().items() if k == kind}
+    for s, p, o in list(graph):
+        if p in props and isinstance(o, Literal) and isinstance(o.toPython(), (int, float, Decimal)):
+            graph.remove((s, p, o))
+            graph.add((s, p, number(float(o.toPython()) * factor)))
+    for ws, u in workstations:
+        graph.remove((ws, prop, u))
+        graph.add((ws, prop, Literal(unit)))
+    return graph
+
+
+def turn(graph: Graph, yaw_deg: float, objects: Iterable[str] | None = None) -> Graph:
+    """``graph`` turned by ``yaw_deg`` degrees about z: with no ``objects``, the whole
+    workstation about the world's z axis (every location whose reference object is the
+    workstation); else each named object (local name or IRI) about its own z axis. Changed in
+    place and returned."""
+    r = _yaw(yaw_deg)
+    if objects is None:
+        ws = set(graph.subjects(RDF.type, KTW.KittingWorkstation))
+        if not ws:
+            raise InputError("no KittingWorkstation: nothing to turn the state about")
+        locations = [loc for loc, ref in graph.subject_objects(KTW.hasPhysicalLocation_RefObject)
+                     if ref in ws and not any((w, KTW.hasSolidObject_PrimaryLocation, loc) in graph for w in ws)]
+        for loc in _unique(locations):
+            _turn_location(graph, loc, r, move_point=True)
+        return graph
+    for name in objects:
+        obj = _find(graph, name)
+        loc = graph.value(obj, KTW.hasSolidObject_PrimaryLocation)
+        if loc is None:
+            raise InputError(f"{name} has no location to turn")
+        _turn_location(graph, loc, r, move_point=False)
+    return graph
+
+
+def write_variant(in_path: str | Path, out_path: str | Path, *, unit: str | None = None, yaw: float = 0.0,
+                  objects: Iterable[str] | None = None) -> int:
+    """Read a state file, turn it (``yaw`` degrees; the whole workstation or ``objects``) and
+    write it in ``unit``; the number of statements written (Turtle, atomically)."""
+    source = load_file(in_path)
+    graph = Graph()
+    for prefix, iri in source.graph.namespaces():
+        graph.bind(prefix, iri, override=False)
+    graph += source.graph
+    read_units([source.view()], str(in_path), source.line_of)  # a unit kitkb cannot convert: error at its line
+    if yaw:
+        turn(graph, yaw, objects)
+    if unit is not None:
+        rescale(graph, "length", unit)
+    write_atomic(Path(out_path), turtle(graph).encode("utf-8"))
+    return len(graph)
+
+
+def _yaw(deg: float) -> np.ndarray:
+    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def _unique(nodes: list) -> list:
+    seen: set = set()
+    return [n for n in nodes if not (n in seen or seen.add(n))]
+
+
+def _find(graph: Graph, name: str) -> URIRef:
+    if name.startswith(("http:", "https:", "urn:", "file:")):
+        return URIRef(name)
+    hits = {s for s in graph.subjects(KTW.hasSolidObject_PrimaryLocation) if local_name(s) == name}
+    if len(hits) != 1:
+        raise InputError(f"{'no' if not hits else 'more than one'} placed object named {name!r}")
+    return hits.pop()
+
+
+def _turn_location(graph: Graph, loc, r: np.ndarray, move_point: bool) -> None:  # noqa: ANN001
+    """Rotate a pose location's axes by ``r`` (and its point about the origin of its frame)."""
+    nodes = [(graph.value(loc, _POINT), _XYZ, move_point), (graph.value(loc, _XAXIS), _IJK, True),
+             (graph.value(loc, _ZAXIS), _IJK, True)]
+    for node, props, rotate in nodes:
+        if node is None or not rotate:
+            continue
+        v = np.array([float(graph.value(node, p).toPython()) if graph.value(node, p) is not None else 0.0
+                      for p in props])
+        for p, x in zip(props, r @ v):
+            for o in list(graph.objects(node, p)):
+                graph.remove((node, p, o))
+            graph.add((node, p, number(0.0 if abs(x) < 1e-12 else x)))
