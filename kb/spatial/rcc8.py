@@ -69,7 +69,8 @@ from typing import Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["BIT", "DEFAULT_TOLERANCE", "RELATIONS", "relate", "relate_pair", "world_boxes"]
+__all__ = ["BIT", "DEFAULT_TOLERANCE", "HEADING_MERGE", "RELATIONS", "frame_boxes", "heading_groups", "headings",
+           "relate", "relate_oriented", "relate_pair", "world_boxes"]
 
 #: The eight RCC8 relations of one axis, in mask order.
 RCC8: tuple[str, ...] = ("DC", "EC", "PO", "EQ", "TPP", "NTPP", "TPPi", "NTPPi")
@@ -447,3 +448,105 @@ def world_boxes(poses: ArrayLike, lo: ArrayLike, hi: ArrayLike) -> tuple[FloatAr
     lo_w = trans + np.einsum("kij,kj->ki", pos, lo_l) + np.einsum("kij,kj->ki", neg, hi_l)
     hi_w = trans + np.einsum("kij,kj->ki", pos, hi_l) + np.einsum("kij,kj->ki", neg, lo_l)
     return lo_w, hi_w
+
+
+# ---------------------------------------------------------------------------------------------
+# Oriented boxes: headings and frames turned about z
+# ---------------------------------------------------------------------------------------------
+#
+# A relation is decided in the frame of its object (the container, the support): the world
+# frame turned about z by the object's heading. There the object's box is exact when the
+# object is turned about z only (any rotation whose local axes are, up to a yaw, the world's),
+# and the subject's box is the axis-aligned hull of its oriented box in that frame. Vertical
+# stays vertical, so Z-Plus / Z-Minus ("on top", "under") keep their meaning whatever the
+# object's rotation. Objects whose headings agree (within HEADING_MERGE) share a frame, so the
+# kernel runs once per group of objects: one group (heading 0, the world boxes themselves) when
+# everything is axis aligned, one more per differently turned tray and what it holds.
+
+#: Headings (radians) closer than this share a frame (a 1 m box turned by it moves 10 um).
+HEADING_MERGE = 1e-5
+_QUARTER = np.pi / 2
+
+
+def headings(poses: ArrayLike) -> FloatArray:
+    """(K,) the heading of each pose, in [-pi/4, pi/4): the yaw of the frame, turned about the
+    world's z axis, in which the pose's local box is axis aligned.
+
+    Of the pose's three local axes, the one nearest to vertical is left out; the heading is the
+    direction in the floor plane of the first of the other two, modulo a quarter turn (a box
+    turned by a multiple of 90 degrees about any axis is still axis aligned). A pose turned
+    about z by ``a`` (and then by any signed permutation of its axes) has heading ``a`` modulo
+    90 degrees; an axis-aligned pose has heading 0. A tilted pose gets the heading of its most
+    level axis (its box in that frame is then a hull, as a world box is). NaN where the pose is
+    NaN.
+    """
+    g = np.asarray(poses, dtype=np.float64)
+    k = g.shape[0]
+    if k == 0:
+        return np.zeros(0)
+    rot = g[:, :3, :3]
+    vertical = np.argmax(np.nan_to_num(np.abs(rot[:, 2, :]), nan=0.0), axis=1)
+    level = np.where(vertical == 0, 1, 0)
+    axis = rot[np.arange(k), :, level]
+    h = np.arctan2(axis[:, 1], axis[:, 0])
+    return np.mod(h + np.pi / 4, _QUARTER) - np.pi / 4
+
+
+def heading_groups(h: ArrayLike, merge: float = HEADING_MERGE) -> tuple[NDArray[np.intp], FloatArray]:
+    """(labels (K,), yaws (G,)): objects of headings ``h`` grouped into frames.
+
+    Label 0 is the world frame (yaw exactly 0): headings within ``merge`` of 0 and NaN (no
+    pose). The others are bins of width ``merge`` over the heading; a group's yaw is the mean of
+    its members' headings, so every member is within ``merge`` of it (a tray turned by any angle
+    and the parts it holds, whose headings differ by rounding only, share one exact frame).
+    """
+    h = np.asarray(h, dtype=np.float64)
+    labels = np.zeros(h.shape[0], dtype=np.intp)
+    turned = ~(np.isnan(h) | (np.abs(h) <= merge))
+    if not turned.any():
+        return labels, np.zeros(1)
+    bins, inverse = np.unique(np.floor(h[turned] / merge), return_inverse=True)
+    labels[turned] = inverse + 1
+    yaws = np.zeros(bins.shape[0] + 1)
+    yaws[1:] = np.bincount(inverse, weights=h[turned]) / np.bincount(inverse)
+    return labels, yaws
+
+
+def frame_boxes(poses: ArrayLike, lo: ArrayLike, hi: ArrayLike, yaw: ArrayLike) -> tuple[FloatArray, FloatArray]:
+    """(lo, hi) (K, 3): the boxes of oriented local boxes in the world frame turned by ``yaw``
+    about z (a number, or one per pose): the axis-aligned hulls there, as :func:`world_boxes`
+    gives them in the world frame (yaw 0 gives exactly the world boxes)."""
+    g = np.asarray(poses, dtype=np.float64)
+    yaw_a = np.broadcast_to(np.asarray(yaw, dtype=np.float64), (g.shape[0],))
+    if not yaw_a.any():
+        return world_boxes(g, lo, hi)
+    c, s = np.cos(yaw_a), np.sin(yaw_a)
+    turned = g.copy()
+    turned[:, 0, :] = c[:, None] * g[:, 0, :] + s[:, None] * g[:, 1, :]
+    turned[:, 1, :] = c[:, None] * g[:, 1, :] - s[:, None] * g[:, 0, :]
+    return world_boxes(turned, lo, hi)
+
+
+def relate_oriented(a_poses: ArrayLike, a_lo: ArrayLike, a_hi: ArrayLike, b_poses: ArrayLike, b_lo: ArrayLike,
+                    b_hi: ArrayLike, tol: float = DEFAULT_TOLERANCE) -> NDArray[np.uint32]:
+    """uint32 (N, M): the masks of oriented subject boxes to oriented object boxes, each pair
+    decided in its object's frame (the world turned about z by the object's heading: the
+    object's box exact, the subject's its hull there).
+
+    ``a_poses`` (N, 4, 4) and ``b_poses`` (M, 4, 4) are global poses, ``a_lo``, ``a_hi``,
+    ``b_lo``, ``b_hi`` the local box corners. The objects are grouped by heading
+    (:func:`heading_groups`) and :func:`relate` runs once per group; with every object axis
+    aligned that is one call on the world boxes, the same masks as :func:`relate` on them.
+    """
+    labels, yaws = heading_groups(headings(b_poses))
+    a_p, b_p = np.asarray(a_poses, dtype=np.float64), np.asarray(b_poses, dtype=np.float64)
+    if yaws.shape[0] == 1:
+        return relate(*world_boxes(a_p, a_lo, a_hi), *world_boxes(b_p, b_lo, b_hi), tol)
+    b_lo_a, b_hi_a = np.asarray(b_lo, dtype=np.float64), np.asarray(b_hi, dtype=np.float64)
+    out = np.empty((a_p.shape[0], b_p.shape[0]), dtype=np.uint32)
+    for label, yaw in enumerate(yaws):
+        cols = np.flatnonzero(labels == label)
+        if cols.size:
+            blo, bhi = frame_boxes(b_p[cols], b_lo_a[cols], b_hi_a[cols], yaw)
+            out[:, cols] = relate(*frame_boxes(a_p, a_lo, a_hi, yaw), blo, bhi, tol)
+    return out
