@@ -25,7 +25,7 @@ from typing import TextIO
 
 from kb import planning
 from kb.cli.output import Output
-from kb.core.errors import InputError
+from kb.core.errors import InputError, NotSolvableError
 from kb.core.files import write_atomic
 from kb.core.generators import get_generator
 from kb.core.namespaces import local_name
@@ -145,26 +145,34 @@ def _scenario(name: str, init: Path, goal: Path, target: Path, progress: _Progre
     for diag in report.diagnostics:
         progress.problem(f"    {name}: {diag.format()}")
     if not report.conforms:
-        return 1
+        errors = sum(1 for d in report.diagnostics if d.severity == "error")
+        return _not_executed(name, f"the state files do not validate ({errors} error(s))", progress, reports)
     t = time.perf_counter()
     model = planning.kitting_model([init], [goal], "strips", match_names=options.match_names,
                                    domain_files=options.domain)
     get_generator("pddl")(model).write_outputs(target)
     progress.stage(f"pddl: {target / 'domain.pddl'}, {target / 'problem.pddl'}", t)
     t = time.perf_counter()
-    result = planning.run(model.up_problem, target / "plan.txt")
+    try:
+        result = planning.run(model.up_problem, target / "plan.txt")
+    except NotSolvableError as e:
+        return _not_executed(name, f"no plan: {e}", progress, reports)
     progress.stage(f"plan: {len(result.lines)} actions by {result.planner}, validated -> {target / 'plan.txt'}", t)
     t = time.perf_counter()
     geo = check_geometry([init], [goal], match_names=options.match_names, domain_files=options.domain)
-    progress.stage(f"geometry: {geo.atoms} atoms hold in the initial state's boxes, "
-                   f"{'equal to the PDDL init facts; every goal fact holds in the goal' if geo.agrees else 'DISAGREE'}",
-                   t)
-    for what, atoms in (("only in geometry", geo.only_geometry), ("only in PDDL", geo.only_symbolic),
-                        ("goal not holding", geo.goal_not_holding)):
+    verdict = ("equal to the PDDL init facts" if geo.initial_agrees else "DISAGREE with the PDDL init facts") + (
+        "; every goal fact holds in the goal" if not geo.goal_not_holding else
+        f"; {len(geo.goal_not_holding)} goal fact(s) do not hold in the goal file's own geometry")
+    progress.stage(f"geometry: {geo.atoms} atoms hold in the initial state's boxes, {verdict}", t)
+    for what, atoms in (("only in geometry", geo.only_geometry), ("only in PDDL", geo.only_symbolic)):
         for atom in atoms:
             progress.problem(f"    {name}: {what}: ({' '.join(atom)})")
-    if not geo.agrees:
-        return 1
+    for atom in geo.goal_not_holding:  # the run is judged on the cell's geometry at its end
+        progress.problem(f"    {name}: warning: goal file's geometry does not show ({' '.join(atom)})")
+    if not geo.initial_agrees:
+        for cause in geo.causes:
+            progress.problem(f"    {name}: likely cause: {cause}")
+        return _not_executed(name, geo.reason(), progress, reports)
     t = time.perf_counter()
     db_file: str | Path = options.db or target / "world.sqlite"
     if not options.db:  # the job's own output: made anew each time
@@ -198,7 +206,7 @@ def _execute(name: str, init: Path, goal: Path, plan: list[str], progress: _Prog
         if cell is not None:
             cell.close()
     rec = run.record
-    data = run.report()
+    data = {"executed": True, **run.report(), "units": store.units.as_dict()}
     reports.append(data)
     modes = Counter(f.mode for f in rec.failures)
     recoveries = Counter(f.recovery for f in rec.failures if f.recovery)
@@ -213,6 +221,14 @@ def _execute(name: str, init: Path, goal: Path, plan: list[str], progress: _Prog
     if rec.stopped:
         progress.problem(f"    {name}: stopped: {rec.stopped}")
     return 0 if run.goal_holds and rec.stopped is None else 1
+
+
+def _not_executed(name: str, reason: str, progress: _Progress, reports: list[dict]) -> int:
+    """The plan was not carried out: say why (exit status 1), and so does the report."""
+    progress.problem(f"    {name}: not executed: {reason}")
+    reports.append({"scenario": name, "executed": False, "reason": reason, "goal_holds": False, "stopped": None,
+                    "injected": [], "failures": []})
+    return 1
 
 
 def _kits(rec) -> set[str]:  # noqa: ANN001

@@ -33,7 +33,7 @@ from sqlalchemy import (Boolean, Column, DateTime, Float, ForeignKey, Integer, M
 
 from kb.core.resources import ontology_path
 from kb.io import load_file
-from kb.core.units import LENGTH
+from kb.core.units import SI, Units
 from kb.execution.records import ActionRecord, AtomCheck, FailureRecord, RunRecord, Sighting
 from kb.world import LoadReport, load, normalize_url, open_engine
 
@@ -122,7 +122,8 @@ class RunStore:
         self.world = WorldModel(self.url)
         self.run_id: int | None = None
         self.pending: dict[str, np.ndarray] = {}
-        self.metres = _metres(self.engine)  # poses are sensed in metres; the database keeps its file's unit
+        self.units = _units(self.engine)  # poses are sensed in metres; the database keeps its file's units
+        self.metres = self.units.metres
         self.failures = 0
         self._known: set[str] | None = None
         self._started = dt.datetime.now(dt.timezone.utc)
@@ -242,11 +243,11 @@ def read_run(url: str | Path, run_id: int | None = None) -> RunRecord:
         engine.dispose()
 
 
-def _metres(engine: Any) -> float:
-    """Metres per length unit of the world model in the database (its workstation's unit)."""
+def _units(engine: Any) -> Units:
+    """The units of the world model in the database (its workstation's; SI where it has none)."""
     with engine.connect() as conn:
-        unit = conn.execute(text("SELECT length_unit FROM ktw_kitting_workstation")).scalar()
-    return LENGTH.get(str(unit), 1.0) if unit is not None else 1.0
+        row = conn.execute(text("SELECT length_unit, angle_unit, weight_unit FROM ktw_kitting_workstation")).first()
+    return Units(*row) if row is not None else SI
 
 
 def _in_units(pose: np.ndarray, metres: float) -> np.ndarray:

@@ -13,6 +13,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Sequence
 
+import numpy as np
+
+from kb.core.units import LENGTH
 from kb.model.definitions import load_definitions
 from kb.planning.model import read_specs
 from kb.planning.state import pddl_name
@@ -28,9 +31,29 @@ class Agreement:
     only_symbolic: list[tuple[str, ...]] = field(default_factory=list)
     goal_not_holding: list[tuple[str, ...]] = field(default_factory=list)
 
+    #: what probably makes the initial geometry disagree (implausible poses, a unit)
+    causes: list[str] = field(default_factory=list)
+
     @property
     def agrees(self) -> bool:
         return not (self.only_geometry or self.only_symbolic or self.goal_not_holding)
+
+    @property
+    def initial_agrees(self) -> bool:
+        """The initial state's geometry gives exactly its facts: execution can start (a goal
+        file whose own geometry misses a goal fact is only a warning: a run is judged on the
+        cell's geometry at its end)."""
+        return not (self.only_geometry or self.only_symbolic)
+
+    def reason(self) -> str:
+        """One line: why the initial state cannot be executed (empty when it can)."""
+        if self.initial_agrees:
+            return ""
+        atoms = [f"only in geometry ({' '.join(a)})" for a in self.only_geometry] + \
+                [f"only in the facts ({' '.join(a)})" for a in self.only_symbolic]
+        shown = "; ".join(atoms[:6]) + (f"; and {len(atoms) - 6} more" if len(atoms) > 6 else "")
+        why = ("; likely cause: " + "; ".join(self.causes)) if self.causes else ""
+        return f"the initial state's geometry disagrees with its facts: {shown}{why}"
 
 
 def check_geometry(init: Sequence[str | Path], goal: Sequence[str | Path], match_names: bool = False,
@@ -48,4 +71,31 @@ def check_geometry(init: Sequence[str | Path], goal: Sequence[str | Path], match
     for left, right in spec.goal_equal:
         if counts[left[0]].get(tuple(left[1:]), 0) != counts[right[0]].get(tuple(right[1:]), 0):
             missing.append(("=", *left, *right))
-    return Agreement(len(seen), sorted(seen - spec.facts), sorted(spec.facts - seen), missing)
+    out = Agreement(len(seen), sorted(seen - spec.facts), sorted(spec.facts - seen), missing)
+    if not out.initial_agrees:
+        out.causes = likely_causes(start.scene, out.only_geometry + out.only_symbolic)
+    return out
+
+
+def likely_causes(scene: Scene, atoms: Sequence[tuple[str, ...]]) -> list[str]:
+    """Why a state's geometry may disagree with its facts: the implausible poses
+    (:mod:`kb.spatial.plausibility`) of objects the disagreeing atoms name, and lengths that do
+    not look like the unit the workstation declares."""
+    unit = unit_suspicion(scene)
+    return [unit] if unit else []
+
+
+def unit_suspicion(scene: Scene) -> str | None:
+    """A sentence when the objects' sizes, read in the declared length unit, are not those of
+    a kitting cell (a part of 0.05 mm, a table 600 m long): the file's numbers are probably in
+    another unit."""
+    ok = scene.placed & ~np.isnan(scene.local_lo[:, 0]) if scene.local_lo is not None else scene.placed
+    if not ok.any():
+        return None
+    size = float(np.max(scene.local_hi[ok] - scene.local_lo[ok]))  # the largest object, in metres
+    if 0.05 <= size <= 50.0:
+        return None
+    declared = scene.units.length
+    fits = [u for u, m in LENGTH.items() if u != declared and 0.05 <= size / scene.units.metres * m <= 50.0]
+    return (f"the largest object is {size:g} m long when read in {declared}s"
+            + (f"; the numbers look like {' or '.join(u + 's' for u in fits)}" if fits else ""))
