@@ -35,6 +35,8 @@ import numpy as np
 from kb.core.errors import KitkbError
 from kb.core.namespaces import KTW
 from kb.execution.belief import SKU_OF, Belief
+from kb.spatial.rcc8 import HEADING_MERGE, frame_boxes, headings, world_boxes
+from kb.spatial.scene import Scene
 
 _CALL = re.compile(r"^\s*([a-z_]+)\s*\((.*)\)\s*$")
 UP = np.array([0.0, 0.0, 1.0])
@@ -132,23 +134,27 @@ class Targets:
     def above(self, x: str, d: float) -> np.ndarray:
         return raised(self.grasp(x), d)
 
-    def place(self, x: str, where: str) -> np.ndarray:
-        dest = self.destination(x, where)
+    def place(self, x: str, where: str, dest: np.ndarray | None = None) -> np.ndarray:
+        dest = self.destination(x, where) if dest is None else dest
         lo, hi = self.b.box(x)
         point = dest @ np.array([(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, hi[2], 1.0])
         return tool_down(point[:3], dest[:3, 0])
 
     def above_place(self, x: str, where: str, d: float) -> np.ndarray:
         """``place`` raised until x's bottom is d above everything at its place (a box's walls,
-        the parts already in a kit), at least d."""
-        tip = self.place(x, where)
+        the parts already in a kit), at least d. Footprints are compared in the frame of x at its
+        place (the world turned by its heading: a turned kit's neighbours are not in the way)."""
+        dest = self.destination(x, where)
+        tip = self.place(x, where, dest)
         lo, hi = self.b.box(x)
         bottom = float(tip[2, 3]) - float(hi[2] - lo[2])  # x's bottom when placed
+        yaw = _heading(dest)
+        flo, fhi = frame_boxes(dest[None], lo[None], hi[None], yaw)
         scene = self.b.scene()
-        flo, fhi = tip[:2, 3] - (hi[:2] - lo[:2]) / 2, tip[:2, 3] + (hi[:2] - lo[:2]) / 2
-        tops = [float(scene.hi[j, 2]) for j in range(len(scene)) if self.b.names[j] != x and scene.placed[j]
-                and scene.lo[j, 2] <= bottom + 1e-3  # at the place (a box, a table, a kit and its parts)
-                and np.all(scene.lo[j, :2] < fhi) and np.all(scene.hi[j, :2] > flo)]
+        slo, shi = self._frame(scene, yaw)
+        tops = [float(shi[j, 2]) for j in range(len(scene)) if self.b.names[j] != x and scene.placed[j]
+                and slo[j, 2] <= bottom + 1e-3  # at the place (a box, a table, a kit and its parts)
+                and np.all(slo[j, :2] < fhi[0, :2]) and np.all(shi[j, :2] > flo[0, :2])]
         rise = max([d] + [t + d - bottom for t in tops])
         return raised(tip, rise)
 
@@ -178,19 +184,29 @@ class Targets:
 
     def clear(self, x: str, d: float) -> np.ndarray:
         """Straight up until x (held) is d above the top of everything under, around or beside
-        it (a container's walls, a holder, the station base a holder hangs on), at least d."""
+        it (a container's walls, a holder, the station base a holder hangs on), at least d.
+        Compared in x's frame (the world turned by its heading)."""
         scene = self.b.scene()
         i = self.b.index[x]
         if not scene.placed[i]:
             return self.lift(d)
-        lo, hi = scene.lo[i], scene.hi[i]
+        slo, shi = self._frame(scene, _heading(scene.poses[i]))
+        lo, hi = slo[i], shi[i]
         tol = 1e-3
-        below = [float(scene.hi[j, 2]) for j in range(len(scene)) if j != i and scene.placed[j]
-                 and scene.lo[j, 2] <= lo[2] + tol  # under x or around it (a tray, a box, a holder)
-                 and np.all(scene.lo[j, :2] <= hi[:2] + tol) and np.all(scene.hi[j, :2] >= lo[:2] - tol)
-                 and not (np.all(scene.lo[j, :2] >= lo[:2] - tol) and np.all(scene.hi[j, :2] <= hi[:2] + tol))]
+        below = [float(shi[j, 2]) for j in range(len(scene)) if j != i and scene.placed[j]
+                 and slo[j, 2] <= lo[2] + tol  # under x or around it (a tray, a box, a holder)
+                 and np.all(slo[j, :2] <= hi[:2] + tol) and np.all(shi[j, :2] >= lo[:2] - tol)
+                 and not (np.all(slo[j, :2] >= lo[:2] - tol) and np.all(shi[j, :2] <= hi[:2] + tol))]
         rise = max(d, (max(below) + d - float(lo[2])) if below else d)
         return self.lift(rise)
+
+    @staticmethod
+    def _frame(scene: Scene, yaw: float) -> tuple[np.ndarray, np.ndarray]:
+        """Every object's box (K, 3) in the world turned by ``yaw`` about z (NaN where not
+        placed); the world boxes themselves for yaw 0."""
+        if yaw == 0.0:
+            return scene.lo, scene.hi
+        return frame_boxes(scene.poses, scene.local_lo, scene.local_hi, yaw)
 
     # --- destinations ---------------------------------------------------------------
     def destination(self, x: str, where: str) -> np.ndarray:
@@ -238,13 +254,11 @@ class Targets:
         top = float(scene.hi[self.b.index[container], 2])
         inv = np.linalg.inv(g)
         boxes = []
-        for i, n in enumerate(self.b.names):
-            if n in (x, container, where) or not scene.placed[i] or scene.lo[i, 2] >= top - 1e-6:
-                continue  # the box itself, its stand-in, and what is above it (the load in the gripper)
-            corners = np.array([[a, b, c] for a in (scene.lo[i, 0], scene.hi[i, 0])
-                                for b in (scene.lo[i, 1], scene.hi[i, 1]) for c in (scene.lo[i, 2], scene.hi[i, 2])])
-            local = (inv @ np.c_[corners, np.ones(8)].T).T[:, :3]
-            boxes.append((local.min(axis=0), local.max(axis=0)))
+        near = [i for i, n in enumerate(self.b.names) if n not in (x, container, where) and scene.placed[i]
+                and scene.lo[i, 2] < top - 1e-6]  # not the box, its stand-in, nor what is above it (the load)
+        if near:  # each oriented box's hull in the container's frame (exact for one turned alike)
+            llo, lhi = world_boxes(inv @ scene.poses[near], scene.local_lo[near], scene.local_hi[near])
+            boxes = list(zip(llo, lhi))
         step = 0.02
         y = clo[1] + h / 2 + 0.01
         while y + h / 2 <= chi[1] - 0.01 + 1e-9:
@@ -264,6 +278,12 @@ FUNCTIONS: dict[str, Callable] = {
     "mount": Targets.mount, "above_mount": Targets.above_mount, "stow": Targets.stow,
     "above_stow": Targets.above_stow, "lift": Targets.lift, "clear": Targets.clear,
 }
+
+
+def _heading(pose: np.ndarray) -> float:
+    """The heading of ``pose`` (:func:`kb.spatial.rcc8.headings`), 0 within HEADING_MERGE of it."""
+    h = float(headings(pose[None])[0])
+    return 0.0 if not abs(h) > HEADING_MERGE else h
 
 
 def _along_z(d: float) -> np.ndarray:

@@ -14,9 +14,10 @@ Conventions (those of the state files):
   by the tip's path length / speed (``SetAbsoluteSpeed``, default 1 m/s); ``Dwell`` adds its time;
 * ``CloseGripper`` grasps the object whose top face is at the tip (within :data:`GRASP_TOLERANCE`
   = 2 x :data:`kb.spatial.rcc8.DEFAULT_TOLERANCE` = 2 mm) and whose footprint contains the
-  tip's x, y — if the mounted effector suits it (listed by its SKU,
-  ``hasStockKeepingUnit_EndEffector``; a kit by its kit tray's SKU: touching a kit's tray grasps
-  the kit). Otherwise it grasps nothing, which is not an error (the executor's checks find it).
+  tip's x, y (its own footprint, in its frame: a part of a turned tray, not its world box) —
+  if the mounted effector suits it (listed by its SKU, ``hasStockKeepingUnit_EndEffector``; a
+  kit by its kit tray's SKU: touching a kit's tray grasps the kit). Otherwise it grasps
+  nothing, which is not an error (the executor's checks find it).
   The held object then moves rigidly with the tip; ``OpenGripper`` lets it fall straight down
   (:meth:`World.drop`) onto what is below, its new parent;
 * ``CloseToolChanger`` mounts the free end effector whose mount face is at the flange's far face
@@ -139,19 +140,21 @@ class Robot:
         return Status.ok(f"grasped {name}")
 
     def _at_tip(self) -> int | None:
-        """The object whose top face is at the tip and whose footprint contains it (a kit for its tray)."""
+        """The object whose top face is at the tip and whose footprint contains it (a kit for its
+        tray); the footprint is the object's own, in its frame (a turned part in a turned tray)."""
         p = self.tip()[:3, 3]
-        best: tuple[float, int] | None = None
-        for j in self.world.solids(set(self.world.subtree(self.index))):
-            lo, hi = self.world.box(j)
-            gap = abs(float(hi[2]) - float(p[2]))
-            inside = all(lo[a] - TOLERANCE <= p[a] <= hi[a] + TOLERANCE for a in (0, 1))
-            if inside and gap <= GRASP_TOLERANCE and (best is None or gap < best[0]):
-                best = (gap, j)
-        if best is None:
+        js = np.array(self.world.solids(set(self.world.subtree(self.index))), np.int64)
+        if not len(js):
             return None
-        kit = self.world.kit_of_tray(best[1])
-        return kit if kit is not None else best[1]
+        q, (lo, hi) = self.world.point_in_frames(p, js)
+        gap = np.abs(hi[:, 2] - q[:, 2])
+        inside = ((lo[:, :2] - TOLERANCE <= q[:, :2]) & (q[:, :2] <= hi[:, :2] + TOLERANCE)).all(axis=1)
+        hits = np.flatnonzero(inside & (gap <= GRASP_TOLERANCE))
+        if not len(hits):
+            return None
+        best = int(js[hits[np.argmin(gap[hits])]])  # the nearest top face; the first of equals
+        kit = self.world.kit_of_tray(best)
+        return kit if kit is not None else best
 
     def open_gripper(self) -> Status:
         """Release the held object where it is: it falls onto what is below."""

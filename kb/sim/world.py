@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from kb.core.namespaces import KTW
-from kb.spatial.rcc8 import DEFAULT_TOLERANCE, world_boxes
+from kb.spatial.rcc8 import DEFAULT_TOLERANCE, HEADING_MERGE, frame_boxes, headings, world_boxes
 from kb.spatial.scene import STAND_INS, Scene
 from kb.spatial.transforms import invert
 
@@ -33,6 +33,12 @@ SKU_EFFECTOR = str(KTW.hasStockKeepingUnit_EndEffector)
 KIT_TRAY = str(KTW.hasKit_KitTray)
 #: How far (metres) a face may be from where it should be and still count as there.
 TOLERANCE = DEFAULT_TOLERANCE
+
+
+def _snapped(yaw: np.ndarray) -> np.ndarray:
+    """Headings within :data:`~kb.spatial.rcc8.HEADING_MERGE` of 0 as exactly 0 (the world
+    frame: the world boxes, bit for bit), NaN as 0."""
+    return np.where(np.isnan(yaw) | (np.abs(yaw) <= HEADING_MERGE), 0.0, yaw)
 
 
 def translate(x: float, y: float, z: float) -> np.ndarray:
@@ -182,24 +188,46 @@ class World:
         The highest of: the floor (z = 0, support -1); the top face of an object below whose
         footprint overlaps ``i``'s; the floor (bottom face) of an open-top container whose
         footprint contains ``i``'s (objects already inside it are supports by their top face).
-        On equal heights a container wins over the object it stands on.
+        On equal heights a container wins over the object it stands on. Footprints are compared
+        in each candidate support's frame (:meth:`boxes_in_frames`): a turned tray holds what
+        lies inside it, not what lies inside its world box.
         """
-        lo, hi = self.box(i)
-        best = (0.0, 0, -1)
         skip = set(self.subtree(i)) | exclude
-        for j in self.solids(skip):
-            jlo, jhi = self.box(j)
-            overlap = all(min(hi[a], jhi[a]) - max(lo[a], jlo[a]) > TOLERANCE for a in (0, 1))
-            inside = all(lo[a] >= jlo[a] - TOLERANCE and hi[a] <= jhi[a] + TOLERANCE for a in (0, 1))
-            if self.open_top[j] and inside and jlo[2] <= lo[2] + TOLERANCE:
-                cand = (float(jlo[2]), 1, j)
-            elif overlap and jhi[2] <= lo[2] + TOLERANCE:
-                cand = (float(jhi[2]), 0, j)
-            else:
-                continue
+        js = np.array(self.solids(skip), np.int64)
+        best = (0.0, 0, -1)
+        if not len(js):
+            return best[0], best[2]
+        (lo, hi), (jlo, jhi) = self.boxes_in_frames(i, js)
+        t = TOLERANCE
+        overlap = ((np.minimum(hi[:, :2], jhi[:, :2]) - np.maximum(lo[:, :2], jlo[:, :2])) > t).all(axis=1)
+        inside = ((lo[:, :2] >= jlo[:, :2] - t) & (hi[:, :2] <= jhi[:, :2] + t)).all(axis=1)
+        contained = self.open_top[js] & inside & (jlo[:, 2] <= lo[:, 2] + t)
+        below = ~contained & overlap & (jhi[:, 2] <= lo[:, 2] + t)
+        for k in np.flatnonzero(contained | below):
+            cand = (float(jlo[k, 2]), 1, int(js[k])) if contained[k] else (float(jhi[k, 2]), 0, int(js[k]))
             if cand[:2] > best[:2]:
                 best = cand
         return best[0], best[2]
+
+    def boxes_in_frames(self, i: int, js: np.ndarray) -> tuple[tuple[np.ndarray, np.ndarray],
+                                                                 tuple[np.ndarray, np.ndarray]]:
+        """((lo, hi) of ``i``, (lo, hi) of each of ``js``), each (len(js), 3): both boxes in the
+        frame of object j, the world turned about z by j's heading (:func:`kb.spatial.rcc8.headings`;
+        exactly the world frame for an axis-aligned j). There j's box is exact when j is turned
+        about z only, and i's is the hull of its oriented box."""
+        yaw = _snapped(headings(self.poses[js]))
+        j_boxes = frame_boxes(self.poses[js], self.local_lo[js], self.local_hi[js], yaw)
+        n = len(js)
+        i_boxes = frame_boxes(np.broadcast_to(self.poses[i], (n, 4, 4)), np.broadcast_to(self.local_lo[i], (n, 3)),
+                              np.broadcast_to(self.local_hi[i], (n, 3)), yaw)
+        return i_boxes, j_boxes
+
+    def point_in_frames(self, p: np.ndarray, js: np.ndarray) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray]]:
+        """(point ``p`` in each frame of ``js`` (len(js), 3), (lo, hi) of each of ``js`` there)."""
+        yaw = _snapped(headings(self.poses[js]))
+        c, s = np.cos(yaw), np.sin(yaw)
+        q = np.stack([c * p[0] + s * p[1], c * p[1] - s * p[0], np.full(len(js), float(p[2]))], axis=1)
+        return q, frame_boxes(self.poses[js], self.local_lo[js], self.local_hi[js], yaw)
 
     def drop(self, i: int, exclude: set[int] | frozenset[int] = frozenset()) -> int:
         """Let ``i`` fall straight down onto what is below it; it then rests on that (returned; -1: floor)."""
@@ -210,16 +238,16 @@ class World:
         return support
 
     def holder_around(self, i: int) -> int | None:
-        """The end effector holder ``i`` sits in (footprint inside it, heights overlapping), if any."""
-        lo, hi = self.box(i)
-        for j in self.solids(set(self.subtree(i))):
-            if not self.is_a(j, "EndEffectorHolder"):
-                continue
-            jlo, jhi = self.box(j)
-            inside = all(lo[a] >= jlo[a] - TOLERANCE and hi[a] <= jhi[a] + TOLERANCE for a in (0, 1))
-            if inside and lo[2] < jhi[2] + TOLERANCE and hi[2] > jlo[2] - TOLERANCE:
-                return j
-        return None
+        """The end effector holder ``i`` sits in (footprint inside it, heights overlapping), if
+        any; compared in the holder's frame."""
+        js = np.array([j for j in self.solids(set(self.subtree(i))) if self.is_a(j, "EndEffectorHolder")], np.int64)
+        if not len(js):
+            return None
+        (lo, hi), (jlo, jhi) = self.boxes_in_frames(i, js)
+        t = TOLERANCE
+        inside = ((lo[:, :2] >= jlo[:, :2] - t) & (hi[:, :2] <= jhi[:, :2] + t)).all(axis=1)
+        hits = np.flatnonzero(inside & (lo[:, 2] < jhi[:, 2] + t) & (hi[:, 2] > jlo[:, 2] - t))
+        return int(js[hits[0]]) if len(hits) else None
 
     # --- output -------------------------------------------------------------------------
     def to_scene(self) -> Scene:
