@@ -20,6 +20,7 @@ from typing import Any, Callable, Sequence
 
 from kb.cli.output import Output
 from kb.core.errors import KitkbError
+from kb.core.units import LENGTH
 
 DESCRIPTION = ("kitkb: a knowledge base for robotic kit building (NIST / IEEE ORA kitting). "
                "Validate ontology files, generate PDDL, SQL and scenarios from the ontologies, "
@@ -33,6 +34,7 @@ HANDLERS = {
     "validate": "kb.cli.validation:validate",
     "convert": "kb.cli.validation:convert",
     "scenario generate": "kb.cli.scenario:generate",
+    "scenario transform": "kb.cli.scenario:transform",
     "generate pddl": "kb.cli.planning:generate_pddl",
     "generate sql": "kb.cli.generate:generate_sql",
     "generate shapes": "kb.cli.generate:generate_file",
@@ -75,6 +77,9 @@ def _add_files(sub: Any) -> None:
     p.add_argument("--format", choices=["text", "json"], default="text",
                    help="text: one file:line line per problem and a summary; json: an object with "
                         "conforms, files, counts and diagnostics (default text)")
+    p.add_argument("--ignore", action="append", default=[], metavar="RULE[,RULE...]",
+                   help="leave the findings of these rules (the names in brackets, e.g. floating-object) out "
+                        "of the report and the exit code; may be repeated")
     p = _sub(sub, "convert", "convert", "write an ontology file in another syntax")
     p.add_argument("input", metavar="IN", help="a file in any syntax kitkb reads")
     p.add_argument("-o", "--output", required=True, metavar="OUT",
@@ -91,6 +96,17 @@ def _add_scenario(sub: Any) -> None:
     g.add_argument("--kits", type=int, default=1, help="number of kits to build (default 1)")
     g.add_argument("--seed", type=int, default=0, help="random seed: the same seed gives the same files (default 0)")
     g.add_argument("-o", "--output", required=True, metavar="DIR", help="output folder (init.ttl, goal.ttl)")
+    g.add_argument("--unit", choices=list(LENGTH), default="meter",
+                   help="length unit the files are written in (default meter)")
+    t = _sub(ssub, "transform", "scenario transform",
+             "write a state file in another length unit, or turned about z (the same workstation)")
+    t.add_argument("file", metavar="FILE", help="a state file (Turtle, OWL functional syntax, RDF/XML)")
+    t.add_argument("-o", "--output", required=True, metavar="OUT", help="the Turtle file to write")
+    t.add_argument("--unit", choices=list(LENGTH), help="rewrite every length in this unit")
+    t.add_argument("--yaw", type=float, default=0.0, metavar="DEG",
+                   help="turn by DEG degrees about z: the whole workstation about the world's z axis, or "
+                        "with --turn each named object about its own")
+    t.add_argument("--turn", metavar="OBJ,...", help="objects (local names) to turn about their own z axis")
 
 
 def _add_generate(sub: Any) -> None:

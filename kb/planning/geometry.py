@@ -87,15 +87,15 @@ def likely_causes(scene: Scene, atoms: Sequence[tuple[str, ...]]) -> list[str]:
 
 def unit_suspicion(scene: Scene) -> str | None:
     """A sentence when the objects' sizes, read in the declared length unit, are not those of
-    a kitting cell (a part of 0.05 mm, a table 600 m long): the file's numbers are probably in
+    a kitting cell (a part of 0.05 mm, a table 25 m long): the file's numbers are probably in
     another unit."""
     ok = scene.placed & ~np.isnan(scene.local_lo[:, 0]) if scene.local_lo is not None else scene.placed
     if not ok.any():
         return None
     size = float(np.max(scene.local_hi[ok] - scene.local_lo[ok]))  # the largest object, in metres
-    if 0.05 <= size <= 50.0:
+    if 0.05 <= size <= 10.0:
         return None
     declared = scene.units.length
-    fits = [u for u, m in LENGTH.items() if u != declared and 0.05 <= size / scene.units.metres * m <= 50.0]
+    fits = [u for u, m in LENGTH.items() if u != declared and 0.05 <= size / scene.units.metres * m <= 10.0]
     return (f"the largest object is {size:g} m long when read in {declared}s"
             + (f"; the numbers look like {' or '.join(u + 's' for u in fits)}" if fits else ""))

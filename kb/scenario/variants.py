@@ -102,10 +102,13 @@ def write_variant(in_path: str | Path, out_path: str | Path, *, unit: str | None
         graph.bind(prefix, iri, override=False)
     graph += source.graph
     read_units([source.view()], str(in_path), source.line_of)  # a unit kitkb cannot convert: error at its line
-    if yaw:
-        turn(graph, yaw, objects)
-    if unit is not None:
-        rescale(graph, "length", unit)
+    try:
+        if yaw:
+            turn(graph, yaw, objects)
+        if unit is not None:
+            rescale(graph, "length", unit)
+    except InputError as e:
+        raise InputError(e.message, in_path) from None
     write_atomic(Path(out_path), turtle(graph).encode("utf-8"))
     return len(graph)
 
