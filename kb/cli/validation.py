@@ -12,10 +12,12 @@ from kb.validation import default_files, validate as validate_files
 _SYNTAX = {"turtle": "Turtle", "xml": "RDF/XML", "nt": "N-Triples"}
 
 
-def validate(files: list[str], format: str, out: Output) -> int:
+def validate(files: list[str], format: str, out: Output, ignore: list[str] | None = None) -> int:
     """Print the report (text: a ``file:line`` line per problem and a summary; JSON: an
-    object with ``conforms``, ``files``, ``counts`` and ``diagnostics``); 0 conforms, 1 not."""
-    report = validate_files(files or default_files())
+    object with ``conforms``, ``files``, ``counts`` and ``diagnostics``); 0 conforms, 1 not.
+    ``ignore``: rule names (each may list several, comma-separated) left out of the report."""
+    rules = {r.strip() for item in ignore or () for r in item.split(",") if r.strip()}
+    report = validate_files(files or default_files(), ignore=rules)
     if format == "json":
         print(json.dumps(report.as_dict(), indent=2), file=out.results)
     else:

@@ -17,7 +17,7 @@ import hashlib
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Iterable, NamedTuple, Sequence
+from typing import Any, Collection, Iterable, NamedTuple, Sequence
 
 from rdflib import OWL, RDF, Graph, URIRef
 
@@ -32,6 +32,7 @@ from kb.io.views import UnionView
 from kb.model.owl import OwlModel
 from kb.shacl import ShaclResult
 from kb.validation import rules
+from kb.validation.geometry import check_geometry
 from kb.validation.report import Namer, dedupe, diagnostics, line_of
 from kb.validation.shapes import DerivedShapes
 
@@ -88,12 +89,13 @@ def default_files() -> list[str]:
 
 # --- validation -------------------------------------------------------------------------
 
-def validate(paths: Sequence[str | Path], *, shapes_files: Sequence[str | Path] | None = None
-             ) -> ValidationReport:
+def validate(paths: Sequence[str | Path], *, shapes_files: Sequence[str | Path] | None = None,
+             ignore: Collection[str] = ()) -> ValidationReport:
     """Validate ``paths`` (model and data files) closed-world; see the module docstring.
 
     ``shapes_files`` replaces the hand-written rule files (for tests); an empty shapes
-    graph raises :class:`InputError`.
+    graph raises :class:`InputError`. ``ignore``: rule names left out of the report (the
+    geometry rules are then not even computed).
     """
     started = time.perf_counter()
     if not paths:
@@ -101,11 +103,14 @@ def validate(paths: Sequence[str | Path], *, shapes_files: Sequence[str | Path] 
     # millions of long-lived acyclic objects (terms, index dictionaries): the cyclic garbage
     # collector would walk them all again and again, for nothing
     with gc_paused():
-        return _validate(paths, shapes_files, started)
+        report = _validate(paths, shapes_files, started, frozenset(ignore))
+    if ignore:
+        report.diagnostics = [d for d in report.diagnostics if d.rule not in ignore]
+    return report
 
 
 def _validate(paths: Sequence[str | Path], shapes_files: Sequence[str | Path] | None,
-              started: float) -> ValidationReport:
+              started: float, ignore: frozenset[str] = frozenset()) -> ValidationReport:
     kb = load([str(p) for p in paths])
     given = {_key(p) for p in paths}
     sources = [s for s in kb.sources if _key(s.path) in given] or list(kb.sources)
@@ -130,6 +135,8 @@ def _validate(paths: Sequence[str | Path], shapes_files: Sequence[str | Path] | 
     for src in sources:
         ctx.out.extend(getattr(src, "warnings", []) or [])
         (rules.check_data_source if src in data else rules.check_model_source)(ctx, src)
+        if src in data:
+            check_geometry(ctx, src, ignore)
     for key, finish in pending:
         # while a forked child is still evaluating, the big files get ready for line look-ups
         found[key] = finish(functools.partial(later.warm, sources))

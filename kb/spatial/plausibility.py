@@ -1,0 +1,469 @@
+"""Physical plausibility of a scene: solids that interpenetrate, and solids that float.
+
+What ``kitkb validate`` reports as the warnings ``interpenetration`` and ``floating-object``
+(docs/validation.md). Pure functions of a :class:`kb.spatial.scene.Scene` (geometry in
+metres); :func:`check` returns :class:`Finding` objects, the validator words them.
+
+Geometry: each placed object is its oriented box (its local box under its global pose, any
+rotation). Two boxes interpenetrate when the separating-axis test finds no separating axis
+among the 15 candidates (the 3 + 3 face normals and the 9 edge cross products); the depth is
+the smallest overlap along those axes (how far one must move for them to part). Pairs are
+found by a sweep over world boxes first (sort on the widest axis), so only neighbours are
+tested, all at once with numpy.
+
+What is not a pair, or not an interpenetration:
+
+* an object and the stand-in that shares its box (a kit and its kit tray, a large box and its
+  large container, a changing station and its base): the stand-in is left out, and what
+  refers to it refers to the object lending the box;
+* an object inside an open container (``open_top``: trays, large boxes, open holders) that lies
+  within the container's walls and not below its floor (in the container's frame, beyond the
+  tolerance); an object partly through a wall or the floor interpenetrates it by the smaller
+  of how far it is out of the cavity and how far it is in the box;
+* the robot, what hangs from it (a mounted effector, a held object: anything whose chain of
+  reference objects reaches the robot) among themselves; an effector and the holder it hangs
+  in; anything mounted on a changing station (holders, the effectors in them) and the station.
+
+An object floats when the highest support under its footprint is more than the tolerance
+below its bottom: a support is the top of an object under it, or the floor of an open
+container whose walls it is within, or the ground (z = 0 of the workstation). Objects that
+legitimately hang are not checked: the robot and everything whose chain reaches it, effectors
+in holders, and holders mounted on (in, or against) their changing station. An object below
+the ground interpenetrates the workstation.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Mapping
+
+import numpy as np
+
+from kb.core.namespaces import KTW
+from kb.spatial.rcc8 import DEFAULT_TOLERANCE
+from kb.spatial.scene import STAND_INS, Scene
+
+INTERPENETRATION = "interpenetration"
+FLOATING = "floating-object"
+RULES = (INTERPENETRATION, FLOATING)
+
+_ROBOT, _EFFECTOR = str(KTW.Robot), str(KTW.EndEffector)
+_HOLDER, _STATION = str(KTW.EndEffectorHolder), str(KTW.EndEffectorChangingStation)
+_PAIR_BLOCK = 1 << 20  # candidate pairs per block of the sweep
+
+
+@dataclass(frozen=True)
+class Finding:
+    """One implausible pose.
+
+    ``rule``: :data:`INTERPENETRATION` or :data:`FLOATING`; ``obj``: the object whose pose is
+    wrong (the one inside, the smaller, or the floating one); ``other``: the object it
+    interpenetrates or floats above (None: the ground); ``depth``: metres; ``how``: ``"overlap"``,
+    ``"floor"`` or ``"wall"`` (through an open container's floor or wall), ``"ground"``
+    (below z = 0), ``"top"`` / ``"floor"`` / ``"ground"`` for what a floating object is above;
+    ``pose``: the IRI of ``obj``'s pose location (from ``locations``), for its line.
+    """
+
+    rule: str
+    obj: str
+    other: str | None
+    depth: float
+    how: str
+    pose: str | None = None
+
+
+@dataclass
+class Boxes:
+    """Oriented boxes: centres (K, 3), axes (K, 3, 3) (columns: local x, y, z in the world),
+    half sizes (K, 3), the pose origins (K, 3) and local boxes (K, 3) they come from."""
+
+    centre: np.ndarray
+    axes: np.ndarray
+    half: np.ndarray
+    origin: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+
+    @classmethod
+    def of(cls, poses: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> "Boxes":
+        axes = poses[:, :3, :3]
+        origin = poses[:, :3, 3]
+        centre = origin + np.einsum("kij,kj->ki", axes, (lo + hi) / 2)
+        return cls(centre, axes, (hi - lo) / 2, origin, lo, hi)
+
+    def take(self, idx: np.ndarray) -> "Boxes":
+        return Boxes(*(a[idx] for a in (self.centre, self.axes, self.half, self.origin, self.lo, self.hi)))
+
+
+# --- separating axes ----------------------------------------------------------------------
+
+def sat_depth(a: Boxes, b: Boxes) -> np.ndarray:
+    """(P,) for P pairs of oriented boxes: the smallest overlap along the 15 candidate
+    separating axes (positive: they interpenetrate by that much; zero or less: separated or
+    touching, minus the gap along the best axis)."""
+    p = a.centre.shape[0]
+    if p == 0:
+        return np.zeros(0)
+    ax_a, ax_b = np.swapaxes(a.axes, 1, 2), np.swapaxes(b.axes, 1, 2)  # rows: the axes
+    cross = np.cross(ax_a[:, :, None, :], ax_b[:, None, :, :]).reshape(p, 9, 3)
+    axes = np.concatenate([ax_a, ax_b, cross], axis=1)  # (P, 15, 3)
+    norm = np.linalg.norm(axes, axis=2)
+    valid = norm > 1e-6  # parallel edges give no axis
+    axes = axes / np.where(valid, norm, 1.0)[:, :, None]
+    ra = (np.abs(axes @ a.axes) @ a.half[:, :, None])[:, :, 0]  # the boxes' radii along each axis
+    rb = (np.abs(axes @ b.axes) @ b.half[:, :, None])[:, :, 0]
+    dist = np.abs(axes @ (b.centre - a.centre)[:, :, None])[:, :, 0]
+    overlap = np.where(valid, ra + rb - dist, np.inf)
+    return overlap.min(axis=1)
+
+
+def in_frame_of(a: Boxes, b: Boxes) -> tuple[np.ndarray, np.ndarray]:
+    """(lo, hi) (P, 3): the hull of each box ``a`` in the local frame of box ``b`` (where
+    ``b``'s own box is ``b.lo``, ``b.hi``)."""
+    turn = np.swapaxes(b.axes, 1, 2)
+    rel = turn @ a.axes  # a's axes in b's frame (columns)
+    centre = (turn @ (a.centre - b.origin)[:, :, None])[:, :, 0]
+    half = (np.abs(rel) @ a.half[:, :, None])[:, :, 0]
+    return centre - half, centre + half
+
+
+# --- candidate pairs ----------------------------------------------------------------------
+
+def overlapping_pairs(lo: np.ndarray, hi: np.ndarray, margin: float) -> tuple[np.ndarray, np.ndarray]:
+    """(i, j), i < j, of the boxes (K, 3) whose world boxes overlap or are less than ``margin``
+    apart on every axis.
+
+    Boxes up to four times the median size in plan (parts, most things) are swept along x in
+    bands along y of that width, so a box meets only its neighbours; the larger ones (tables,
+    trays, large boxes: few) are swept against all along x."""
+    k = lo.shape[0]
+    if k < 2:
+        return np.zeros(0, np.intp), np.zeros(0, np.intp)
+    size = (hi - lo)[:, :2].max(axis=1)
+    band = max(4.0 * float(np.median(size)), 4.0 * margin, 1e-9)
+    large = size > band
+    small = np.flatnonzero(~large)
+    found = [_banded(lo, hi, margin, small, band)]
+    big = np.flatnonzero(large)
+    if big.size:
+        found.append(_against(lo, hi, margin, big, small, band))
+        found.append(_against(lo, hi, margin, big, big, np.inf))
+    i, j = (np.concatenate(x) for x in zip(*found))
+    i, j = np.minimum(i, j), np.maximum(i, j)
+    keep = i != j
+    key = np.unique(i[keep].astype(np.int64) * k + j[keep])
+    return (key // k).astype(np.intp), (key % k).astype(np.intp)
+
+
+def _near(lo: np.ndarray, hi: np.ndarray, margin: float, i: np.ndarray, j: np.ndarray) -> np.ndarray:
+    return np.all((lo[i] <= hi[j] + margin) & (lo[j] <= hi[i] + margin), axis=1)
+
+
+def _banded(lo: np.ndarray, hi: np.ndarray, margin: float, ids: np.ndarray, band: float
+            ) -> tuple[np.ndarray, np.ndarray]:
+    """Pairs among ``ids`` (each at most ``band`` wide along y): each box in every band of y
+    it reaches, then a sweep along x within each band."""
+    if ids.size < 2:
+        return np.zeros(0, np.intp), np.zeros(0, np.intp)
+    b0 = np.floor((lo[ids, 1] - margin) / band).astype(np.int64)
+    b1 = np.floor((hi[ids, 1] + margin) / band).astype(np.int64)
+    reach = b1 - b0 + 1
+    who = np.repeat(ids, reach)
+    bands = np.repeat(b0, reach) + (np.arange(reach.sum()) - np.repeat(np.cumsum(reach) - reach, reach))
+    x0 = lo[:, 0].min()
+    width = float(hi[:, 0].max() - x0) + 2 * margin + 1.0
+    start = (bands - bands.min()) * width + (lo[who, 0] - x0)
+    order = np.argsort(start, kind="stable")
+    start, who, bands = start[order], who[order], bands[order]
+    stop = (bands - bands.min()) * width + (hi[who, 0] - x0) + margin
+    return _sweep(lo, hi, margin, who, start, stop, who)
+
+
+def _against(lo: np.ndarray, hi: np.ndarray, margin: float, these: np.ndarray, those: np.ndarray,
+             widest: float) -> tuple[np.ndarray, np.ndarray]:
+    """Pairs of ``these`` with ``those`` (each of ``those`` at most ``widest`` long along x):
+    ``those`` sorted along x, each of ``these`` against the run that can reach it."""
+    if not these.size or not those.size:
+        return np.zeros(0, np.intp), np.zeros(0, np.intp)
+    order = those[np.argsort(lo[those, 0], kind="stable")]
+    start = lo[order, 0]
+    reach = widest if np.isfinite(widest) else float((hi[those, 0] - lo[those, 0]).max())
+    first = np.searchsorted(start, lo[these, 0] - reach - margin, side="left")
+    last = np.searchsorted(start, hi[these, 0] + margin, side="right")
+    return _pairs_in_runs(lo, hi, margin, these, first, last, order)
+
+
+def _sweep(lo: np.ndarray, hi: np.ndarray, margin: float, who: np.ndarray, start: np.ndarray,
+           stop: np.ndarray, order: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each sorted entry against the entries after it that start before it stops."""
+    last = np.searchsorted(start, stop, side="right")
+    first = np.arange(start.size) + 1
+    return _pairs_in_runs(lo, hi, margin, who, first, np.maximum(last, first), order)
+
+
+def _pairs_in_runs(lo: np.ndarray, hi: np.ndarray, margin: float, who: np.ndarray, first: np.ndarray,
+                   last: np.ndarray, order: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``who[n]`` against ``order[first[n]:last[n]]`` for every n, kept where the boxes are
+    near on every axis; in blocks of at most :data:`_PAIR_BLOCK` candidates."""
+    counts = np.maximum(last - first, 0)
+    out_i, out_j = [np.zeros(0, np.intp)], [np.zeros(0, np.intp)]
+    total = np.cumsum(counts)
+    n0 = 0
+    while n0 < counts.size:
+        n1 = int(np.searchsorted(total, (total[n0 - 1] if n0 else 0) + _PAIR_BLOCK, side="right"))
+        n1 = max(n1, n0 + 1)
+        c = counts[n0:n1]
+        pos = np.repeat(np.arange(n0, n1), c)
+        step = np.arange(c.sum()) - np.repeat(np.cumsum(c) - c, c)
+        i, j = who[pos], order[first[pos] + step]
+        near = _near(lo, hi, margin, i, j)
+        out_i.append(i[near])
+        out_j.append(j[near])
+        n0 = n1
+    return np.concatenate(out_i), np.concatenate(out_j)
+
+
+# --- the scene's structure ----------------------------------------------------------------
+
+@dataclass
+class _Structure:
+    """Which objects take part, what they refer to, and who hangs from what."""
+
+    active: np.ndarray   # (K,) bool: placed, finite, not a stand-in
+    alias: np.ndarray    # (K,) the object whose box each one has (itself unless a stand-in)
+    chain: np.ndarray    # (K, D) reference objects up the tree (aliased), -1 padded
+    robot: np.ndarray    # (K,) the robot of its chain (itself included), -1
+    station: np.ndarray  # (K,) the changing station (its box's object) it hangs from, -1
+    effector: np.ndarray  # (K,) bool
+    holder: np.ndarray   # (K,) bool
+    under_holder: np.ndarray  # (K,) bool: a holder is among its reference objects
+
+
+def _structure(scene: Scene) -> _Structure:
+    k = len(scene)
+    finite = np.isfinite(scene.poses.reshape(k, -1)).all(axis=1) & np.isfinite(scene.local_lo).all(axis=1) \
+        & np.isfinite(scene.local_hi).all(axis=1) if k else np.zeros(0, bool)
+    active = finite & scene.placed
+    alias = np.arange(k)
+    for cls, prop in STAND_INS.items():
+        lender = scene.related(str(prop))
+        for i in scene.of_class(cls):
+            j = scene.index.get((lender.get(scene.names[i]) or [None])[0])
+            if j is not None and active[i] and active[j] and _same_box(scene, i, j):
+                alias[i], active[i] = j, False
+    parent = np.where(scene.parents >= 0, alias[np.maximum(scene.parents, 0)], -1)
+    links = [parent]
+    while (links[-1] >= 0).any() and len(links) < 64:
+        up = links[-1]
+        links.append(np.where(up >= 0, parent[np.maximum(up, 0)], -1))
+    chain = np.stack(links[:-1] if len(links) > 1 else links, axis=1)
+    is_of = {c: np.isin(np.arange(k), scene.of_class(c)) for c in (_ROBOT, _EFFECTOR, _HOLDER, _STATION)}
+    robot = np.where(is_of[_ROBOT], np.arange(k), -1)
+    station_box = np.where(is_of[_STATION], alias, -1)
+    hang_station = np.full(k, -1)
+    for col in range(chain.shape[1] - 1, -1, -1):  # the nearest robot / station up the chain wins
+        up = chain[:, col]
+        robot = np.where((robot < 0) & (up >= 0) & is_of[_ROBOT][np.maximum(up, 0)], up, robot)
+        boxed = np.isin(up, station_box[station_box >= 0]) & (up >= 0)
+        hang_station = np.where(boxed, up, hang_station)
+    under_holder = ((chain >= 0) & is_of[_HOLDER][np.maximum(chain, 0)]).any(axis=1)
+    return _Structure(active, alias, chain, robot, hang_station, is_of[_EFFECTOR], is_of[_HOLDER], under_holder)
+
+
+def _same_box(scene: Scene, i: int, j: int) -> bool:
+    return bool(np.allclose(scene.poses[i], scene.poses[j]) and np.allclose(scene.local_lo[i], scene.local_lo[j])
+                and np.allclose(scene.local_hi[i], scene.local_hi[j]))
+
+
+def _exempt(st: _Structure, i: np.ndarray, j: np.ndarray) -> np.ndarray:
+    """Pairs that may overlap: one robot's assembly; a station and what hangs from it; an
+    effector and the holder above it in its chain."""
+    same_robot = (st.robot[i] >= 0) & (st.robot[i] == st.robot[j])
+    mounted = (st.station[i] == j) | (st.station[j] == i)
+    anc_ij = (st.chain[i] == j[:, None]).any(axis=1)
+    anc_ji = (st.chain[j] == i[:, None]).any(axis=1)
+    held = (st.effector[i] & st.holder[j] & anc_ij) | (st.effector[j] & st.holder[i] & anc_ji)
+    return same_robot | mounted | held
+
+
+# --- the check ------------------------------------------------------------------------------
+
+def check(scene: Scene, tol: float = DEFAULT_TOLERANCE, locations: Mapping[str, str] | None = None,
+          rules: tuple[str, ...] = RULES) -> list[Finding]:
+    """The implausible poses of ``scene`` (metres) beyond ``tol`` metres: interpenetrating and
+    floating objects (``rules`` chooses), ordered by object and rule. ``locations``: object
+    IRI -> the IRI of its pose location, copied into each finding."""
+    if scene.poses is None or scene.local_lo is None or not len(scene):
+        return []
+    st = _structure(scene)
+    idx = np.flatnonzero(st.active)
+    if idx.size == 0:
+        return []
+    boxes = Boxes.of(scene.poses[idx], scene.local_lo[idx], scene.local_hi[idx])
+    lo, hi = scene.lo[idx], scene.hi[idx]
+    reach = lo.copy()
+    reach[:, 2] = np.minimum(reach[:, 2], 0.0)  # down to the ground: what may hold it up
+    a, b = overlapping_pairs(reach, hi, tol)
+    keep = ~_exempt(st, idx[a], idx[b])
+    a, b = a[keep], b[keep]
+    pairs = _Pairs(scene, st, idx, boxes, a, b, tol)
+    found: list[Finding] = []
+    if INTERPENETRATION in rules:
+        found += pairs.interpenetrations()
+        below = np.flatnonzero(lo[:, 2] < -tol)
+        found += [Finding(INTERPENETRATION, scene.names[idx[n]], None, float(-lo[n, 2]), "ground") for n in below]
+    if FLOATING in rules:
+        found += pairs.floating(_hanging(scene, st, idx, boxes, tol))
+    locations = locations or {}
+    found = [Finding(f.rule, f.obj, f.other, f.depth, f.how, locations.get(f.obj)) for f in found]
+    return sorted(found, key=lambda f: (f.obj, f.rule, f.other or ""))
+
+
+def _hanging(scene: Scene, st: _Structure, idx: np.ndarray, boxes: Boxes, tol: float) -> np.ndarray:
+    """(len(idx),) bool: objects that hang rather than rest: the robot's assembly, effectors
+    in holders, holders mounted on (touching) their changing station."""
+    g = idx
+    out = (st.robot[g] >= 0) | (st.effector[g] & st.under_holder[g])
+    pos = {int(n): m for m, n in enumerate(idx)}
+    mounted = np.flatnonzero(st.holder[g] & (st.station[g] >= 0))
+    stations = np.array([pos.get(int(st.station[g[m]]), -1) for m in mounted], dtype=np.intp)
+    ok = stations >= 0
+    if ok.any():
+        touch = sat_depth(boxes.take(mounted[ok]), boxes.take(stations[ok])) >= -tol
+        out[mounted[ok][touch]] = True
+    return out
+
+
+class _Pairs:
+    """The candidate pairs (indices into the active objects) and what each needs."""
+
+    def __init__(self, scene: Scene, st: _Structure, idx: np.ndarray, boxes: Boxes, a: np.ndarray,
+                 b: np.ndarray, tol: float) -> None:
+        self.scene, self.st, self.idx, self.boxes, self.tol = scene, st, idx, boxes, tol
+        self.a, self.b = a, b
+        self.open = scene.open_top[idx]
+        ba, bb = boxes.take(a), boxes.take(b)
+        self.inside_ab = _Cavity(ba, bb, tol)  # a in b's cavity
+        self.inside_ba = _Cavity(bb, ba, tol)
+
+    def interpenetrations(self) -> list[Finding]:
+        a, b, tol = self.a, self.b, self.tol
+        depth = sat_depth(self.boxes.take(a), self.boxes.take(b))
+        hit = depth > tol
+        if not hit.any():
+            return []
+        open_b, open_a = self.open[b], self.open[a]
+        contained = (open_b & self.inside_ab.within) | (open_a & self.inside_ba.within)
+        out = []
+        for n in np.flatnonzero(hit & ~contained):
+            out.append(self._one(n, float(depth[n])))
+        return [f for f in out if f.depth > tol]
+
+    def _one(self, n: int, depth: float) -> Finding:
+        """The finding of pair ``n``: inside the open one (the smaller excess out of its cavity)
+        or the plainer overlap; reported at the object inside, else the smaller."""
+        names, a, b = self.scene.names, int(self.idx[self.a[n]]), int(self.idx[self.b[n]])
+        options = []
+        if self.open[self.b[n]]:
+            options.append((self.inside_ab.excess[n], self.inside_ab.where[n], a, b))
+        if self.open[self.a[n]]:
+            options.append((self.inside_ba.excess[n], self.inside_ba.where[n], b, a))
+        excess, how, inner, outer = min(options, default=(np.inf, "", a, b), key=lambda o: o[0])
+        if excess < depth:
+            return Finding(INTERPENETRATION, names[inner], names[outer], float(excess), how)
+        first, second = self._reported(a, b)
+        return Finding(INTERPENETRATION, names[first], names[second], depth, "overlap")
+
+    def _reported(self, a: int, b: int) -> tuple[int, int]:
+        """(the object whose pose is reported, the other): the one referring to the other
+        (down the tree), else the smaller, else the first by name."""
+        chain = self.st.chain
+        if (chain[b] == a).any():
+            return b, a
+        if (chain[a] == b).any():
+            return a, b
+        llo, lhi = self.scene.local_lo, self.scene.local_hi
+        va, vb = np.prod(lhi[a] - llo[a]), np.prod(lhi[b] - llo[b])
+        if not np.isclose(va, vb):
+            return (a, b) if va < vb else (b, a)
+        return (a, b) if self.scene.names[a] <= self.scene.names[b] else (b, a)
+
+    def floating(self, hanging: np.ndarray) -> list[Finding]:
+        """Objects whose highest support under the footprint is more than ``tol`` below them."""
+        bottom = self.scene.lo[self.idx, 2]
+        ups, downs, heights, floors = [], [], [], []
+        for up, down, cavity in ((self.a, self.b, self.inside_ab), (self.b, self.a, self.inside_ba)):
+            shadow = _shadow(self.boxes.take(up), bottom[up], self.tol)
+            under = sat_depth(shadow, self.boxes.take(down)) > self.tol
+            in_cavity = self.open[down] & cavity.walls
+            height = np.where(in_cavity, self.scene.lo[self.idx[down], 2], self.scene.hi[self.idx[down], 2])
+            ok = under & (height > -self.tol)
+            ups.append(up[ok]), downs.append(down[ok]), heights.append(height[ok]), floors.append(in_cavity[ok])
+        u, d, h, f = (np.concatenate(x) for x in (ups, downs, heights, floors))
+        order = np.lexsort((f, h, u))  # per object: the highest support last (a floor before a top)
+        last = order[np.r_[u[order][1:] != u[order][:-1], True]] if order.size else order
+        best = np.zeros(len(self.idx))  # the ground
+        by = np.full(len(self.idx), -1)
+        how = np.full(len(self.idx), "ground", dtype=object)
+        high = last[h[last] >= 0]
+        best[u[high]], by[u[high]] = h[high], d[high]
+        how[u[high]] = np.where(f[high], "floor", "top")
+        gap = bottom - best
+        out = []
+        for m in np.flatnonzero((gap > self.tol) & ~hanging):
+            other = self.scene.names[self.idx[by[m]]] if by[m] >= 0 else None
+            out.append(Finding(FLOATING, self.scene.names[self.idx[m]], other, float(gap[m]), str(how[m])))
+        return out
+
+
+class _Cavity:
+    """Box ``a`` against the cavity of box ``b`` (as if ``b`` were an open container): within
+    its walls and above its floor (``within``), within its walls in plan (``walls``), and by
+    how much it is out of the cavity (``excess``, metres) and where (``where``: floor, wall)."""
+
+    def __init__(self, a: Boxes, b: Boxes, tol: float) -> None:
+        lo, hi = in_frame_of(a, b)
+        wall = np.maximum(np.maximum(b.lo[:, :2] - lo[:, :2], hi[:, :2] - b.hi[:, :2]).max(axis=1), 0.0) \
+            if len(lo) else np.zeros(0)
+        floor = np.maximum(b.lo[:, 2] - lo[:, 2], 0.0) if len(lo) else np.zeros(0)
+        self.walls = wall <= tol
+        self.within = self.walls & (floor <= tol)
+        self.excess = np.maximum(wall, floor)
+        self.where = np.where(floor >= wall, "floor", "wall")
+
+
+def _shadow(a: Boxes, bottom: np.ndarray, tol: float) -> Boxes:
+    """The column under each box ``a``: its footprint, from just below the ground to ``tol``
+    above its bottom. Along a local axis that is vertical (up or down) the box is stretched;
+    a tilted box's column is the axis-aligned one under its world box."""
+    p = a.centre.shape[0]
+    top, ground = bottom + tol, np.full(p, -tol)
+    vertical = np.abs(a.axes[:, 2, :]) > 1 - 1e-9  # (P, 3): which local axis is vertical
+    upright = vertical.any(axis=1)
+    axes = np.where(upright[:, None, None], a.axes, np.eye(3))
+    lo, hi = a.lo.copy(), a.hi.copy()
+    origin = a.origin.copy()
+    k = np.argmax(vertical, axis=1)
+    rows = np.flatnonzero(upright)
+    sign = a.axes[rows, 2, k[rows]]
+    z0 = origin[rows, 2]
+    lo[rows, k[rows]] = np.minimum((ground[rows] - z0) * sign, (top[rows] - z0) * sign)
+    hi[rows, k[rows]] = np.maximum((ground[rows] - z0) * sign, (top[rows] - z0) * sign)
+    tilted = np.flatnonzero(~upright)
+    if tilted.size:
+        corners = _world_hull(a.take(tilted))
+        origin[tilted] = 0.0
+        lo[tilted], hi[tilted] = corners[0], corners[1]
+        lo[tilted, 2], hi[tilted, 2] = ground[tilted], top[tilted]
+    poses = np.zeros((p, 4, 4))
+    poses[:, :3, :3], poses[:, :3, 3], poses[:, 3, 3] = axes, origin, 1.0
+    return Boxes.of(poses, lo, hi)
+
+
+def _world_hull(a: Boxes) -> tuple[np.ndarray, np.ndarray]:
+    half = np.einsum("pij,pj->pi", np.abs(a.axes), a.half)
+    return a.centre - half, a.centre + half
+
+
+__all__ = ["FLOATING", "INTERPENETRATION", "RULES", "Boxes", "Finding", "check", "in_frame_of",
+           "overlapping_pairs", "sat_depth"]

@@ -1,0 +1,81 @@
+"""Physical plausibility of a state file's poses, as warnings of ``kitkb validate``.
+
+A data file that places solid objects (``hasSolidObject_PrimaryLocation``) is read as a scene
+(:class:`kb.spatial.scene.Scene`, metres) and checked by :func:`kb.spatial.plausibility.check`:
+``interpenetration`` (two solids in one space, a solid through the floor or a wall of its open
+container or below the ground) and ``floating-object`` (resting on nothing), each reported at
+the line of the object's pose location with both objects named and the depth in the file's
+length unit. Warnings: they do not change the exit code. Files that place nothing (models, the
+SOAP domain) are not read again.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Collection
+
+from rdflib import URIRef
+
+from kb.core.diagnostics import Diagnostic
+from kb.core.errors import InputError
+from kb.core.namespaces import KTW
+from kb.validation.rules import RuleContext, graph_of
+
+#: the rule of a state file whose geometry could not be read (so was not checked)
+UNCHECKED = "geometry-unchecked"
+_PRIMARY = KTW.hasSolidObject_PrimaryLocation
+
+
+def locations(src: Any) -> dict[str, str]:
+    """Object IRI -> the IRI of its pose location, for the objects ``src`` places."""
+    return {str(s): str(o) for s, o in graph_of(src).subject_objects(_PRIMARY) if isinstance(o, URIRef)}
+
+
+def check_geometry(ctx: RuleContext, src: Any, ignore: Collection[str] = ()) -> None:
+    """Warnings for the implausible poses of data file ``src`` (nothing when it places no
+    objects, or when both geometry rules are in ``ignore``)."""
+    where = locations(src)
+    if not where:
+        return
+    from kb.spatial.plausibility import RULES, check  # numpy and the scene: only for state files
+    from kb.spatial.rcc8 import DEFAULT_TOLERANCE
+    from kb.spatial.scene import Scene
+    wanted = tuple(r for r in RULES if r not in ignore)
+    if not wanted:
+        return
+    try:
+        scene = Scene.from_files([src.path])
+    except InputError as exc:
+        if UNCHECKED not in ignore:
+            ctx.out.append(Diagnostic(str(src.path), exc.line, "warning",
+                                      f"physical plausibility not checked: {exc.message}", UNCHECKED, ""))
+        return
+    units = getattr(scene, "units", None)
+    for f in check(scene, DEFAULT_TOLERANCE, where, wanted):
+        focus = URIRef(f.obj)
+        line = ctx.locate(src, URIRef(f.pose) if f.pose else focus, None, None)
+        ctx.report(src, line, "warning", _message(ctx, src, f, units), f.rule, focus)
+
+
+def _message(ctx: RuleContext, src: Any, f: Any, units: Any) -> str:
+    name = ctx.name(URIRef(f.obj), src)
+    other = ctx.name(URIRef(f.other), src) if f.other else None
+    depth = length_text(f.depth, units)
+    if f.rule == "floating-object":
+        below = {"floor": f"the floor of {other}", "top": str(other)}.get(f.how, "the ground (z = 0)")
+        return f"{name} floats {depth} above {below}"
+    if f.how == "ground":
+        return f"{name} is {depth} below the ground (z = 0 of the workstation)"
+    if f.how in ("floor", "wall"):
+        return f"{name} goes {depth} through {'the floor' if f.how == 'floor' else 'a wall'} of {other}"
+    return f"{name} and {other} interpenetrate by {depth}"
+
+
+def length_text(metres: float, units: Any = None) -> str:
+    """``metres`` in the file's length unit with four significant digits (``"20 mm"``,
+    ``"0.02 m"``); metres when the scene does not say its unit."""
+    if units is None:
+        return f"{metres:.4g} m"
+    value = abs(units.from_si("length", metres))
+    digits = max(0, 3 - math.floor(math.log10(value))) if value > 0 else 0
+    return units.length_text(metres, digits)
