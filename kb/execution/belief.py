@@ -6,7 +6,9 @@ file's own individuals, such as kits that do not exist yet); global poses start 
 says and are replaced by every observation (the sensor reports global poses: seed 004
 §4.2). An object the sensor was asked for by name and did not report is believed gone. The
 SKU the sensor recognises replaces the model's (``hasSkuObject_Sku``), so a part of the wrong
-SKU shows in ``part-sku``. :meth:`Belief.scene` is the scene predicates are evaluated on.
+SKU shows in ``part-sku``. What a diagnosis learned about a part (missing, defective, of
+another SKU, dropped) is kept (:attr:`Belief.unusable`). :meth:`Belief.scene` is the scene
+predicates are evaluated on.
 """
 
 from __future__ import annotations
@@ -38,7 +40,9 @@ class Belief:
         self.values = scene.values
         self.slots = scene.slots
         self.inspections: dict[str, set[str]] = {"quality-inspection": set()}
-        self.rejected: set[str] = set()  # parts found defective or of the wrong SKU
+        #: what diagnoses learned: part -> why it must not be used again ("missing", "defective",
+        #: "wrong-sku", "dropped"); no later rebinding, replan or plan takes such a part
+        self.unusable: dict[str, str] = {}
         self.initial = self.poses.copy()
         #: object -> local name of its SKU as believed (the model's, or what the sensor recognised)
         self._sku_local = {n: sku.rsplit("#", 1)[-1] for n, sku in self.facts.get(SKU_OF, ())}
@@ -116,8 +120,16 @@ class Belief:
             self.inspections["quality-inspection"].add(name)
         else:
             self.inspections["quality-inspection"].discard(name)
-            self.rejected.add(name)
+            self.learn(name, "defective")
         self._scene = None
+
+    def learn(self, part: str, what: str) -> None:
+        """A diagnosis found ``part`` unusable (``what``: missing, defective, wrong-sku, dropped);
+        the first reason is kept."""
+        self.unusable.setdefault(part, what)
+
+    def usable(self, part: str) -> bool:
+        return part not in self.unusable
 
     # --- reading --------------------------------------------------------------------
     def scene(self) -> Scene:

@@ -112,6 +112,10 @@ class Executor(Recovery):
 
     # --- one action -----------------------------------------------------------------
     def _do(self, step: Step, queue: deque) -> None:
+        part = step.args.get("part") if step.action == "take-part" else None
+        if part is not None and not self.belief.usable(part):  # a diagnosis found it unusable: no new one
+            self._rebind_or_replan(step, self.index, queue, None, f"{self.belief.unusable[part]} already")
+            return
         while True:
             i = self.index
             self.index += 1
@@ -212,9 +216,8 @@ class Executor(Recovery):
     def _inspect(self, step: Step, i: int, queue: deque) -> str | None:
         """Inspect the part to take (look-for-part): a defective one is replaced, never taken."""
         part = step.args["part"]
-        if part in self.belief.rejected or not self.belief.placed(part):
-            return None if part not in self.belief.rejected else self._rebind_or_replan(
-                step, i, queue, None, "already rejected")
+        if not self.belief.placed(part):
+            return None
         ok = self.cell.inspect(part)
         self.belief.passed_inspection(part, ok)
         if ok:

@@ -11,6 +11,14 @@ notified (the remediation's recipients) and recovered as the remediation says:
   (:mod:`kb.planning.replan`), parts the executor rejected excluded;
 * **stop** for an operator (:class:`~kb.execution.steps.Stop`), saying why.
 
+What a diagnosis learned about the planned part (:data:`LEARNED`: missing from its tray,
+defective, of another SKU, dropped) is kept in the belief (:attr:`Belief.unusable
+<kb.execution.belief.Belief.unusable>`) before anything else is done: no later rebinding,
+replan (the planning state leaves the part out) or step of the plan uses it again, so one
+fault gives one diagnosis. A step that still names such a part (no spare was left to put in
+its place) is rebound or replanned when it comes up, without a new diagnosis, and the run
+stops, saying which SKU ran out, when neither finds a part.
+
 :class:`Recovery` is the half of :class:`kb.execution.executor.Executor` that does this; the
 executor provides the cell, the belief, the records and the methods declared at the top.
 """
@@ -38,6 +46,13 @@ from kb.planning.problem import ProblemSpec
 from kb.planning.replan import replan
 from kb.planning.state import pddl_name
 from kb.spatial.predicates import Evaluator
+
+
+#: failure mode -> what it says about the planned part (``step.args["part"]``): never use it again
+LEARNED: dict[str, str] = {
+    "part-missing-from-tray": "missing", "parts-tray-empty": "missing", "defective-part": "defective",
+    "wrong-sku": "wrong-sku", "dropped-part": "dropped", "dropped-part-in-transit": "dropped",
+}
 
 
 class Recovery:
@@ -125,6 +140,9 @@ class Recovery:
     def _recover(self, step: Step, i: int, queue: deque, failure: FailureRecord, mode: FailureModeDef | None) -> str:
         rem = mode.remediation if mode is not None else None
         kind = rem.recovery if rem is not None else "Replan"
+        learned, part = LEARNED.get(failure.mode), step.args.get("part")
+        if learned is not None and part is not None:
+            self.belief.learn(part, learned)
         if rem is not None and (kind == "Abort" or rem.operator):
             why = "the remediation asks for an operator" if rem.operator else "the remediation aborts the run"
             failure.recovery, failure.outcome = "stop", "stopped for an operator" if rem.operator else "aborted"
@@ -179,7 +197,7 @@ class Recovery:
         found = []
         for r, t in zip(*np.nonzero(truth)):
             p = refs[r]
-            if p == old or p in exclude or p in self.belief.rejected or self.belief.related(SKU_OF, p) != [sku]:
+            if p == old or p in exclude or not self.belief.usable(p) or self.belief.related(SKU_OF, p) != [sku]:
                 continue
             found.append((p in later, p, trays[t]))
         if not found:
@@ -197,8 +215,9 @@ class Recovery:
 
     def _substitute(self, old: str, new: str, queue: deque) -> None:
         """``new`` replaces ``old`` in the rest of the plan; steps that planned to use ``new``
-        get another usable part of its SKU (``old`` only if it is still usable, so a part known
-        missing or rejected never comes back into the plan)."""
+        get another usable part of its SKU (``old`` only if it is still usable; when no spare is
+        left they keep ``old``, known unusable, and are rebound or replanned without a new
+        diagnosis when they come up)."""
         took_new = [s for s in queue if new in s.args.values()]
         for s in queue:
             for k, v in s.args.items():
@@ -206,7 +225,7 @@ class Recovery:
                     s.args[k] = new
         if not took_new:
             return
-        usable = old not in self.belief.rejected and self._in_a_tray(old)
+        usable = self.belief.usable(old) and self._in_a_tray(old)
         # a spare the rest of the plan does not take already (else the SKU would come up one
         # part short far later, at a step no fault touched)
         later = {a for s in queue if s not in took_new for a in s.args.values()}
@@ -224,7 +243,7 @@ class Recovery:
 
     def _reject_held(self, part: str) -> None:
         """Put a held part that must not go into a kit back where it was taken."""
-        self.belief.rejected.add(part)
+        self.belief.learn(part, "wrong-sku")
         grasp = self.taken_from.get(part)
         if grasp is None:
             return
@@ -246,7 +265,7 @@ class Recovery:
         for fn in self.domain.functions:
             for args, v in ev.function_values(fn).items():
                 values[(fn, *map(pddl_name, args))] = v
-        excluded = {pddl_name(p) for p in self.belief.rejected}
+        excluded = {pddl_name(p) for p in self.belief.unusable}
         try:
             result = replan(self.domain, self.spec, facts, values, excluded, self.planner)
         except Exception as e:  # no plan, or a planner that broke: the run stops, saying why

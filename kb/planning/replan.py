@@ -4,7 +4,8 @@ The executor knows the current state as the predicates and counts that hold in i
 the cell (``kb.spatial.predicates``), which equal the facts the generator would read from a
 state file (tests/test_predicates.py). :func:`restated` turns them into the numeric problem
 of the original objects and goal; :func:`replan` compiles it to STRIPS (quota tokens: the
-parts now lying in parts trays, minus those the executor has rejected) and plans.
+parts now lying in parts trays, minus those the executor's diagnoses found unusable, which are
+not in any tray for the planner) and plans.
 """
 
 from __future__ import annotations
@@ -29,11 +30,14 @@ def restated(spec: ProblemSpec, facts: Iterable[Atom], values: dict[Atom, float]
     know are dropped; functions the problem knows but ``values`` lacks are 0.
     """
     known = set(spec.objects)
-    new_facts = {a for a in facts if all(x in known for x in a[1:])}
+    bad = set(excluded)
+    # an excluded part (found missing, defective, of another SKU, dropped) is not in a parts
+    # tray for the planner: no plan takes it, whatever the geometry says
+    new_facts = {a for a in facts if all(x in known for x in a[1:])
+                 and not (a[0] == "part-location-partstray" and a[1] in bad)}
     new_values = {k: 0.0 for k in spec.values}
     new_values.update({k: float(v) for k, v in values.items() if all(x in known for x in k[1:])})
     out = replace(spec, facts=new_facts, values=new_values, quota={}, shortage=[])
-    bad = set(excluded)
     sku_of = {a[1]: a[2] for a in new_facts if a[0] == "part-sku"}
     in_trays: dict[str, list[str]] = {}
     for a in sorted(new_facts):
