@@ -360,19 +360,24 @@ class _Pairs:
         return [f for f in out if f.depth > tol]
 
     def _one(self, n: int, depth: float) -> Finding:
-        """The finding of pair ``n``: inside the open one (the smaller excess out of its cavity)
-        or the plainer overlap; reported at the object inside, else the smaller."""
+        """The finding of pair ``n``. With an open container and a smaller object: through its
+        floor or a wall, by the smaller of how far the object is out of the cavity and how far
+        it is in the box; otherwise an overlap, reported at the object referring to the other,
+        else the smaller."""
         names, a, b = self.scene.names, int(self.idx[self.a[n]]), int(self.idx[self.b[n]])
         options = []
-        if self.open[self.b[n]]:
+        if self.open[self.b[n]] and self._volume(a) < self._volume(b):
             options.append((self.inside_ab.excess[n], self.inside_ab.where[n], a, b))
-        if self.open[self.a[n]]:
+        if self.open[self.a[n]] and self._volume(b) < self._volume(a):
             options.append((self.inside_ba.excess[n], self.inside_ba.where[n], b, a))
-        excess, how, inner, outer = min(options, default=(np.inf, "", a, b), key=lambda o: o[0])
-        if excess < depth:
-            return Finding(INTERPENETRATION, names[inner], names[outer], float(excess), how)
+        if options:
+            excess, how, inner, outer = options[0]
+            return Finding(INTERPENETRATION, names[inner], names[outer], float(min(excess, depth)), str(how))
         first, second = self._reported(a, b)
         return Finding(INTERPENETRATION, names[first], names[second], depth, "overlap")
+
+    def _volume(self, i: int) -> float:
+        return float(np.prod(self.scene.local_hi[i] - self.scene.local_lo[i]))
 
     def _reported(self, a: int, b: int) -> tuple[int, int]:
         """(the object whose pose is reported, the other): the one referring to the other
@@ -382,8 +387,7 @@ class _Pairs:
             return b, a
         if (chain[a] == b).any():
             return a, b
-        llo, lhi = self.scene.local_lo, self.scene.local_hi
-        va, vb = np.prod(lhi[a] - llo[a]), np.prod(lhi[b] - llo[b])
+        va, vb = self._volume(a), self._volume(b)
         if not np.isclose(va, vb):
             return (a, b) if va < vb else (b, a)
         return (a, b) if self.scene.names[a] <= self.scene.names[b] else (b, a)
@@ -395,9 +399,9 @@ class _Pairs:
         for up, down, cavity in ((self.a, self.b, self.inside_ab), (self.b, self.a, self.inside_ba)):
             shadow = _shadow(self.boxes.take(up), bottom[up], self.tol)
             under = sat_depth(shadow, self.boxes.take(down)) > self.tol
-            in_cavity = self.open[down] & cavity.walls
+            in_cavity = self.open[down] & cavity.walls & cavity.rises  # on (or through) its floor
             height = np.where(in_cavity, self.scene.lo[self.idx[down], 2], self.scene.hi[self.idx[down], 2])
-            ok = under & (height > -self.tol)
+            ok = ((under & ~(self.open[down] & cavity.walls)) | in_cavity) & (height > -self.tol)
             ups.append(up[ok]), downs.append(down[ok]), heights.append(height[ok]), floors.append(in_cavity[ok])
         u, d, h, f = (np.concatenate(x) for x in (ups, downs, heights, floors))
         order = np.lexsort((f, h, u))  # per object: the highest support last (a floor before a top)
@@ -427,17 +431,19 @@ class _Cavity:
             if len(lo) else np.zeros(0)
         floor = np.maximum(b.lo[:, 2] - lo[:, 2], 0.0) if len(lo) else np.zeros(0)
         self.walls = wall <= tol
+        self.rises = hi[:, 2] > b.lo[:, 2] + tol if len(lo) else np.zeros(0, bool)  # not all under the floor
         self.within = self.walls & (floor <= tol)
         self.excess = np.maximum(wall, floor)
         self.where = np.where(floor >= wall, "floor", "wall")
 
 
 def _shadow(a: Boxes, bottom: np.ndarray, tol: float) -> Boxes:
-    """The column under each box ``a``: its footprint, from just below the ground to ``tol``
-    above its bottom. Along a local axis that is vertical (up or down) the box is stretched;
-    a tilted box's column is the axis-aligned one under its world box."""
+    """The column under each box ``a``: its footprint, from just below the ground to its
+    bottom (what reaches more than ``tol`` into it is under ``a``; what rests on the same floor
+    is not). Along a local axis that is vertical (up or down) the box is stretched; a tilted
+    box's column is the axis-aligned one under its world box."""
     p = a.centre.shape[0]
-    top, ground = bottom + tol, np.full(p, -tol)
+    top, ground = bottom, np.full(p, -tol)
     vertical = np.abs(a.axes[:, 2, :]) > 1 - 1e-9  # (P, 3): which local axis is vertical
     upright = vertical.any(axis=1)
     axes = np.where(upright[:, None, None], a.axes, np.eye(3))

@@ -1,0 +1,264 @@
+"""Physical plausibility in ``kitkb validate``: interpenetrating and floating objects, as
+warnings at the pose's line with both objects named and the depth in the file's unit.
+
+The cases are the shipped small-kit initial state with one pose edited (in the frame of the
+object's reference object, so they hold in a tray turned by any yaw), then written turned or
+in another unit by :func:`kb.scenario.variants.write_variant`.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from kb.cli import main
+from kb.core.resources import scenario_dirs
+from kb.scenario import write_scenario
+from kb.scenario.variants import write_variant
+from kb.spatial.plausibility import Boxes, check, overlapping_pairs, sat_depth
+from kb.spatial.scene import Scene
+from kb.validation import validate
+from tests.shared_data import NIST_DIR
+
+SMALL_KIT = next(d for d in scenario_dirs() if d.name == "small-kit") / "init.ttl"
+SHIPPED = sorted(p for d in scenario_dirs() for p in d.glob("*.ttl"))
+NIST_STATES = [NIST_DIR / "kittingInstancesInit1.owl", NIST_DIR / "kittingInstancesGoal1.owl"]
+GEOMETRY = ("interpenetration", "floating-object")
+
+
+def _edit(text: str, obj: str, ref: str | None = None, **xyz: float) -> str:
+    """``text`` with ``obj``'s pose point moved (X=, Y=, Z= in its reference frame) and its
+    reference object replaced by ``ref``."""
+    def point(m: re.Match) -> str:
+        block = m.group(0)
+        for axis, v in xyz.items():
+            block, n = re.subn(rf"(ktw:hasPoint_{axis}) [-0-9.eE]+", rf"\g<1> {v}", block)
+            assert n == 1
+        return block
+    text, n = re.subn(rf":{obj}_point a .*?\.\n", point, text, count=1, flags=re.S)
+    assert n == 1
+    if ref is not None:
+        text, n = re.subn(rf"(:{obj}_pose a .*?ktw:hasPhysicalLocation_RefObject) :\w+", rf"\g<1> :{ref}", text,
+                          count=1, flags=re.S)
+        assert n == 1
+    return text
+
+
+def _state(tmp_path: Path, *, unit: str | None = None, turn: str | None = None, **edit: dict) -> Path:
+    text = SMALL_KIT.read_text()
+    for obj, change in edit.items():
+        text = _edit(text, obj, **change)
+    path = tmp_path / "init.ttl"
+    path.write_text(text)
+    if unit or turn:
+        out = tmp_path / "variant.ttl"
+        write_variant(path, out, unit=unit, yaw=37.0 if turn else 0.0, objects=[turn] if turn else None)
+        return out
+    return path
+
+
+def _line(path: Path, subject: str) -> int:
+    """The line where ``subject`` is first described in ``path`` (Turtle)."""
+    for n, text in enumerate(path.read_text().splitlines(), 1):
+        if text.startswith(f":{subject} a "):
+            return n
+    raise AssertionError(subject)
+
+
+def _found(path: Path) -> list[tuple]:
+    """(rule, line, message) of the geometry warnings of ``path``; everything else conforms."""
+    report = validate([path])
+    assert report.conforms, [d.format() for d in report.errors]
+    others = [d for d in report.diagnostics if d.rule not in GEOMETRY]
+    assert others == [], [d.format() for d in others]
+    assert all(d.severity == "warning" for d in report.diagnostics)
+    return [(d.rule, d.line, d.message) for d in report.diagnostics]
+
+
+# --- what validate reports ----------------------------------------------------------------------
+
+#: pose edits of the small kit -> the findings (rule, object, message) they must give
+CASES = {
+    "half into the table": (
+        {"part_a_1": {"ref": "parts_table_1", "X": -0.26, "Y": -0.165, "Z": 0.72}},
+        [("interpenetration", "part_a_1", ":part_a_1 and :parts_table_1 interpenetrate by {30}")]),
+    "two parts in one space": (
+        {"part_a_2": {"X": -0.09}},
+        [("interpenetration", "part_a_1", ":part_a_1 and :part_a_2 interpenetrate by {50}")]),
+    "through the tray's floor": (
+        {"part_a_1": {"Z": -0.02}},
+        [("interpenetration", "part_a_1", ":part_a_1 and :parts_table_1 interpenetrate by {20}"),
+         ("interpenetration", "part_a_1", ":part_a_1 goes {20} through the floor of :part_a_tray")]),
+    "through the tray's wall": (
+        {"part_a_1": {"X": -0.24}},
+        [("interpenetration", "part_a_1", ":part_a_1 goes {40} through a wall of :part_a_tray")]),
+    "floating": (
+        {"part_a_1": {"Z": 0.05}},
+        [("floating-object", "part_a_1", ":part_a_1 floats {50} above the floor of :part_a_tray")]),
+    "floating above the table": (
+        {"part_a_tray": {"Z": 0.8}},
+        [("floating-object", "part_a_tray", ":part_a_tray floats {50} above :parts_table_1")]),
+}
+#: how a depth in millimetres reads in each unit
+WRITTEN = {None: lambda mm: f"{mm / 1000:g} m", "millimeter": lambda mm: f"{mm:g} mm",
+           "inch": lambda mm: f"{mm / 25.4:.4g} in"}
+
+
+def _expected(path: Path, findings: list, unit: str | None) -> list[tuple]:
+    def text(message: str) -> str:
+        return re.sub(r"\{(\d+)\}", lambda m: WRITTEN[unit](int(m.group(1))), message)
+    return sorted((rule, _line(path, f"{obj}_pose"), text(message)) for rule, obj, message in findings)
+
+
+@pytest.mark.parametrize("case", sorted(CASES))
+def test_an_implausible_pose_is_reported_at_its_line_with_its_depth(case: str, tmp_path: Path) -> None:
+    edit, findings = CASES[case]
+    path = _state(tmp_path, **edit)
+    assert sorted(_found(path)) == _expected(path, findings, None)
+
+
+@pytest.mark.parametrize("case", sorted(c for c in CASES if c != "half into the table"))
+def test_the_same_inside_a_tray_turned_37_degrees(case: str, tmp_path: Path) -> None:
+    edit, findings = CASES[case]
+    path = _state(tmp_path, turn="part_a_tray", **edit)
+    assert sorted(_found(path)) == _expected(path, findings, None)
+
+
+@pytest.mark.parametrize("unit", ["millimeter", "inch"])
+@pytest.mark.parametrize("case", ["through the tray's floor", "floating", "two parts in one space"])
+def test_the_depth_is_in_the_files_unit(case: str, unit: str, tmp_path: Path) -> None:
+    edit, findings = CASES[case]
+    path = _state(tmp_path, unit=unit, turn="part_a_tray", **edit)
+    assert sorted(_found(path)) == _expected(path, findings, unit)
+
+
+def test_depths_in_metres_whatever_the_unit(tmp_path: Path) -> None:
+    edit, _ = CASES["through the tray's floor"]
+    (tmp_path / "m").mkdir()
+    (tmp_path / "mm").mkdir()
+    metres = check(Scene.from_files([_state(tmp_path / "m", **edit)]))
+    millimetres = check(Scene.from_files([_state(tmp_path / "mm", unit="millimeter", turn="part_a_tray", **edit)]))
+    assert [(f.rule, f.obj, f.other, f.how) for f in metres] == [(f.rule, f.obj, f.other, f.how) for f in millimetres]
+    assert [f.depth for f in millimetres] == pytest.approx([0.02, 0.02], abs=1e-9)
+
+
+def test_within_the_tolerance_is_plausible(tmp_path: Path) -> None:
+    path = _state(tmp_path, part_a_1={"Z": 0.0009}, part_a_2={"Z": -0.0009}, part_a_3={"X": 0.0991})
+    assert _found(path) == []
+
+
+def test_warnings_keep_exit_code_0_and_ignore_leaves_them_out(tmp_path: Path, capsys) -> None:
+    path = _state(tmp_path, part_a_1={"Z": 0.05}, part_a_2={"X": 0.05})
+    assert main(["validate", str(path)]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert sorted(re.search(r"\[(.*)\]$", line).group(1) for line in out[:-1]) == list(sorted(GEOMETRY))
+    assert out[-1] == "1 file(s): conforms, 2 warnings"
+    assert main(["validate", "--ignore", "floating-object", str(path)]) == 0
+    assert "[floating-object]" not in capsys.readouterr().out
+    assert main(["validate", "--ignore", "interpenetration,floating-object", str(path)]) == 0
+    assert capsys.readouterr().out.splitlines() == ["1 file(s): conforms"]
+    assert validate([path], ignore={"floating-object", "interpenetration"}).diagnostics == []
+
+
+def test_geometry_that_cannot_be_read_is_a_warning_not_an_error(tmp_path: Path) -> None:
+    text = re.sub(r"(:sku_part_a a .*?)ktw:hasStockKeepingUnit_InternalShape :\w+ ;\n\s*", r"\1",
+                  SMALL_KIT.read_text(), count=1, flags=re.S)
+    path = tmp_path / "init.ttl"
+    path.write_text(text)
+    unchecked = [d for d in validate([path]).diagnostics if d.rule == "geometry-unchecked"]
+    assert len(unchecked) == 1 and unchecked[0].severity == "warning"
+    assert "physical plausibility not checked: part_a_1 is placed but has no shape" in unchecked[0].message
+
+
+# --- real files: nothing that is not really there -------------------------------------------------
+
+@pytest.mark.parametrize("path", SHIPPED, ids=lambda p: f"{p.parent.name}/{p.name}")
+def test_shipped_scenarios_are_plausible(path: Path) -> None:
+    assert len(SHIPPED) == 6
+    assert check(Scene.from_files([path])) == []
+
+
+@pytest.mark.parametrize("parts,kits,seed", [(5, 1, 0), (40, 2, 3), (160, 4, 11)])
+def test_generated_scenarios_are_plausible(parts: int, kits: int, seed: int, tmp_path: Path) -> None:
+    write_scenario(tmp_path, parts=parts, kits=kits, seed=seed)
+    for name in ("init.ttl", "goal.ttl"):
+        assert check(Scene.from_files([tmp_path / name])) == [], name
+
+
+@pytest.mark.skipif(not NIST_DIR.is_dir(), reason="NIST files not found")
+@pytest.mark.parametrize("path", NIST_STATES, ids=lambda p: p.name)
+def test_nist_states_are_plausible(path: Path) -> None:
+    """Checked by hand: parts exactly as tall as the kit tray, resting 0.1 mm above its floor;
+    holders against the ends of the changing-station base (a 1 mm plate, the effector hanging
+    under it); the tray gripper on the robot's flange (a point); kits and large boxes are the
+    boxes of their trays and containers. Nothing interpenetrates or floats."""
+    scene = Scene.from_files([path])
+    assert check(scene) == []
+
+
+# --- the geometry -----------------------------------------------------------------------------
+
+def _boxes(centres, yaws, half) -> Boxes:  # noqa: ANN001
+    k = len(centres)
+    poses = np.tile(np.eye(4), (k, 1, 1))
+    for i, (c, yaw) in enumerate(zip(centres, yaws)):
+        a = math.radians(yaw)
+        poses[i, :3, :3] = [[math.cos(a), -math.sin(a), 0], [math.sin(a), math.cos(a), 0], [0, 0, 1]]
+        poses[i, :3, 3] = c
+    half = np.asarray(half, float)
+    return Boxes.of(poses, -half, half)
+
+
+def test_separating_axes_of_turned_boxes() -> None:
+    a = _boxes([(0, 0, 0)], [0], [(0.5, 0.5, 0.5)])
+    b = _boxes([(1.2, 0, 0)], [45], [(0.5, 0.5, 0.5)])
+    assert sat_depth(a, b) == pytest.approx([0.5 + 0.5 * math.sqrt(2) - 1.2])
+    # their world boxes overlap, the boxes do not: an edge-on corner 0.05 away
+    c = _boxes([(0.5 + 0.5 * math.sqrt(2) + 0.05, 0.3, 0)], [45], [(0.5, 0.5, 0.5)])
+    assert sat_depth(a, c)[0] < 0
+
+
+def test_separating_axes_agree_with_points_inside_for_any_rotation() -> None:
+    """Boxes turned about any axis: clearly apart by the test (less than -1 cm) -> no point of
+    one inside the other; clearly in (more than 5 cm) -> some point of one inside the other."""
+    rng = np.random.default_rng(7)
+    n = 300
+    q = rng.normal(size=(2 * n, 4))
+    q /= np.linalg.norm(q, axis=1, keepdims=True)
+    w, x, y, z = q.T
+    rot = np.stack([np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)], -1),
+                    np.stack([2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)], -1),
+                    np.stack([2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)], -1)], 1)
+    poses = np.tile(np.eye(4), (2 * n, 1, 1))
+    poses[:, :3, :3] = rot
+    poses[n:, :3, 3] = rng.uniform(-1.2, 1.2, (n, 3))
+    half = rng.uniform(0.1, 0.6, (2 * n, 3))
+    boxes = Boxes.of(poses, -half, half)
+    a, b = boxes.take(np.arange(n)), boxes.take(np.arange(n, 2 * n))
+    depth = sat_depth(a, b)
+    grid = np.stack(np.meshgrid(*[np.linspace(-1, 1, 15)] * 3), -1).reshape(-1, 3)
+    for k in range(n):
+        points = a.centre[k] + (grid * a.half[k]) @ a.axes[k].T
+        local = (points - b.centre[k]) @ b.axes[k]
+        inside = np.all(np.abs(local) <= b.half[k], axis=1).any()
+        if depth[k] < -0.01:
+            assert not inside, k
+        elif depth[k] > 0.05:
+            assert inside, k
+    assert (depth < -0.01).sum() > 50 and (depth > 0.05).sum() > 50
+
+
+def test_candidate_pairs_are_every_overlapping_pair() -> None:
+    rng = np.random.default_rng(5)
+    lo = rng.uniform(0, 10, (600, 3)) * [1, 1, 0.1]
+    size = np.where(rng.random((600, 1)) < 0.05, rng.uniform(1, 4, (600, 3)), rng.uniform(0.05, 0.3, (600, 3)))
+    hi = lo + size
+    i, j = overlapping_pairs(lo, hi, 0.001)
+    near = np.all((lo[:, None] <= hi[None] + 0.001) & (lo[None] <= hi[:, None] + 0.001), axis=2)
+    want = set(zip(*np.nonzero(np.triu(near, 1))))
+    assert set(zip(i.tolist(), j.tolist())) == want
+    assert len(want) > 600
