@@ -496,19 +496,27 @@ def heading_groups(h: ArrayLike, merge: float = HEADING_MERGE) -> tuple[NDArray[
     """(labels (K,), yaws (G,)): objects of headings ``h`` grouped into frames.
 
     Label 0 is the world frame (yaw exactly 0): headings within ``merge`` of 0 and NaN (no
-    pose). The others are bins of width ``merge`` over the heading; a group's yaw is the mean of
-    its members' headings, so every member is within ``merge`` of it (a tray turned by any angle
-    and the parts it holds, whose headings differ by rounding only, share one exact frame).
+    pose). The others: the sorted headings cut where two neighbours are more than ``merge``
+    apart, and a run wider than ``merge`` cut again every ``merge`` from its start; a group's
+    yaw is the mean of its members' headings, so every member is within ``merge`` of it (a tray
+    turned by any angle and the parts it holds, whose headings differ by rounding only, share
+    one exact frame).
     """
     h = np.asarray(h, dtype=np.float64)
     labels = np.zeros(h.shape[0], dtype=np.intp)
-    turned = ~(np.isnan(h) | (np.abs(h) <= merge))
-    if not turned.any():
+    turned = np.flatnonzero(~(np.isnan(h) | (np.abs(h) <= merge)))
+    if not turned.size:
         return labels, np.zeros(1)
-    bins, inverse = np.unique(np.floor(h[turned] / merge), return_inverse=True)
-    labels[turned] = inverse + 1
-    yaws = np.zeros(bins.shape[0] + 1)
-    yaws[1:] = np.bincount(inverse, weights=h[turned]) / np.bincount(inverse)
+    order = turned[np.argsort(h[turned], kind="stable")]
+    v = h[order]
+    run = np.concatenate([[0], np.cumsum(np.diff(v) > merge)])
+    first = np.concatenate([[0], np.flatnonzero(np.diff(run)) + 1])
+    cut = np.floor((v - v[first][run]) / merge).astype(np.intp)
+    key = run * (int(cut.max()) + 1) + cut
+    _, group = np.unique(key, return_inverse=True)
+    labels[order] = group + 1
+    yaws = np.zeros(int(group.max()) + 2)
+    yaws[1:] = np.bincount(group, weights=v) / np.bincount(group)
     return labels, yaws
 
 
