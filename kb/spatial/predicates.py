@@ -49,7 +49,7 @@ from kb.model.definitions import (
     Sku,
     Variable,
 )
-from kb.spatial.rcc8 import BIT, DEFAULT_TOLERANCE, frame_boxes, heading_groups, headings, relate
+from kb.spatial.rcc8 import BIT, DEFAULT_TOLERANCE, heading_groups, headings, reframe, relate
 from kb.spatial.scene import Scene
 
 Mask = Callable[[np.ndarray], np.ndarray]
@@ -106,8 +106,7 @@ class Evaluator:
         self._lo = np.where(np.isnan(scene.lo), 1e30, scene.lo)
         self._hi = np.where(np.isnan(scene.hi), 1e30, scene.hi)
         # each object's frame (docs/soap.md, "Orientation"): label 0 the world's, others turned
-        self._labels, self._yaws = self._frames(scene)
-        self._frame_boxes: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+        self._yaw = self._frames(scene)
 
     # --- public ---------------------------------------------------------------------
     def candidates(self, cls: str | None) -> np.ndarray:
@@ -295,49 +294,32 @@ class Evaluator:
                            & self.scene.placed[o][None, :], f.subject, f.object, axes)
 
     def _masks_of(self, s: np.ndarray, o: np.ndarray) -> np.ndarray:
-        """Relation masks of subjects ``s`` x objects ``o``, each pair in its object's frame."""
+        """Relation masks of subjects ``s`` x objects ``o``, each pair in its object's frame
+        (:func:`kb.spatial.rcc8.reframe`; the world boxes alone when no object is turned)."""
         key = (s.tobytes(), o.tobytes())
         m = self._masks.get(key)
         if m is None:
-            labels = self._labels[o]
-            if not labels.any():  # every object axis aligned: the world boxes, one kernel call
-                m = relate(self._lo[s], self._hi[s], self._lo[o], self._hi[o], self.tol)
-            else:
-                m = np.empty((len(s), len(o)), np.uint32)
-                for label in np.unique(labels):
-                    cols = np.flatnonzero(labels == label)
-                    lo, hi = self._boxes_in(int(label))
-                    m[:, cols] = relate(lo[s], hi[s], lo[o[cols]], hi[o[cols]], self.tol)
+            m = relate(self._lo[s], self._hi[s], self._lo[o], self._hi[o], self.tol)
+            yaw = self._yaw[o]
+            if yaw.any():
+                sc = self.scene
+                boxes = (sc.poses, sc.local_lo, sc.local_hi)
+                reframe(m, boxes, boxes, yaw, self.tol, s, o)
             if len(self._masks) > 64:
                 self._masks.clear()
             self._masks[key] = m
         return m
 
     @staticmethod
-    def _frames(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
-        """Each object's frame label and the frames' yaws (:func:`kb.spatial.rcc8.heading_groups`)."""
+    def _frames(scene: Scene) -> np.ndarray:
+        """(K,) the yaw of each object's frame (:func:`kb.spatial.rcc8.heading_groups`; 0: the world's)."""
         k = len(scene.names)
         if scene.poses is None or scene.local_lo is None or not k:
-            return np.zeros(k, np.intp), np.zeros(1)
+            return np.zeros(k)
         h = headings(scene.poses)
         h[~scene.placed] = np.nan
-        return heading_groups(h)
-
-    def _boxes_in(self, label: int) -> tuple[np.ndarray, np.ndarray]:
-        """Every object's box in frame ``label`` (far away where it is not placed)."""
-        if label == 0:
-            return self._lo, self._hi
-        boxes = self._frame_boxes.get(label)
-        if boxes is None:
-            sc = self.scene
-            placed = sc.placed
-            lo, hi = np.full((len(sc.names), 3), 1e30), np.full((len(sc.names), 3), 1e30)
-            lo[placed], hi[placed] = frame_boxes(sc.poses[placed], sc.local_lo[placed], sc.local_hi[placed],
-                                                 self._yaws[label])
-            if len(self._frame_boxes) >= 32:
-                self._frame_boxes.clear()
-            boxes = self._frame_boxes[label] = (lo, hi)
-        return boxes
+        labels, yaws = heading_groups(h)
+        return yaws[labels]
 
     def _pairs(self, matrix, subject, obj, axes: list[Axis]) -> np.ndarray:  # noqa: ANN001
         i, j = self._axis(subject, axes), self._axis(obj, axes)

@@ -70,7 +70,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["BIT", "DEFAULT_TOLERANCE", "HEADING_MERGE", "RELATIONS", "frame_boxes", "heading_groups", "headings",
-           "relate", "relate_oriented", "relate_pair", "world_boxes"]
+           "reframe", "relate", "relate_oriented", "relate_pair", "relate_rows", "world_boxes"]
 
 #: The eight RCC8 relations of one axis, in mask order.
 RCC8: tuple[str, ...] = ("DC", "EC", "PO", "EQ", "TPP", "NTPP", "TPPi", "NTPPi")
@@ -528,33 +528,83 @@ def frame_boxes(poses: ArrayLike, lo: ArrayLike, hi: ArrayLike, yaw: ArrayLike) 
     yaw_a = np.broadcast_to(np.asarray(yaw, dtype=np.float64), (g.shape[0],))
     if not yaw_a.any():
         return world_boxes(g, lo, hi)
-    c, s = np.cos(yaw_a), np.sin(yaw_a)
-    turned = g.copy()
-    turned[:, 0, :] = c[:, None] * g[:, 0, :] + s[:, None] * g[:, 1, :]
-    turned[:, 1, :] = c[:, None] * g[:, 1, :] - s[:, None] * g[:, 0, :]
-    return world_boxes(turned, lo, hi)
+    lo_l, hi_l = np.asarray(lo, dtype=np.float64), np.asarray(hi, dtype=np.float64)
+    c, s = np.cos(yaw_a)[:, None], np.sin(yaw_a)[:, None]
+    rot = g[:, :3, :3]
+    centre = g[:, :3, 3] + np.einsum("kij,kj->ki", rot, (lo_l + hi_l) * 0.5)
+    half = (hi_l - lo_l) * 0.5
+    rows = (c * rot[:, 0] + s * rot[:, 1], c * rot[:, 1] - s * rot[:, 0], rot[:, 2])  # Rz(-yaw) @ R
+    extent = np.stack([np.einsum("kj,kj->k", np.abs(r), half) for r in rows], axis=1)
+    middle = np.stack([c[:, 0] * centre[:, 0] + s[:, 0] * centre[:, 1], c[:, 0] * centre[:, 1] - s[:, 0] * centre[:, 0],
+                       centre[:, 2]], axis=1)
+    return middle - extent, middle + extent
 
 
 def relate_oriented(a_poses: ArrayLike, a_lo: ArrayLike, a_hi: ArrayLike, b_poses: ArrayLike, b_lo: ArrayLike,
                     b_hi: ArrayLike, tol: float = DEFAULT_TOLERANCE) -> NDArray[np.uint32]:
     """uint32 (N, M): the masks of oriented subject boxes to oriented object boxes, each pair
-    decided in its object's frame (the world turned about z by the object's heading: the
-    object's box exact, the subject's its hull there).
+    decided in its object's frame (the world turned about z by the object's heading group's
+    yaw: the object's box exact, the subject's its hull there).
 
     ``a_poses`` (N, 4, 4) and ``b_poses`` (M, 4, 4) are global poses, ``a_lo``, ``a_hi``,
-    ``b_lo``, ``b_hi`` the local box corners. The objects are grouped by heading
-    (:func:`heading_groups`) and :func:`relate` runs once per group; with every object axis
-    aligned that is one call on the world boxes, the same masks as :func:`relate` on them.
+    ``b_lo``, ``b_hi`` the local box corners. One :func:`relate` call on the world boxes, then
+    :func:`reframe`: with every object axis aligned, exactly the masks of :func:`relate` on the
+    world boxes.
     """
-    labels, yaws = heading_groups(headings(b_poses))
-    a_p, b_p = np.asarray(a_poses, dtype=np.float64), np.asarray(b_poses, dtype=np.float64)
-    if yaws.shape[0] == 1:
-        return relate(*world_boxes(a_p, a_lo, a_hi), *world_boxes(b_p, b_lo, b_hi), tol)
-    b_lo_a, b_hi_a = np.asarray(b_lo, dtype=np.float64), np.asarray(b_hi, dtype=np.float64)
-    out = np.empty((a_p.shape[0], b_p.shape[0]), dtype=np.uint32)
-    for label, yaw in enumerate(yaws):
-        cols = np.flatnonzero(labels == label)
-        if cols.size:
-            blo, bhi = frame_boxes(b_p[cols], b_lo_a[cols], b_hi_a[cols], yaw)
-            out[:, cols] = relate(*frame_boxes(a_p, a_lo, a_hi, yaw), blo, bhi, tol)
+    a = tuple(np.asarray(x, dtype=np.float64) for x in (a_poses, a_lo, a_hi))
+    b = tuple(np.asarray(x, dtype=np.float64) for x in (b_poses, b_lo, b_hi))
+    masks = relate(*world_boxes(*a), *world_boxes(*b), tol)
+    labels, yaws = heading_groups(headings(b[0]))
+    reframe(masks, a, b, yaws[labels], tol)
+    return masks
+
+
+#: The three DC bits: a pair with one of them is apart in every frame.
+_DC_ANY = np.uint32(BIT["X-DC"] | BIT["Y-DC"] | BIT["Z-DC"])
+
+
+def reframe(masks: NDArray[np.uint32], a: tuple, b: tuple, b_yaw: FloatArray, tol: float = DEFAULT_TOLERANCE,
+            a_rows: NDArray[np.intp] | None = None, b_rows: NDArray[np.intp] | None = None) -> None:
+    """Decide again, in place, the pairs of world-box ``masks`` whose object is turned
+    (``b_yaw`` of its frame not 0) and whose world boxes meet (DC on no axis), in the object's
+    frame: subject hull and object box turned by ``-b_yaw`` (:func:`frame_boxes`), one row per
+    pair (:func:`relate_rows`).
+
+    ``a``, ``b``: (poses, local lo, local hi) of the subjects and objects, indexed through
+    ``a_rows`` / ``b_rows`` (mask row / column -> array row; identity when None). ``b_yaw``:
+    per mask column. Pairs whose world boxes are apart stay as they are: world boxes hold the
+    objects, so such a pair is apart in every frame (and its object's frame could only make its
+    subject's hull larger).
+    """
+    cols = np.flatnonzero(b_yaw)
+    if not cols.size:
+        return
+    sub = masks[:, cols] if cols.size < masks.shape[1] else masks
+    i, k = np.nonzero((sub & _DC_ANY) == 0)
+    if not i.size:
+        return
+    j = cols[k]
+    yaw = b_yaw[j]
+    ai = a_rows[i] if a_rows is not None else i
+    bj = b_rows[j] if b_rows is not None else j
+    alo, ahi = frame_boxes(a[0][ai], a[1][ai], a[2][ai], yaw)
+    blo, bhi = frame_boxes(b[0][bj], b[1][bj], b[2][bj], yaw)
+    masks[i, j] = relate_rows(alo, ahi, blo, bhi, tol)
+
+
+def relate_rows(a_lo: ArrayLike, a_hi: ArrayLike, b_lo: ArrayLike, b_hi: ArrayLike,
+                tol: float = DEFAULT_TOLERANCE) -> NDArray[np.uint32]:
+    """uint32 (P,): the mask of subject box p to object box p, row by row (P pairs): the same
+    comparisons and tables as :func:`relate`."""
+    t = _check_tolerance(tol)
+    a0s, a1s = _boxes(a_lo, a_hi, "subject")
+    b0s, b1s = _boxes(b_lo, b_hi, "object")
+    out = np.zeros(a0s.shape[1], dtype=np.uint32)
+    for axis in range(3):
+        a0, a1, b0, b1 = a0s[axis], a1s[axis], b0s[axis], b1s[axis]
+
+        def code(x: FloatArray, b: FloatArray) -> NDArray[np.uint8]:
+            return (x >= b - t).view(np.uint8) + (x >= np.nextafter(b + t, np.inf)).view(np.uint8)
+        index = code(a0, b0) + 3 * code(a1, b1) + 9 * code(a1, b0) + 27 * code(a0, b1)
+        out |= _TABLES[axis][index]
     return out
