@@ -11,6 +11,10 @@ with kits its container's, a changing station its base's: :data:`kb.spatial.scen
 are *stand-ins*: they are never a support or a grasp target themselves, and move as the parent
 of the object that lends them its box.
 
+Support, holders and grasps compare footprints in the frame of the support / holder / grasped
+object (the world turned about z by its heading, :meth:`World.boxes_in_frames`), so a turned
+tray holds what lies in it, not what lies in its world box (docs/soap.md, "Orientation").
+
 :meth:`World.to_scene` is the ground truth as a scene, with ``inspections`` =
 ``{"quality-inspection": parts inspected so far that passed}``.
 """

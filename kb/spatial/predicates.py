@@ -6,7 +6,9 @@ its reference class), the target candidates, then one axis per enclosing quantif
 has size 1 on an axis its value does not depend on, so numpy broadcasting does the joins:
 
 * a relation atom computes the 30-bit RCC8/cardinal masks of its subject and object
-  candidates in one :func:`kb.spatial.rcc8.relate` call (cached per candidate pair of sets) and
+  candidates in one :func:`kb.spatial.rcc8.relate` call on the world boxes (cached per
+  candidate pair of sets), the pairs that meet there and whose object is turned decided again
+  in the object's frame (:func:`kb.spatial.rcc8.reframe`; docs/soap.md, "Orientation"), and
   tests them with the relation's ``owl:equivalentClass`` expression, compiled to bit tests;
 * ``Exists`` adds the variable's candidates (objects of its class that are placed or not,
   never the objects already bound on another axis) as a new axis and reduces it with ``any``;

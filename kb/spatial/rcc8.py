@@ -1,4 +1,5 @@
-"""3-D RCC8 and cardinal direction relations between axis-aligned world boxes (seed 004, 4.3).
+"""3-D RCC8 and cardinal direction relations between axis-aligned boxes (seed 004, 4.3), and
+between oriented boxes, each pair in its object's frame.
 
 The SOAP predicates are decided from the relations of two solid objects (subject, object): the
 eight RCC8 relations applied per axis to the projections of the two objects' world-frame
@@ -41,6 +42,13 @@ tolerance, ``b - t`` or ``b + t`` (``|x - b| <= t`` is read as ``b - t <= x <= b
 ``b1 < a0 - t`` as ``a0 > b1 + t``; equal in exact arithmetic). :func:`relate` and
 :func:`relate_pair` both evaluate exactly these comparisons in float64, so they agree bit for
 bit, ties included.
+
+Oriented boxes
+    :func:`relate_oriented` relates boxes given by poses: each pair in the frame of its object,
+    the world turned about z by the object's heading (:func:`headings`, :func:`heading_groups`,
+    :func:`frame_boxes`); the pairs whose world boxes meet and whose object is turned are
+    decided again there by :func:`reframe` (one row per pair, :func:`relate_rows`). The design
+    is in docs/soap.md, "Orientation".
 
 Tolerance
     ``tol`` (default :data:`DEFAULT_TOLERANCE` = 0.001) is one setting, in the unit of length
