@@ -261,11 +261,10 @@ def _structure(scene: Scene) -> _Structure:
     robot = np.where(is_of[_ROBOT], np.arange(k), -1)
     station_box = np.where(is_of[_STATION], alias, -1)
     hang_station = np.full(k, -1)
-    for col in range(chain.shape[1] - 1, -1, -1):  # the nearest robot / station up the chain wins
-        up = chain[:, col]
+    stations = station_box[station_box >= 0]
+    for up in chain.T:  # up the tree: the nearest robot / station wins
         robot = np.where((robot < 0) & (up >= 0) & is_of[_ROBOT][np.maximum(up, 0)], up, robot)
-        boxed = np.isin(up, station_box[station_box >= 0]) & (up >= 0)
-        hang_station = np.where(boxed, up, hang_station)
+        hang_station = np.where((hang_station < 0) & (up >= 0) & np.isin(up, stations), up, hang_station)
     under_holder = ((chain >= 0) & is_of[_HOLDER][np.maximum(chain, 0)]).any(axis=1)
     return _Structure(active, alias, chain, robot, hang_station, is_of[_EFFECTOR], is_of[_HOLDER], under_holder)
 
@@ -313,20 +312,19 @@ def check(scene: Scene, tol: float = DEFAULT_TOLERANCE, locations: Mapping[str, 
         below = np.flatnonzero(lo[:, 2] < -tol)
         found += [Finding(INTERPENETRATION, scene.names[idx[n]], None, float(-lo[n, 2]), "ground") for n in below]
     if FLOATING in rules:
-        found += pairs.floating(_hanging(scene, st, idx, boxes, tol))
+        found += pairs.floating(_hanging(st, idx, boxes, tol))
     locations = locations or {}
     found = [Finding(f.rule, f.obj, f.other, f.depth, f.how, locations.get(f.obj)) for f in found]
     return sorted(found, key=lambda f: (f.obj, f.rule, f.other or ""))
 
 
-def _hanging(scene: Scene, st: _Structure, idx: np.ndarray, boxes: Boxes, tol: float) -> np.ndarray:
+def _hanging(st: _Structure, idx: np.ndarray, boxes: Boxes, tol: float) -> np.ndarray:
     """(len(idx),) bool: objects that hang rather than rest: the robot's assembly, effectors
     in holders, holders mounted on (touching) their changing station."""
-    g = idx
-    out = (st.robot[g] >= 0) | (st.effector[g] & st.under_holder[g])
+    out = (st.robot[idx] >= 0) | (st.effector[idx] & st.under_holder[idx])
     pos = {int(n): m for m, n in enumerate(idx)}
-    mounted = np.flatnonzero(st.holder[g] & (st.station[g] >= 0))
-    stations = np.array([pos.get(int(st.station[g[m]]), -1) for m in mounted], dtype=np.intp)
+    mounted = np.flatnonzero(st.holder[idx] & (st.station[idx] >= 0))
+    stations = np.array([pos.get(int(st.station[idx[m]]), -1) for m in mounted], dtype=np.intp)
     ok = stations >= 0
     if ok.any():
         touch = sat_depth(boxes.take(mounted[ok]), boxes.take(stations[ok])) >= -tol

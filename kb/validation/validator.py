@@ -32,7 +32,7 @@ from kb.io.views import UnionView
 from kb.model.owl import OwlModel
 from kb.shacl import ShaclResult
 from kb.validation import rules
-from kb.validation.geometry import check_geometry
+from kb.validation.geometry import UNCHECKED, check_geometry
 from kb.validation.report import Namer, dedupe, diagnostics, line_of
 from kb.validation.shapes import DerivedShapes
 
@@ -153,8 +153,15 @@ def _validate(paths: Sequence[str | Path], shapes_files: Sequence[str | Path] | 
         if id(src) in found:
             g = checked[id(src)]
             shacl_diags += diagnostics(found[id(src)], src, g, shapes, namer, ctx)
-    diags = dedupe(ctx.out + shacl_diags)
+    diags = _follows(dedupe(ctx.out + shacl_diags))
     return ValidationReport(diags, [str(s.path) for s in sources], time.perf_counter() - started)
+
+
+def _follows(diags: list[Diagnostic]) -> list[Diagnostic]:
+    """Without the findings that only follow from an error of the same file: geometry that
+    cannot be read (a misspelt coordinate, a missing shape) once the error says why."""
+    failed = {d.file for d in diags if d.severity == "error"}
+    return [d for d in diags if not (d.rule == UNCHECKED and d.file in failed)]
 
 
 class _Line(NamedTuple):
