@@ -99,6 +99,13 @@ CASES = {
     "floating": (
         {"part_a_1": {"Z": 0.05}},
         [("floating-object", "part_a_1", ":part_a_1 floats {50} above the floor of :part_a_tray")]),
+    "a holder off its changing station": (
+        {"part_gripper_holder": {"Z": 0.9}},
+        [("floating-object", "part_gripper_holder",
+          ":part_gripper_holder floats {100} above :changing_station_base")]),
+    "an effector out of its holder": (
+        {"part_gripper": {"Z": 0.4}},
+        [("floating-object", "part_gripper", ":part_gripper floats {220} above :changing_station_base")]),
     "floating above the table": (
         {"part_a_tray": {"Z": 0.8}},
         [("floating-object", "part_a_tray", ":part_a_tray floats {50} above :parts_table_1")]),

@@ -28,8 +28,8 @@ An object floats when the highest support under its footprint is more than the t
 below its bottom: a support is the top of an object under it, or the floor of an open
 container whose walls it is within, or the ground (z = 0 of the workstation). Objects that
 legitimately hang are not checked: the robot and everything whose chain reaches it, effectors
-in holders, and holders mounted on (in, or against) their changing station. An object below
-the ground interpenetrates the workstation.
+touching the holder they are in, and holders touching the changing station they are on (in it,
+or against it). An object below the ground interpenetrates the workstation.
 """
 
 from __future__ import annotations
@@ -236,7 +236,7 @@ class _Structure:
     station: np.ndarray  # (K,) the changing station (its box's object) it hangs from, -1
     effector: np.ndarray  # (K,) bool
     holder: np.ndarray   # (K,) bool
-    under_holder: np.ndarray  # (K,) bool: a holder is among its reference objects
+    holder_of: np.ndarray  # (K,) the nearest holder up its chain, -1
 
 
 def _structure(scene: Scene) -> _Structure:
@@ -260,13 +260,13 @@ def _structure(scene: Scene) -> _Structure:
     is_of = {c: np.isin(np.arange(k), scene.of_class(c)) for c in (_ROBOT, _EFFECTOR, _HOLDER, _STATION)}
     robot = np.where(is_of[_ROBOT], np.arange(k), -1)
     station_box = np.where(is_of[_STATION], alias, -1)
-    hang_station = np.full(k, -1)
+    hang_station, holder_of = np.full(k, -1), np.full(k, -1)
     stations = station_box[station_box >= 0]
-    for up in chain.T:  # up the tree: the nearest robot / station wins
+    for up in chain.T:  # up the tree: the nearest robot / station / holder wins
         robot = np.where((robot < 0) & (up >= 0) & is_of[_ROBOT][np.maximum(up, 0)], up, robot)
         hang_station = np.where((hang_station < 0) & (up >= 0) & np.isin(up, stations), up, hang_station)
-    under_holder = ((chain >= 0) & is_of[_HOLDER][np.maximum(chain, 0)]).any(axis=1)
-    return _Structure(active, alias, chain, robot, hang_station, is_of[_EFFECTOR], is_of[_HOLDER], under_holder)
+        holder_of = np.where((holder_of < 0) & (up >= 0) & is_of[_HOLDER][np.maximum(up, 0)], up, holder_of)
+    return _Structure(active, alias, chain, robot, hang_station, is_of[_EFFECTOR], is_of[_HOLDER], holder_of)
 
 
 def _same_box(scene: Scene, i: int, j: int) -> bool:
@@ -303,8 +303,6 @@ def check(scene: Scene, tol: float = DEFAULT_TOLERANCE, locations: Mapping[str, 
     reach = lo.copy()
     reach[:, 2] = np.minimum(reach[:, 2], 0.0)  # down to the ground: what may hold it up
     a, b = overlapping_pairs(reach, hi, tol)
-    keep = ~_exempt(st, idx[a], idx[b])
-    a, b = a[keep], b[keep]
     pairs = _Pairs(scene, st, idx, boxes, a, b, tol)
     found: list[Finding] = []
     if INTERPENETRATION in rules:
@@ -319,16 +317,17 @@ def check(scene: Scene, tol: float = DEFAULT_TOLERANCE, locations: Mapping[str, 
 
 
 def _hanging(st: _Structure, idx: np.ndarray, boxes: Boxes, tol: float) -> np.ndarray:
-    """(len(idx),) bool: objects that hang rather than rest: the robot's assembly, effectors
-    in holders, holders mounted on (touching) their changing station."""
-    out = (st.robot[idx] >= 0) | (st.effector[idx] & st.under_holder[idx])
+    """(len(idx),) bool: objects that hang rather than rest: the robot's assembly; effectors
+    touching the holder they are in, holders touching the changing station they are on."""
+    out = st.robot[idx] >= 0
     pos = {int(n): m for m, n in enumerate(idx)}
-    mounted = np.flatnonzero(st.holder[idx] & (st.station[idx] >= 0))
-    stations = np.array([pos.get(int(st.station[idx[m]]), -1) for m in mounted], dtype=np.intp)
-    ok = stations >= 0
-    if ok.any():
-        touch = sat_depth(boxes.take(mounted[ok]), boxes.take(stations[ok])) >= -tol
-        out[mounted[ok][touch]] = True
+    for kind, on in ((st.effector, st.holder_of), (st.holder, st.station)):
+        these = np.flatnonzero(kind[idx] & (on[idx] >= 0))
+        those = np.array([pos.get(int(on[idx[m]]), -1) for m in these], dtype=np.intp)
+        ok = those >= 0
+        if ok.any():
+            touch = sat_depth(boxes.take(these[ok]), boxes.take(those[ok])) >= -tol
+            out[these[ok][touch]] = True
     return out
 
 
@@ -339,6 +338,7 @@ class _Pairs:
                  b: np.ndarray, tol: float) -> None:
         self.scene, self.st, self.idx, self.boxes, self.tol = scene, st, idx, boxes, tol
         self.a, self.b = a, b
+        self.exempt = _exempt(st, idx[a], idx[b])  # may overlap (still hold each other up)
         self.open = scene.open_top[idx]
         ba, bb = boxes.take(a), boxes.take(b)
         self.inside_ab = _Cavity(ba, bb, tol)  # a in b's cavity
@@ -347,7 +347,7 @@ class _Pairs:
     def interpenetrations(self) -> list[Finding]:
         a, b, tol = self.a, self.b, self.tol
         depth = sat_depth(self.boxes.take(a), self.boxes.take(b))
-        hit = depth > tol
+        hit = (depth > tol) & ~self.exempt
         if not hit.any():
             return []
         open_b, open_a = self.open[b], self.open[a]
