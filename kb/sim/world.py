@@ -192,7 +192,8 @@ class World:
         The highest of: the floor (z = 0, support -1); the top face of an object below whose
         footprint overlaps ``i``'s; the floor (bottom face) of an open-top container whose
         footprint contains ``i``'s (objects already inside it are supports by their top face).
-        On equal heights a container wins over the object it stands on. Footprints are compared
+        On equal heights (within the tolerance: a turned tray's floor and the table top under
+        it differ by rounding) a container wins over the object it stands on. Footprints are compared
         in each candidate support's frame (:meth:`boxes_in_frames`): a turned tray holds what
         lies inside it, not what lies inside its world box.
         """
@@ -209,7 +210,7 @@ class World:
         below = ~contained & overlap & (jhi[:, 2] <= lo[:, 2] + t)
         for k in np.flatnonzero(contained | below):
             cand = (float(jlo[k, 2]), 1, int(js[k])) if contained[k] else (float(jhi[k, 2]), 0, int(js[k]))
-            if cand[:2] > best[:2]:
+            if cand[0] > best[0] + t or (cand[0] >= best[0] - t and cand[1:2] > best[1:2]):
                 best = cand
         return best[0], best[2]
 
