@@ -425,10 +425,15 @@ def test_run_turned_generated(seed, tmp_path):
 def test_run_turned_nist(tmp_path):
     from kb.execution import run_scenario
     init, goal = NIST / "kittingInstancesInit1.owl", NIST / "kittingInstancesGoal1.owl"
-    yaw = yaws(8, 1)[0]
-    run = run_scenario(turned(init, tmp_path / "i.ttl", yaw), turned(goal, tmp_path / "g.ttl", yaw),
-                       match_names=True)
-    assert run.goal_holds and run.stopped is None
+    for yaw in yaws(8, 2):
+        run = run_scenario(turned(init, tmp_path / "i.ttl", yaw), turned(goal, tmp_path / "g.ttl", yaw),
+                           match_names=True)
+        assert run.goal_holds and run.stopped is None, (yaw, [(f.action, f.mode) for f in run.failures()])
+    turned_init = init
+    for k, (unit, yaw) in enumerate(tray_turns(init, 8)):
+        turned_init = turned(turned_init, tmp_path / f"t{k}.ttl", yaw, [unit])
+    run = run_scenario(turned_init, goal, match_names=True)
+    assert run.goal_holds and run.stopped is None, [(f.action, f.mode) for f in run.failures()]
 
 
 def test_relate_rows_is_relate_pair_by_pair():
