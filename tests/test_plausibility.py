@@ -181,6 +181,18 @@ def test_geometry_that_cannot_be_read_is_a_warning_not_an_error(tmp_path: Path) 
     assert "physical plausibility not checked: part_a_1 is placed but has no shape" in unchecked[0].message
 
 
+def test_a_pose_that_is_an_error_gets_no_geometry_warnings(tmp_path: Path) -> None:
+    """A z axis of length 1.4 (an error at its line) tilts the part into the table: the
+    error is the one finding, as a typo gives one line."""
+    text = re.sub(r"(:part_a_1_z_axis a .*?ktw:hasVector_I) [-0-9.]+", r"\1 1.0", SMALL_KIT.read_text(),
+                  count=1, flags=re.S)
+    path = tmp_path / "init.ttl"
+    path.write_text(text)
+    assert check(Scene.from_files([path]))  # the geometry is implausible ...
+    report = validate([path])  # ... because of the errors, which are all that is reported
+    assert {d.rule for d in report.diagnostics} == {"axis-unit-length", "axes-orthogonal"}
+
+
 # --- real files: nothing that is not really there -------------------------------------------------
 
 @pytest.mark.parametrize("path", SHIPPED, ids=lambda p: f"{p.parent.name}/{p.name}")

@@ -24,6 +24,7 @@ from kb.validation.rules import RuleContext, graph_of
 #: the rule of a state file whose geometry could not be read (so was not checked)
 UNCHECKED = "geometry-unchecked"
 _PRIMARY = KTW.hasSolidObject_PrimaryLocation
+_POSE = (KTW.hasPoseLocation_Point, KTW.hasPoseLocation_XAxis, KTW.hasPoseLocation_ZAxis)
 
 
 def locations(src: Any) -> dict[str, str]:
@@ -54,7 +55,29 @@ def check_geometry(ctx: RuleContext, src: Any, ignore: Collection[str] = ()) -> 
     for f in check(scene, DEFAULT_TOLERANCE, where, wanted):
         focus = URIRef(f.obj)
         line = ctx.locate(src, URIRef(f.pose) if f.pose else focus, None, None)
-        ctx.report(src, line, "warning", _message(ctx, src, f, units), f.rule, focus)
+        message = _message(ctx, src, f, units)
+        ctx.report(src, line, "warning", message, f.rule, focus)
+        nodes = [n for obj in (f.obj, f.other) if obj for n in _pose_nodes(src, URIRef(obj))]
+        key = (str(src.path), f.rule, ctx.name(focus, src), message)
+        ctx.follows[key] = frozenset(ctx.name(n, src) for n in nodes)
+
+
+def _pose_nodes(src: Any, obj: URIRef) -> list[Any]:
+    """What ``obj``'s place and size are read from: it, its shape (its SKU's or its own), its
+    pose location's point and axes, and the same for each reference object up the tree."""
+    g = graph_of(src)
+    out: list[Any] = []
+    while obj is not None and obj not in out:
+        sku = g.value(obj, KTW.hasSkuObject_Sku)
+        shapes = [g.value(sku, KTW.hasStockKeepingUnit_InternalShape) if sku is not None else None,
+                  g.value(obj, KTW.hasNoSkuObject_InternalShape)]
+        loc = g.value(obj, _PRIMARY)
+        out += [n for n in (obj, sku, *shapes, loc) if n is not None]
+        if loc is None:
+            break
+        out += [n for n in (g.value(loc, p) for p in _POSE) if n is not None]
+        obj = g.value(loc, KTW.hasPhysicalLocation_RefObject)
+    return out
 
 
 def _message(ctx: RuleContext, src: Any, f: Any, units: Any) -> str:

@@ -90,6 +90,9 @@ class RuleContext:
     name: Callable[[Node, Any], str]            # (term, source) -> compact name
     locate: Callable[[Any, Node, Node | None, Node | None], int | None]  # (source, s, p, o) -> line
     out: list[Diagnostic] = field(default_factory=list)
+    #: a warning's (file, rule, focus, message) -> the nodes (compact names) whose errors it
+    #: follows from: left out of the report when one of them has an error
+    follows: dict[tuple[str, str, str, str], frozenset[str]] = field(default_factory=dict)
 
     def report(self, source: Any, line: int | None, severity: str, message: str, rule: str,
                focus: Node) -> None:

@@ -153,15 +153,24 @@ def _validate(paths: Sequence[str | Path], shapes_files: Sequence[str | Path] | 
         if id(src) in found:
             g = checked[id(src)]
             shacl_diags += diagnostics(found[id(src)], src, g, shapes, namer, ctx)
-    diags = _follows(dedupe(ctx.out + shacl_diags))
+    diags = _follows(dedupe(ctx.out + shacl_diags), ctx.follows)
     return ValidationReport(diags, [str(s.path) for s in sources], time.perf_counter() - started)
 
 
-def _follows(diags: list[Diagnostic]) -> list[Diagnostic]:
+def _follows(diags: list[Diagnostic], follows: dict[tuple[str, str, str, str], frozenset[str]]
+             ) -> list[Diagnostic]:
     """Without the findings that only follow from an error of the same file: geometry that
-    cannot be read (a misspelt coordinate, a missing shape) once the error says why."""
+    cannot be read once an error says why (a misspelt coordinate, a missing shape); a pose
+    found implausible when one of its nodes has an error (an axis not of unit length)."""
     failed = {d.file for d in diags if d.severity == "error"}
-    return [d for d in diags if not (d.rule == UNCHECKED and d.file in failed)]
+    wrong = {(d.file, d.focus) for d in diags if d.severity == "error"}
+
+    def follows_error(d: Diagnostic) -> bool:
+        if d.rule == UNCHECKED:
+            return d.file in failed
+        nodes = follows.get((d.file, d.rule, d.focus, d.message), ())
+        return any((d.file, n) in wrong for n in nodes)
+    return [d for d in diags if not follows_error(d)]
 
 
 class _Line(NamedTuple):
