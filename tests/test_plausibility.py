@@ -156,6 +156,12 @@ def test_depths_in_metres_whatever_the_unit(tmp_path: Path) -> None:
 def test_within_the_tolerance_is_plausible(tmp_path: Path) -> None:
     path = _state(tmp_path, part_a_1={"Z": 0.0009}, part_a_2={"Z": -0.0009}, part_a_3={"X": 0.0991})
     assert _found(path) == []
+    (tmp_path / "2mm").mkdir()
+    path = _state(tmp_path / "2mm", part_a_1={"Z": 0.002}, part_a_2={"Z": -0.002})
+    assert [message for _, _, message in _found(path)] == [
+        ":part_a_1 floats 0.002 m above the floor of :part_a_tray",
+        ":part_a_2 and :parts_table_1 interpenetrate by 0.002 m",
+        ":part_a_2 goes 0.002 m through the floor of :part_a_tray"]
 
 
 def test_warnings_keep_exit_code_0_and_ignore_leaves_them_out(tmp_path: Path, capsys) -> None:
