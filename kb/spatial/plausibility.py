@@ -251,7 +251,13 @@ def _structure(scene: Scene) -> _Structure:
             j = scene.index.get((lender.get(scene.names[i]) or [None])[0])
             if j is not None and active[i] and active[j] and _same_box(scene, i, j):
                 alias[i], active[i] = j, False
-    parent = np.where(scene.parents >= 0, alias[np.maximum(scene.parents, 0)], -1)
+    parent = scene.parents.copy()
+    for _ in range(4):  # a lender placed in its stand-in (NIST's kit tray in its kit): the stand-in's reference
+        own = (parent >= 0) & (alias[np.maximum(parent, 0)] == np.arange(k))
+        if not own.any():
+            break
+        parent[own] = scene.parents[parent[own]]
+    parent = np.where(parent >= 0, alias[np.maximum(parent, 0)], -1)
     links = [parent]
     while (links[-1] >= 0).any() and len(links) < 64:
         up = links[-1]
@@ -275,14 +281,16 @@ def _same_box(scene: Scene, i: int, j: int) -> bool:
 
 
 def _exempt(st: _Structure, i: np.ndarray, j: np.ndarray) -> np.ndarray:
-    """Pairs that may overlap: one robot's assembly; a station and what hangs from it; an
-    effector and the holder above it in its chain."""
-    same_robot = (st.robot[i] >= 0) & (st.robot[i] == st.robot[j])
+    """Pairs that may overlap: in one robot's assembly, an object and what it holds (the
+    robot's flange and its effector, an effector and the object it holds); a station and what
+    hangs from it; an effector and the holder above it in its chain."""
+    attached = (st.chain[i, 0] == j) | (st.chain[j, 0] == i)
+    held_by_robot = attached & (st.robot[i] >= 0) & (st.robot[i] == st.robot[j])
     mounted = (st.station[i] == j) | (st.station[j] == i)
     anc_ij = (st.chain[i] == j[:, None]).any(axis=1)
     anc_ji = (st.chain[j] == i[:, None]).any(axis=1)
-    held = (st.effector[i] & st.holder[j] & anc_ij) | (st.effector[j] & st.holder[i] & anc_ji)
-    return same_robot | mounted | held
+    in_holder = (st.effector[i] & st.holder[j] & anc_ij) | (st.effector[j] & st.holder[i] & anc_ji)
+    return held_by_robot | mounted | in_holder
 
 
 # --- the check ------------------------------------------------------------------------------
