@@ -199,6 +199,20 @@ def test_a_pose_that_is_an_error_gets_no_geometry_warnings(tmp_path: Path) -> No
     assert {d.rule for d in report.diagnostics} == {"axis-unit-length", "axes-orthogonal"}
 
 
+def test_a_kit_held_by_the_robot_hangs(tmp_path: Path) -> None:
+    """The small kit's finished kit held 0.3 m under the robot's flange (the flange's z axis
+    points down, so the kit's is -z in its frame): the kit, its tray (placed in the kit) and
+    its parts hang from the robot; nothing floats or interpenetrates."""
+    text = _edit(SMALL_KIT.with_name("goal.ttl").read_text(), "kit_1", ref="robot_1", X=0.0, Y=0.0, Z=0.3)
+    text, n = re.subn(r"(:kit_1_z_axis a .*?ktw:hasVector_K) [-0-9.]+", r"\1 -1.0", text, count=1, flags=re.S)
+    assert n == 1
+    path = tmp_path / "goal.ttl"
+    path.write_text(text)
+    scene = Scene.from_files([path])
+    assert scene.lo[scene.index[next(n for n in scene.names if n.endswith("#kit_tray_1"))], 2] == pytest.approx(0.9)
+    assert check(scene) == []
+
+
 # --- real files: nothing that is not really there -------------------------------------------------
 
 @pytest.mark.parametrize("path", SHIPPED, ids=lambda p: f"{p.parent.name}/{p.name}")
