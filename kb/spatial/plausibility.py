@@ -8,21 +8,23 @@ Geometry: each placed object is its oriented box (its local box under its global
 rotation). Two boxes interpenetrate when the separating-axis test finds no separating axis
 among the 15 candidates (the 3 + 3 face normals and the 9 edge cross products); the depth is
 the smallest overlap along those axes (how far one must move for them to part). Pairs are
-found by a sweep over world boxes first (sort on the widest axis), so only neighbours are
-tested, all at once with numpy.
+found on world boxes first (:func:`overlapping_pairs`: a sweep along x in bands along y, the
+few large objects against all), so only neighbours are tested, all at once with numpy.
 
 What is not a pair, or not an interpenetration:
 
 * an object and the stand-in that shares its box (a kit and its kit tray, a large box and its
   large container, a changing station and its base): the stand-in is left out, and what
-  refers to it refers to the object lending the box;
+  refers to it refers to the object lending the box (the lender placed in its stand-in, as
+  NIST's kit tray in its kit, refers to what the stand-in refers to);
 * an object inside an open container (``open_top``: trays, large boxes, open holders) that lies
   within the container's walls and not below its floor (in the container's frame, beyond the
   tolerance); an object partly through a wall or the floor interpenetrates it by the smaller
   of how far it is out of the cavity and how far it is in the box;
-* the robot, what hangs from it (a mounted effector, a held object: anything whose chain of
-  reference objects reaches the robot) among themselves; an effector and the holder it hangs
-  in; anything mounted on a changing station (holders, the effectors in them) and the station.
+* in the robot's assembly (everything whose chain of reference objects reaches the robot), an
+  object and what it holds (the flange and its effector, the effector and its load; not the
+  effector and the parts of a kit it holds); an effector and the holder it hangs in; anything
+  mounted on a changing station (holders, the effectors in them) and the station.
 
 An object floats when the highest support under its footprint is more than the tolerance
 below its bottom: a support is the top of an object under it, or the floor of an open
