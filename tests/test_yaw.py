@@ -330,6 +330,56 @@ def test_nist_turned_same_predicates(tmp_path):
             _same_predicates(path, tmp_path / "t.ttl", yaw, [unit], goal=decl, match_names=decl is not None)
 
 
+def _rotated(scene: Scene, yaw: float) -> Scene:
+    """``scene`` with every placed object turned by ``yaw`` degrees about the world's z axis
+    (in memory: the global poses)."""
+    r = from_xyz_rpy(0, 0, 0, 0, 0, math.radians(yaw))
+    return Scene(scene.names, scene.classes, *_world(r @ scene.poses, scene), scene.facts, scene.values,
+                 scene.inspections, r @ scene.poses, scene.path, scene.parents, scene.local_lo, scene.local_hi,
+                 scene.open_top, scene.slots)
+
+
+def _world(poses: np.ndarray, scene: Scene) -> tuple[np.ndarray, np.ndarray]:
+    from kb.spatial.scene import scene_boxes
+    return scene_boxes(poses, scene.local_lo, scene.local_hi)
+
+
+@pytest.mark.parametrize("files", [(SCENARIOS / s / f"{st}.ttl", None) for s in SHIPPED for st in ("init", "goal")]
+                         + [(NIST / "kittingInstancesInit1.owl", NIST / "kittingInstancesGoal1.owl"),
+                            (NIST / "kittingInstancesGoal1.owl", None)], ids=lambda f: f"{f[0].parent.name}/{f[0].name}")
+def test_many_yaws_in_memory_same_predicates(files):
+    """24 seeded yaws over the full circle per state, the scene turned in memory (no files)."""
+    from kb.model.definitions import load_definitions
+    from kb.spatial.predicates import Evaluator
+    state, goal = files
+    if not state.exists():
+        pytest.skip("NIST files not present")
+    defs = load_definitions()
+    scene = Scene.from_files([state], declared=[goal] if goal else (), match_names=goal is not None)
+    base = Evaluator(defs, scene).facts()
+    assert base
+    for yaw in yaws(zlib.crc32(str(state).encode()) % 1000, 24):
+        assert Evaluator(defs, _rotated(scene, yaw)).facts() == base, yaw
+
+
+def test_world_boxes_alone_would_be_wrong():
+    """The in-memory yaw test has teeth: on kit-a2b3c3d1e1 turned by the same kind of yaws, the
+    evaluator deciding everything on world boxes (one frame, as before) gets predicates wrong."""
+    from kb.model.definitions import load_definitions
+    from kb.spatial.predicates import Evaluator
+
+    class WorldBoxes(Evaluator):
+        @staticmethod
+        def _frames(scene: Scene) -> np.ndarray:
+            return np.zeros(len(scene.names))
+    defs = load_definitions()
+    scene = Scene.from_files([SCENARIOS / "kit-a2b3c3d1e1" / "init.ttl"])
+    base = Evaluator(defs, scene).facts()
+    wrong = [y for y in yaws(1, 24) if WorldBoxes(defs, _rotated(scene, y)).facts() != base]
+    assert len(wrong) >= 3, wrong
+    assert all(Evaluator(defs, _rotated(scene, y)).facts() == base for y in wrong)
+
+
 # --- the simulated cell ---------------------------------------------------------------------------
 
 def _tight_tray_world(yaw: float) -> World:
