@@ -123,9 +123,9 @@ def measure(init: Path, goal: Path, repeat: int) -> dict:
     t_scene, scene = timed(lambda: _Builder(views, [], str(init), lambda *a: None).build(), repeat)
     facts = Evaluator(defs, scene).facts()  # type: ignore[arg-type]
     old_facts = WorldBoxEvaluator(defs, scene).facts()  # type: ignore[arg-type]
-    frames = len(np.unique(Evaluator(defs, scene)._yaw))  # type: ignore[arg-type]
+    frames = len(np.unique(Evaluator._frames(scene)))  # type: ignore[arg-type]
     turned = turned_trays(scene)  # type: ignore[arg-type]
-    groups = len(np.unique(Evaluator(defs, turned)._yaw))
+    groups = len(np.unique(Evaluator._frames(turned)))
     (t_eval, c_eval), (t_before, c_before) = paired(lambda: Evaluator(defs, scene).facts(),  # type: ignore[arg-type]
                                                     lambda: WorldBoxEvaluator(defs, scene).facts(), repeat)  # type: ignore[arg-type]
     (t_turned, c_turned), (t_turned_before, c_turned_before) = paired(

@@ -108,7 +108,7 @@ class Evaluator:
         self._lo = np.where(np.isnan(scene.lo), 1e30, scene.lo)
         self._hi = np.where(np.isnan(scene.hi), 1e30, scene.hi)
         # each object's frame (docs/soap.md, "Orientation"): label 0 the world's, others turned
-        self._yaw = self._frames(scene)
+        self._yaw: np.ndarray | None = None  # each object's frame, on first use (_masks_of)
 
     # --- public ---------------------------------------------------------------------
     def candidates(self, cls: str | None) -> np.ndarray:
@@ -302,6 +302,8 @@ class Evaluator:
         m = self._masks.get(key)
         if m is None:
             m = relate(self._lo[s], self._hi[s], self._lo[o], self._hi[o], self.tol)
+            if self._yaw is None:
+                self._yaw = self._frames(self.scene)
             yaw = self._yaw[o]
             if yaw.any():
                 sc = self.scene
