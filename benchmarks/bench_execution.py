@@ -155,6 +155,7 @@ class Timers:
 
     PARTS = (
         ("sensor", "kb.sim.cell", "SimulatedCell", "sense"),  # the cell's sensor (simulated: a ground-truth query)
+        ("sensor", "kb.sim.cell", "SimulatedCell", "sense_names"),  # the same, by names (neighbourhoods)
         ("belief", "kb.execution.belief", "Belief", "observe"),  # poses from the observations
         ("belief", "kb.execution.executor", "Executor", "_sense"),  # focus of attention, bookkeeping
         ("checks", "kb.execution.executor", "Executor", "_check"),  # preconditions and effects from geometry
@@ -163,8 +164,10 @@ class Timers:
         ("robot", "kb.sim.cell", "SimulatedCell", "execute"),  # the simulated robot
         ("robot", "kb.sim.cell", "SimulatedCell", "begin_action"),  # the simulator's fault injection
         ("inspect", "kb.sim.cell", "SimulatedCell", "inspect"),
-        ("diagnosis", "kb.execution.executor", "diagnose", None),
-        ("replan", "kb.execution.executor", "replan", None),
+        ("diagnosis", "kb.execution.executor", "diagnose", None),  # inspection's
+        ("diagnosis", "kb.execution.recovery", "diagnose", None),  # failed checks' (since the split)
+        ("replan", "kb.execution.executor", "replan", None),  # before the split
+        ("replan", "kb.execution.recovery", "replan", None),
         ("goal", "kb.execution.executor", "Executor", "goal_holds"),
     )
     STORE = (("store: pose updates", "poses_changed"), ("store: commit", "commit_stable"),
@@ -196,8 +199,13 @@ class Timers:
     def install(self) -> "Timers":
         import importlib
         for key, module, owner, attr in self.PARTS:
-            mod = importlib.import_module(module)
+            try:  # the same benchmark times older and newer layouts of the executor
+                mod = importlib.import_module(module)
+            except ImportError:
+                continue
             target, name = (getattr(mod, owner), attr) if attr else (mod, owner)
+            if not hasattr(target, name):
+                continue
             original = getattr(target, name)
             self._installed.append((target, name, original))
             setattr(target, name, self.wrap(key, original))

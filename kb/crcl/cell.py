@@ -7,6 +7,7 @@ for a real robot), an executor sees the world only through a :class:`CellInterfa
 * :meth:`~CellInterface.sense`: a focus-of-attention query by class or by name ->
   :class:`Observation` s (seed 004 §3.2: name, class, time, location, roll/pitch/yaw; kitkb
   adds the SKU the sensor recognises);
+  (:func:`sense_names`: several objects by name, in one query where the cell offers it);
 * :meth:`~CellInterface.inspect`: a quality inspection of one part;
 * :meth:`~CellInterface.begin_action`: the executor announces each plan action before its
   commands (a real cell may log it; the simulator keys fault injection on it).
@@ -111,6 +112,17 @@ def run_in_order(run: Callable[[T], Status], commands: Sequence[T]) -> list[Stat
         failed = bool(out) and not out[-1].done
         out.append(Status.error(NOT_EXECUTED) if failed else run(command))
     return out
+
+
+def sense_names(cell: CellInterface, names: Sequence[str]) -> list[Observation]:
+    """The named objects (IRIs) as sensed now, in the order asked, those not in the cell left
+    out: in one query where the cell offers ``sense_names`` (:class:`kb.sim.SimulatedCell`),
+    else one ``sense(name, by="name")`` per name. The executor's focus of attention asks for an
+    action's neighbourhood this way (a query's cost then follows its answer, not the cell)."""
+    own = getattr(cell, "sense_names", None)
+    if callable(own):
+        return list(own(names))
+    return [o for n in names for o in cell.sense(n, by="name")]
 
 
 def execute_program(cell: CellInterface, commands: Sequence[Command]) -> list[Status]:

@@ -48,6 +48,7 @@ class Belief:
         self._sku_local = {n: sku.rsplit("#", 1)[-1] for n, sku in self.facts.get(SKU_OF, ())}
         self._stand_in_boxes()
         self._scene: Scene | None = None
+        self._boxes: tuple[np.ndarray, np.ndarray] | None = None
 
     def _stand_in_boxes(self) -> None:
         """A kit not yet placed takes its tray's box (for when the sensor first reports it)."""
@@ -88,7 +89,7 @@ class Belief:
                 self.poses[i] = np.nan
                 changed.append(name)
         if changed:
-            self._scene = None
+            self._scene = self._boxes = None
         return changed
 
     def _recognised(self, name: str, sku_local: str) -> None:
@@ -103,7 +104,7 @@ class Belief:
             pairs.add((name, match[0]))
             self._sku_local[name] = sku_local
             self._sku_shape(name, match[0])
-            self._scene = None
+            self._scene = self._boxes = None
 
     def _sku_shape(self, name: str, sku: str) -> None:
         """An object recognised as of ``sku`` has that SKU's shape: the box of another object of
@@ -134,10 +135,25 @@ class Belief:
     # --- reading --------------------------------------------------------------------
     def scene(self) -> Scene:
         if self._scene is None:  # classes are closed already: no Scene.from_parts closure per check
-            lo, hi = scene_boxes(self.poses, self.local_lo, self.local_hi)
+            lo, hi = self.world_boxes()
             self._scene = Scene(self.names, self.classes, lo, hi, self.facts, self.values, self.inspections,
                                 self.poses, None, None, self.local_lo, self.local_hi, self.open_top, self.slots)
         return self._scene
+
+    def world_boxes(self) -> tuple[np.ndarray, np.ndarray]:
+        """(K, 3) lo, hi of every object's world box (NaN rows: not placed)."""
+        if self._boxes is None:
+            self._boxes = scene_boxes(self.poses, self.local_lo, self.local_hi)
+        return self._boxes
+
+    def subscene(self, indices: np.ndarray) -> Scene:
+        """The scene of the objects ``indices`` only (their facts, values and inspections as
+        the whole one's): an action's neighbourhood (:mod:`kb.execution.focus`)."""
+        idx = np.asarray(indices, np.int64)
+        lo, hi = self.world_boxes()
+        return Scene([self.names[i] for i in idx], [self.classes[i] for i in idx], lo[idx], hi[idx], self.facts,
+                     self.values, self.inspections, self.poses[idx], None, None, self.local_lo[idx],
+                     self.local_hi[idx], self.open_top[idx], self.slots)
 
     def pose(self, name: str) -> np.ndarray:
         return self.poses[self.index[name]]

@@ -33,9 +33,10 @@ import numpy as np
 from kb.core.errors import KitkbError
 from kb.core.namespaces import KTW
 from kb.crcl import COMMANDS, Command, Dwell, EndCanon, InitCanon, Message, Pose
-from kb.crcl.cell import CellInterface, execute_program
+from kb.crcl.cell import CellInterface, execute_program, sense_names
 from kb.diagnosis import diagnose
 from kb.execution.belief import Belief
+from kb.execution.focus import Focus
 from kb.execution.records import ActionRecord, AtomCheck, Check, RunRecord, StoreLike, local
 from kb.execution.recovery import Recovery
 from kb.execution.steps import Fields, Step, Stop, parse_plan
@@ -50,6 +51,8 @@ from kb.spatial.rcc8 import DEFAULT_TOLERANCE
 
 log = logging.getLogger("kitkb.execution")
 SOLID = str(KTW.SolidObject)
+#: sensings of a neighbourhood before it is given up for the whole cell
+NEIGHBOURHOOD_ROUNDS = 4
 
 
 def log_notifier(recipient: str, message: str) -> None:
@@ -86,7 +89,9 @@ class Executor(Recovery):
         self.stable = self.belief.poses.copy()
         self.index = 0
         self.taken_from: dict[str, np.ndarray] = {}  # part -> tip pose it was grasped at
-        self._focus: dict[str, set[str]] = {}
+        self._classes: dict[str, set[str]] = {}  # action -> classes its predicates search
+        self.focus = Focus(self.defs, self.actions, self.belief.classes, self.tolerance)
+        self._near: np.ndarray | None = None  # the neighbourhood sensed last (None: the whole cell)
         self.targets.mounted = self._mounted()
 
     # --- plans ----------------------------------------------------------------------
@@ -164,7 +169,7 @@ class Executor(Recovery):
     # --- sensing --------------------------------------------------------------------
     def _focus_classes(self, action: str) -> set[str]:
         """Classes the action's predicates search: argument types and quantified variables'."""
-        if action not in self._focus:
+        if action not in self._classes:
             classes: set[str] = set()
             spec = self.actions[action]
             for atom in spec.pre + spec.effects:
@@ -175,10 +180,45 @@ class Executor(Recovery):
                 classes.update(variable_classes(p.formula))
             if action == "take-part":
                 classes.add(str(KTW.Part))
-            self._focus[action] = classes
-        return self._focus[action]
+            self._classes[action] = classes
+        return self._classes[action]
 
     def _sense(self, step: Step) -> None:
+        """Focus of attention: a local action's neighbourhood (:mod:`.focus`), sensed by name
+        until it holds still (what was seen where it now is can bring new objects into it); any
+        other action's searched classes (:meth:`_sense_classes`)."""
+        self._near = None
+        if self.focus.plan(step.action) is None:
+            self._sense_classes(step)
+            return
+        args = {p: self.belief.index[n] for p, n in step.args.items() if n in self.belief.index}
+        index = self.belief.index
+        # first where the belief has the neighbourhood; then where it is seen now, with what
+        # touched an object that moved (it may have been carried along), until nothing is new
+        todo = self.focus.neighbourhood(step.action, args, *self.belief.world_boxes()).tolist()
+        sensed: set[int] = set()
+        changed: list[str] = []
+        for _ in range(NEIGHBOURHOOD_ROUNDS):
+            before = self.belief.world_boxes()
+            names = [self.belief.names[i] for i in todo]
+            moved = self.belief.observe(sense_names(self.cell, names), asked=names)
+            changed += moved
+            sensed.update(todo)
+            near = set(self.focus.neighbourhood(step.action, args, *self.belief.world_boxes()).tolist())
+            if moved:
+                near.update(self.focus.touching([index[n] for n in moved], *before).tolist())
+            todo = sorted(near - sensed)
+            if not todo:
+                self._near = np.array(sorted(sensed), np.int64)
+                break
+        else:  # a neighbourhood that keeps growing: the whole cell
+            self._sense_classes(step)
+        if changed and self.store is not None:
+            self.store.poses_changed({n: self.belief.pose(n) for n in dict.fromkeys(changed) if self.belief.placed(n)})
+
+    def _sense_classes(self, step: Step) -> None:
+        """Every object of the classes the action's predicates search (the whole cell when they
+        search solid objects), and its arguments by name."""
         classes = self._focus_classes(step.action)
         queries = [SOLID] if SOLID in classes else sorted(classes)
         seen, expected = [], set()
@@ -199,8 +239,11 @@ class Executor(Recovery):
         return Evaluator(self.defs, self.belief.scene(), self.tolerance)
 
     def _check(self, i: int, step: Step, phase: str) -> Check:
+        """The action's preconditions or effects, decided on its neighbourhood when it was sensed
+        as one (the same truth as on the whole belief: :mod:`.focus`), else on the whole belief."""
         spec = self.actions[step.action]
-        ev = self.evaluator()
+        ev = self.evaluator() if self._near is None else \
+            Evaluator(self.defs, self.belief.subscene(self._near), self.tolerance)
         atoms = []
         for atom in (spec.pre if phase == PRE else spec.effects):
             objs = tuple(step.args[a] for a in atom.args)
@@ -225,6 +268,8 @@ class Executor(Recovery):
         args = {"robot": step.args["robot"], "part": part, "partstray": step.args["partstray"]}
         atom = AtomCheck("part-quality-ok", (part,), False, False)
         self.record.checks.append(Check(i, EFF, [atom], time.perf_counter()))
+        if self._near is not None:
+            self._sense_classes(step)
         diag = diagnose(self.failures, self.evaluator(), "look-for-part", EFF, {"part-quality-ok"}, args)
         failure = self._record_failure(i, Step("look-for-part", args), EFF, [atom], diag)
         return self._recover(step, i, queue, failure, diag.mode)

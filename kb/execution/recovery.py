@@ -73,6 +73,7 @@ class Recovery:
     targets: Targets
     taken_from: dict[str, np.ndarray]
     _queue: deque
+    _near: np.ndarray | None
 
     # provided by the executor
     def evaluator(self) -> Evaluator:
@@ -84,12 +85,17 @@ class Recovery:
     def _sense_all(self) -> None:
         raise NotImplementedError
 
+    def _sense_classes(self, step: Step) -> None:
+        raise NotImplementedError
+
     def _say(self, text: str) -> None:
         raise NotImplementedError
 
     # --- failures -------------------------------------------------------------------
     def _failed(self, step: Step, i: int, phase: str, check: Check, queue: deque) -> str:
         violated = check.violated
+        if self._near is not None:  # the check saw the neighbourhood: diagnosis and recovery see all
+            self._sense_classes(step)
         diag = diagnose(self.failures, self.evaluator(), step.action, phase, {a.predicate for a in violated},
                         step.args)
         failure = self._record_failure(i, step, phase, violated, diag)

@@ -7,13 +7,13 @@ from typing import Literal, Sequence
 
 import numpy as np
 
-from kb.core.namespaces import KTW
+from kb.core.namespaces import KTW, local_name
 from kb.crcl import Command, EndCanon
 from kb.crcl.cell import Observation, Status
 from kb.sim.faults import FaultSpec, Injected, Injector
 from kb.sim.robot import Robot
-from kb.sim.sensor import observe
-from kb.sim.world import KIT_TRAY, World
+from kb.sim.sensor import _rpy_many, most_specific, observe
+from kb.sim.world import KIT_TRAY, SKU, World
 from kb.spatial.scene import Scene, class_ancestors
 
 
@@ -64,6 +64,59 @@ class SimulatedCell:
         """Placed objects of a class (local name or IRI) or of a name, with the cell's sensor noise."""
         return observe(self.world, query, by, self.time, self.noise, self.rng)
 
+    def sense_names(self, names: Sequence[str]) -> list[Observation]:
+        """The placed objects among ``names`` (IRIs), in the order asked: what one
+        ``sense(name, by="name")`` per name gives (noise drawn in that order), looked up by name
+        instead of matched against every object of the cell."""
+        w = self.world
+        chosen = [i for i in (w.index.get(n) for n in names) if i is not None and w.placed(i)]
+        if not chosen:
+            return []
+        skus = self._skus()
+        sp, so = self.noise
+        out = []
+        locs, oris = w.poses[chosen, :3, 3].astype(float), _rpy_many(w.poses[chosen])  # as observe does
+        for i, loc, ori in zip(chosen, locs, oris):
+            if sp:
+                loc = loc + self.rng.normal(0.0, sp, 3)
+            if so:
+                ori = ori + self.rng.normal(0.0, so, 3)
+            sku = skus.get(w.names[i]) or (self._kit_skus().get(w.names[i]) if w.is_a(i, "Kit") else None)
+            out.append(Observation(w.names[i], most_specific(w.classes[i]), float(self.time),
+                                   tuple(loc.tolist()), tuple(ori.tolist()),  # type: ignore[arg-type]
+                                   local_name(sku) if sku else None))
+        return out
+
+    def _skus(self) -> dict[str, str]:
+        """Each object's SKU as :func:`kb.sim.sensor.observe` reports it (its least), kept while
+        the world's SKU facts are the same set of the same size."""
+        facts = self.world.facts.get(SKU, set())
+        key = self._skus_key()
+        if getattr(self, "_sku_key", None) != key:
+            skus: dict[str, str] = {}
+            for s, o in facts:
+                if s not in skus or o < skus[s]:
+                    skus[s] = o
+            self._sku_key, self._sku_facts, self._sku_of = key, facts, skus
+        return self._sku_of
+
+    def _kit_skus(self) -> dict[str, str]:
+        """A kit's SKU as :meth:`World.sku <kb.sim.world.World.sku>` gives it: its first kit
+        tray's (kept like :meth:`_skus`)."""
+        trays = self.world.facts.get(KIT_TRAY, set())
+        key = (self._skus_key(), id(trays), len(trays))
+        if getattr(self, "_kit_key", None) != key:
+            skus, first = self._skus(), {}
+            for kit, tray in sorted(trays):
+                first.setdefault(kit, tray)
+            self._kit_key, self._kit_facts = key, trays
+            self._kit_of = {k: skus[t] for k, t in first.items() if t in skus}
+        return self._kit_of
+
+    def _skus_key(self) -> tuple[int, int]:
+        facts = self.world.facts.get(SKU, set())
+        return id(facts), len(facts)
+
     def inspect(self, name: str) -> bool:
         """Quality inspection: False for a defective part or one not in the cell; a pass is recorded."""
         i = self.world.index.get(name)
@@ -83,11 +136,16 @@ class SimulatedCell:
         return self.world.to_scene()
 
     def _create_kit(self, kit: str, tray: str) -> None:
+        """The kit comes into being where its kit tray is; nothing happens when the tray is no
+        placed kit tray, or the kit exists already or names another kind of object (a repeated
+        create-kit once made the kit its own support: a cycle)."""
         w = self.world
         t = w.index.get(tray)
-        if t is None or not w.placed(t):
+        if t is None or not w.placed(t) or not w.is_a(t, "KitTray") or w.kit_of_tray(t) is not None:
             return
         k = w.index.get(kit)
+        if k is not None and (w.placed(k) or not w.is_a(k, "Kit") or k in w.subtree(t)):
+            return
         if k is None:
             k = w.add(kit, class_ancestors().get(str(KTW.Kit), frozenset({str(KTW.Kit)})))
         w.poses[k] = w.poses[t]
