@@ -12,14 +12,18 @@ SOAP domain) are not read again.
 from __future__ import annotations
 
 import math
-from typing import Any, Collection
+from typing import TYPE_CHECKING, Any, Collection
 
 from rdflib import URIRef
 
 from kb.core.diagnostics import Diagnostic
 from kb.core.errors import InputError
 from kb.core.namespaces import KTW
+from kb.core.units import SI, Units
 from kb.validation.rules import RuleContext, graph_of
+
+if TYPE_CHECKING:
+    from kb.spatial.plausibility import Finding
 
 #: the rule of a state file whose geometry could not be read (so was not checked)
 UNCHECKED = "geometry-unchecked"
@@ -51,11 +55,10 @@ def check_geometry(ctx: RuleContext, src: Any, ignore: Collection[str] = ()) -> 
             ctx.out.append(Diagnostic(str(src.path), exc.line, "warning",
                                       f"physical plausibility not checked: {exc.message}", UNCHECKED, ""))
         return
-    units = getattr(scene, "units", None)
     for f in check(scene, DEFAULT_TOLERANCE, where, wanted):
         focus = URIRef(f.obj)
         line = ctx.locate(src, URIRef(f.pose) if f.pose else focus, None, None)
-        message = _message(ctx, src, f, units)
+        message = _message(ctx, src, f, scene.units)
         ctx.report(src, line, "warning", message, f.rule, focus)
         nodes = [n for obj in (f.obj, f.other) if obj for n in _pose_nodes(src, URIRef(obj))]
         key = (str(src.path), f.rule, ctx.name(focus, src), message)
@@ -80,11 +83,12 @@ def _pose_nodes(src: Any, obj: URIRef) -> list[Any]:
     return out
 
 
-def _message(ctx: RuleContext, src: Any, f: Any, units: Any) -> str:
+def _message(ctx: RuleContext, src: Any, f: "Finding", units: Units) -> str:
+    from kb.spatial.plausibility import FLOATING
     name = ctx.name(URIRef(f.obj), src)
     other = ctx.name(URIRef(f.other), src) if f.other else None
     depth = length_text(f.depth, units)
-    if f.rule == "floating-object":
+    if f.rule == FLOATING:
         below = {"floor": f"the floor of {other}", "top": str(other)}.get(f.how, "the ground (z = 0)")
         return f"{name} floats {depth} above {below}"
     if f.how == "ground":
@@ -94,11 +98,9 @@ def _message(ctx: RuleContext, src: Any, f: Any, units: Any) -> str:
     return f"{name} and {other} interpenetrate by {depth}"
 
 
-def length_text(metres: float, units: Any = None) -> str:
+def length_text(metres: float, units: Units = SI) -> str:
     """``metres`` in the file's length unit with four significant digits (``"20 mm"``,
-    ``"0.02 m"``); metres when the scene does not say its unit."""
-    if units is None:
-        return f"{metres:.4g} m"
+    ``"0.02 m"``, ``"0.7874 in"``)."""
     value = abs(units.from_si("length", metres))
     digits = max(0, 3 - math.floor(math.log10(value))) if value > 0 else 0
     return units.length_text(metres, digits)
