@@ -88,6 +88,9 @@ class Boxes:
 
     @classmethod
     def of(cls, poses: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> "Boxes":
+        """The boxes ``lo``, ``hi`` (K, 3) (swapped where given the wrong way round, as a
+        negative length makes them) under the global poses (K, 4, 4)."""
+        lo, hi = np.minimum(lo, hi), np.maximum(lo, hi)
         axes = poses[:, :3, :3]
         origin = poses[:, :3, 3]
         centre = origin + np.einsum("kij,kj->ki", axes, (lo + hi) / 2)
