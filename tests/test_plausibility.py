@@ -106,6 +106,9 @@ CASES = {
     "an effector out of its holder": (
         {"part_gripper": {"Z": 0.4}},
         [("floating-object", "part_gripper", ":part_gripper floats {220} above :changing_station_base")]),
+    "below the ground": (
+        {"work_table_1": {"Z": -0.02}},
+        [("interpenetration", "work_table_1", ":work_table_1 is {20} below the ground (z = 0 of the workstation)")]),
     "floating above the table": (
         {"part_a_tray": {"Z": 0.8}},
         [("floating-object", "part_a_tray", ":part_a_tray floats {50} above :parts_table_1")]),
@@ -133,6 +136,16 @@ def test_the_same_inside_a_tray_turned_37_degrees(case: str, tmp_path: Path) -> 
     edit, findings = CASES[case]
     path = _state(tmp_path, turn="part_a_tray", **edit)
     assert sorted(_found(path)) == _expected(path, findings, None)
+
+
+@pytest.mark.parametrize("yaw", [-151.3, 23.0, 98.6])
+@pytest.mark.parametrize("case", ["two parts in one space", "through the tray's wall", "floating above the table"])
+def test_the_same_with_the_whole_workstation_turned(case: str, yaw: float, tmp_path: Path) -> None:
+    edit, findings = CASES[case]
+    path = _state(tmp_path, **edit)
+    turned = tmp_path / "turned.ttl"
+    write_variant(path, turned, yaw=yaw)
+    assert sorted(_found(turned)) == _expected(turned, findings, None)
 
 
 @pytest.mark.parametrize("unit", ["millimeter", "inch"])
