@@ -103,5 +103,6 @@ def test_quiet_main_job_prints_only_problems(tmp_path: Path, monkeypatch) -> Non
             assert lines == [
                 f"    broken: {bad / 'init.ttl'}:{line}: error: unknown property ktw:hasPoint_x on "
                 ":kitting_workstation_1_point, did you mean ktw:hasPoint_X? [unknown-property]",
+                "    broken: not executed: the state files do not validate (1 error(s))",
                 "kitkb: main job found problems"]
     assert (tmp_path / "out" / "small-kit" / "plan.txt").is_file()
