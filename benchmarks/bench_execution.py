@@ -1,7 +1,7 @@
 """Execution with verification and failure recovery: a seeded fault campaign, the verification
 cost per action, and a 160-part kit built end to end.
 
-One run, three parts:
+One run, three parts (and a comparison):
 
 * ``campaign``: ``--runs-per-kind`` seeded runs (default 30) for each of the seven fault kinds of
   :data:`kb.sim.FAULT_KINDS`, spread over the shipped scenarios (``ontologies/scenarios/*``) and
@@ -18,10 +18,18 @@ One run, three parts:
   (``KITKB_PG_URL`` or ``--pg URL``); medians of ``--cost-repeat`` runs;
 * ``kit``: ``kitkb run DIR/init.ttl DIR/goal.ttl -o OUT`` on ``kitkb scenario generate --parts
   160 --kits 1 --seed 0`` (validate, plan, geometry, world model, execute with verification),
-  whole process, median of ``--repeat``, with the stages' times from its output.
+  whole process, median of ``--repeat``, with the stages' times from its output;
+* ``compare``: the verification cost per action of this checkout beside another commit's in
+  the same run (``--baseline DIR``: a git worktree of it, e.g. ``git worktree add
+  /tmp/kitkb-base 66febab``), on the same generated kits (``--cost-parts``; a size listed in
+  ``--cost-actions N:K`` times the first K actions of its plan), in memory and on SQLite: every
+  measurement a fresh process (``KITKB_BENCH_TREE`` picks the kb/ it imports), old and new
+  interleaved (the order alternating), ``--cost-repeat`` each; medians and their ratio.
 
     .venv/bin/python benchmarks/bench_execution.py                       # all three, 30 runs per kind
     .venv/bin/python benchmarks/bench_execution.py --parts campaign --runs-per-kind 4 --no-doc
+    .venv/bin/python benchmarks/bench_execution.py --parts compare --baseline /tmp/kitkb-base \
+        --cost-parts 10 40 160 1000 --cost-actions 1000:600 --cost-repeat 3
 
 Results are appended to ``benchmarks/results/execution.json`` (the latest run keeps every
 campaign run's faults and diagnoses; older runs keep their summaries); the run rewrites the
@@ -55,7 +63,10 @@ from typing import Any, Callable
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT))
+#: the kitkb measured: this checkout, or another one (``--compare``'s child processes time an
+#: older commit's kb/ from a git worktree with this same benchmark code)
+TREE = Path(os.environ.get("KITKB_BENCH_TREE") or ROOT)
+sys.path.insert(0, str(TREE))
 
 import common  # noqa: E402
 
@@ -546,6 +557,120 @@ def cost(init: Path, goal: Path, repeat: int, backends: list[tuple[str, str | No
     return out
 
 
+# --- this checkout beside another commit, in the same run ---------------------------------------------
+
+#: actions of a plan run once, untimed, before a ``--cost-one`` measurement
+WARM_UP = 30
+
+
+def cost_one(spec: dict) -> dict:
+    """One timed fault-free run (a ``--cost-one`` child process): ``spec`` has init, goal, plan
+    (a JSON file of action lines), backend, folder; ms per action by part, as :func:`cost_runs`."""
+    logging.getLogger("kitkb").setLevel(logging.ERROR)
+    plan = json.loads(Path(spec["plan"]).read_text())
+    timers = Timers().install()
+    try:  # warm: the first actions once, untimed (imports, caches filled once per process)
+        cost_runs(plan[:WARM_UP], Path(spec["init"]), Path(spec["goal"]), 1, "memory", None, Path(spec["folder"]),
+                  timers, False)
+        [row] = cost_runs(plan, Path(spec["init"]), Path(spec["goal"]), 1, spec["backend"], None,
+                          Path(spec["folder"]), timers, False)
+    finally:
+        timers.uninstall()
+    ms = row["ms_per_action"]
+    ms["verification"] = sum(ms.get(k, 0.0) for k in Timers.VERIFICATION)
+    import kb.execution.executor as executor
+    return dict(row, tree=str(Path(executor.__file__).resolve().parents[2]))
+
+
+def compare(args: argparse.Namespace, folder: Path) -> dict:
+    """Verification cost per action, this checkout and ``args.baseline`` interleaved."""
+    trees = {"new": ROOT, "old": Path(args.baseline).resolve()}
+    limits = dict(tuple(map(int, x.split(":"))) for x in args.cost_actions)
+    sizes: dict[int, dict] = {}
+    for n in args.cost_parts:
+        d = folder / f"compare{n}"
+        subprocess.run([str(KITKB), "-q", "scenario", "generate", "--parts", str(n), "--kits", "1", "--seed", "0",
+                        "-o", str(d)], check=True)
+        t = time.perf_counter()
+        plan = plan_of(d / "init.ttl", d / "goal.ttl")
+        timed = plan[:limits[n]] if n in limits else plan
+        (d / "plan.json").write_text(json.dumps(timed))
+        sizes[n] = {"plan_actions": len(plan), "timed_actions": len(timed), "plan_s": round(time.perf_counter() - t, 2),
+                    "runs": {}}
+        print(f"compare: {n} parts, plan of {len(plan)} actions, timing {len(timed)}", flush=True)
+    for r in range(args.cost_repeat):
+        for n, entry in sizes.items():
+            for backend in ("memory", "sqlite"):
+                order = ("new", "old") if (r + n + (backend == "sqlite")) % 2 == 0 else ("old", "new")
+                for which in order:
+                    d = folder / f"compare{n}"
+                    spec = {"init": str(d / "init.ttl"), "goal": str(d / "goal.ttl"), "plan": str(d / "plan.json"),
+                            "backend": backend, "folder": str(folder)}
+                    env = dict(os.environ, KITKB_BENCH_TREE=str(trees[which]))
+                    p = subprocess.run([sys.executable, str(Path(__file__).resolve()), "--cost-one", json.dumps(spec)],
+                                       capture_output=True, text=True, env=env, cwd=folder)
+                    if p.returncode != 0:
+                        raise RuntimeError(f"{which} {n} {backend}: {p.stderr[-2000:]}")
+                    row = json.loads(p.stdout.strip().splitlines()[-1])
+                    assert Path(row["tree"]) == trees[which], (row["tree"], trees[which])
+                    entry["runs"].setdefault(f"{which} {backend}", []).append(row)
+                    print(f"compare {r}: {n} parts {backend} {which}: verification "
+                          f"{row['ms_per_action']['verification']:.2f} ms, total {row['ms_per_action']['total']:.2f} ms "
+                          f"per action (load {os.getloadavg()[0]:.1f})", flush=True)
+    for entry in sizes.values():
+        entry["median"] = {}
+        for key, rows in entry["runs"].items():
+            parts = sorted({k for row in rows for k in row["ms_per_action"]})
+            entry["median"][key] = {k: round(statistics.median(row["ms_per_action"].get(k, 0.0) for row in rows), 3)
+                                    for k in parts}
+            entry["median"][key]["goal_holds"] = all(row["goal_holds"] for row in rows)
+    return {"baseline": _commit_of(trees["old"]), "repeat": args.cost_repeat, "sizes": sizes,
+            "load_average_end": round(os.getloadavg()[0], 2)}
+
+
+def _commit_of(tree: Path) -> str:
+    return subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=tree, capture_output=True, text=True).stdout.strip()
+
+
+def render_compare(c: dict, checkout: dict) -> list[str]:
+    """The comparison's subsection of the docs."""
+    sizes = c["sizes"]
+    desc = ", ".join(f"{n} parts: {v['plan_actions']} actions" + (f" (the first {v['timed_actions']} timed)"
+                                                                   if v["timed_actions"] != v["plan_actions"] else "")
+                     for n, v in sizes.items())
+    lines = ["### Verification cost per action: neighbourhoods against the whole cell", "",
+             f"Today's code (commit `{c['baseline']}`, a git worktree) and this checkout (`{checkout.get('commit', '?')}`) "
+             "timed in the same run on the same generated kits (`kitkb scenario generate --parts N --kits 1 --seed 0`; "
+             f"{desc}), fault-free `kb.execution.run_plan`, in memory and with the run store on SQLite; every "
+             "measurement a fresh process, old and new interleaved with the order alternating, "
+             f"{c['repeat']} of each, each after an untimed run of the plan's first {WARM_UP} actions in the same process "
+             "(imports and per-process caches warm, as in a long run); medians, milliseconds per action (exclusive "
+             "time by part, as above). "
+             "Verification = sensor + belief + predicate checks + commit + the store's pose updates and stable-state "
+             "commit. The machine was shared with other jobs (load average at the end "
+             f"{c['load_average_end']}): absolute figures are inflated and noisy, the ratios are the finding.", "",
+             "| parts | store | verification, today | verification, now | now / today | now: sensor | belief "
+             "(focus, poses) | checks | store | total per action, today | total, now |",
+             "|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    verdicts = []
+    for n, v in sizes.items():
+        for backend, label in (("memory", "in memory"), ("sqlite", "SQLite")):
+            old, new = v["median"].get(f"old {backend}"), v["median"].get(f"new {backend}")
+            if not old or not new:
+                continue
+            store = new.get("store: pose updates", 0.0) + new.get("store: commit", 0.0)
+            lines.append(f"| {n} | {label} | {old['verification']:.2f} | {new['verification']:.2f} | "
+                         f"{new['verification'] / old['verification']:.2f} | {new.get('sensor', 0):.2f} | "
+                         f"{new.get('belief', 0):.2f} | {new.get('checks', 0):.2f} | {store:.2f} | {old['total']:.2f} | "
+                         f"{new['total']:.2f} |")
+            if backend == "sqlite":
+                limit = 5.0 if n <= 160 else 10.0
+                verdicts.append(f"{n} parts: {new['verification']:.2f} ms ({'met' if new['verification'] <= limit else 'NOT met'}"
+                                f" against {limit:g} ms; today {old['verification']:.2f} ms)")
+    lines += ["", "Goal (SQLite: at most 5 ms per action at 160 parts, at most 10 ms at 1,000): " + "; ".join(verdicts) + "."]
+    return lines
+
+
 # --- the 160-part kit, whole process -----------------------------------------------------------------
 
 _STAGE = re.compile(r"^\s+(validate|pddl|plan|geometry|world model|execute):.*\((\d+\.\d+) s\)\s*$")
@@ -593,6 +718,11 @@ def render(run: dict) -> str:
                                     "settings)" if m.get("postgresql") else "")
              + f", 1-minute load average {m['load_average']} at the start (the machine is shared "
              "with other jobs: wall times are noisy).", ""]
+    kept = run.get("kept")
+    if kept:
+        lines[-2] += (f" The {', '.join(kept['parts'])} figures below are kept from the earlier run of {kept['started']}"
+                      f" (commit `{kept['checkout'].get('commit', '?')}`, load average {kept['machine'].get('load_average')}"
+                      " at its start), before the change this run measures.")
     co = run.get("checkout", {})
     if co:
         lines[-2] += (f" Code: commit `{co['commit']}`" + (
@@ -764,6 +894,8 @@ def render(run: dict) -> str:
         if notes:
             lines += ["", notes]
         lines.append("")
+    if run.get("compare"):
+        lines += render_compare(run["compare"], run.get("checkout", {})) + [""]
     e = run.get("kit")
     if e:
         lines += [f"### A {e['parts']}-part kit end to end", ""]
@@ -835,12 +967,16 @@ def measure(run: dict, args: argparse.Namespace, folder: Path) -> None:
                 run["cost"][n]["backends"].setdefault("postgresql", {"pending": "no PostgreSQL server (KITKB_PG_URL / --pg)"})
     if "kit" in args.parts:
         run["kit"] = kit_end_to_end(args.kit_parts, args.repeat, folder)
+    if "compare" in args.parts:
+        if not args.baseline:
+            raise SystemExit("--parts compare needs --baseline DIR (a git worktree of the commit to compare with)")
+        run["compare"] = compare(args, folder)
 
 
 def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--parts", nargs="*", default=["campaign", "cost", "kit"], choices=["campaign", "cost", "kit"],
-                    help="which parts to run")
+    ap.add_argument("--parts", nargs="*", default=["campaign", "cost", "kit"],
+                    choices=["campaign", "cost", "kit", "compare"], help="which parts to run")
     ap.add_argument("--runs-per-kind", type=int, default=30)
     ap.add_argument("--rate", type=float, default=0.3)
     ap.add_argument("--workers", type=int, default=2)
@@ -849,12 +985,21 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--cost-parts", type=int, nargs="+", default=[10, 40, 160],
                     help="parts of the fault-free kits of the cost figures")
     ap.add_argument("--kit-parts", type=int, default=160)
+    ap.add_argument("--baseline", help="compare: a checkout (git worktree) of the commit to compare with")
+    ap.add_argument("--cost-actions", nargs="*", default=[], metavar="PARTS:ACTIONS",
+                    help="compare: time only the first ACTIONS actions of the PARTS-part kit's plan")
+    ap.add_argument("--keep", action="store_true",
+                    help="keep the earlier run's campaign, cost and kit figures in the section (a run of other parts)")
+    ap.add_argument("--cost-one", help=argparse.SUPPRESS)  # a child process of --parts compare
     ap.add_argument("--pg", default=os.environ.get("KITKB_PG_URL"), help="PostgreSQL URL for the store (wiped)")
     ap.add_argument("--notes", help="JSON file of notes per part (campaign, cost, kit) added to the section")
     ap.add_argument("--no-doc", action="store_true", help="do not rewrite docs/benchmarks.md")
     ap.add_argument("--render", action="store_true",
                     help="measure nothing: rewrite the docs section from the latest run in the results file")
     args = ap.parse_args(argv)
+    if args.cost_one:
+        print(json.dumps(cost_one(json.loads(args.cost_one)), default=str))
+        return
     if args.render:
         section = render(json.loads(RESULTS.read_text())[-1])
         write_doc(section)
@@ -865,6 +1010,15 @@ def main(argv: list[str] | None = None) -> None:
                            "repeat": args.repeat, "cost_repeat": args.cost_repeat}
     if args.notes:
         run["notes"] = json.loads(Path(args.notes).read_text())
+    if args.keep and RESULTS.exists():  # the figures this run does not measure, from the latest run
+        earlier = json.loads(RESULTS.read_text())[-1]
+        for part in ("campaign", "cost", "kit"):
+            if part not in args.parts and part in earlier:
+                run[part] = earlier[part]
+                run.setdefault("kept", {"started": earlier.get("started"), "checkout": earlier.get("checkout", {}),
+                                        "machine": earlier.get("machine", {}), "parts": []})["parts"].append(part)
+        if "cost" not in args.parts and "cost" in earlier:
+            run["cost_repeat"] = earlier.get("cost_repeat")
     with tempfile.TemporaryDirectory(prefix="kitkb-bench-exec-") as tmp:
         folder = Path(tmp)
         os.chdir(folder)  # see private_cwd (the kitkb processes of the "kit" part run here too)

@@ -49,6 +49,7 @@ class Belief:
         self._stand_in_boxes()
         self._scene: Scene | None = None
         self._boxes: tuple[np.ndarray, np.ndarray] | None = None
+        self._stale: set[int] = set()  # objects whose world box changed since _boxes was made
 
     def _stand_in_boxes(self) -> None:
         """A kit not yet placed takes its tray's box (for when the sensor first reports it)."""
@@ -89,7 +90,8 @@ class Belief:
                 self.poses[i] = np.nan
                 changed.append(name)
         if changed:
-            self._scene = self._boxes = None
+            self._scene = None
+            self._stale.update(self.index[n] for n in changed)
         return changed
 
     def _recognised(self, name: str, sku_local: str) -> None:
@@ -104,7 +106,8 @@ class Belief:
             pairs.add((name, match[0]))
             self._sku_local[name] = sku_local
             self._sku_shape(name, match[0])
-            self._scene = self._boxes = None
+            self._scene = None
+            self._stale.add(self.index[name])
 
     def _sku_shape(self, name: str, sku: str) -> None:
         """An object recognised as of ``sku`` has that SKU's shape: the box of another object of
@@ -144,6 +147,13 @@ class Belief:
         """(K, 3) lo, hi of every object's world box (NaN rows: not placed)."""
         if self._boxes is None:
             self._boxes = scene_boxes(self.poses, self.local_lo, self.local_hi)
+            self._stale.clear()
+        elif self._stale:  # new arrays (a scene made earlier keeps its own), the changed rows redone
+            idx = np.array(sorted(self._stale), np.int64)
+            self._stale.clear()
+            lo, hi = self._boxes[0].copy(), self._boxes[1].copy()
+            lo[idx], hi[idx] = scene_boxes(self.poses[idx], self.local_lo[idx], self.local_hi[idx])
+            self._boxes = (lo, hi)
         return self._boxes
 
     def subscene(self, indices: np.ndarray) -> Scene:

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import lru_cache
-from itertools import combinations_with_replacement, product
+from itertools import combinations_with_replacement
 
 import numpy as np
 
@@ -35,7 +35,7 @@ from kb.model.definitions import (REFERENCE, TARGET, And, Count, Definitions, Ex
                                   PredicateLeaf, Relation, Variable)
 from kb.model.soap import ActionSpec
 from kb.spatial.predicates import compile_relation
-from kb.spatial.rcc8 import relate
+from kb.spatial.rcc8 import AXES, BIT, relate
 
 #: interval end points (against the interval [0, 1]) giving every per-axis arrangement
 _POINTS = (-2.0, -0.5, 0.0, 0.5, 1.0, 1.5, 3.0)
@@ -45,12 +45,20 @@ _TOL = 0.01
 @lru_cache(maxsize=None)
 def _apart_masks() -> np.ndarray:
     """The relation masks of a box to the unit box for every arrangement where the two are apart
-    (beyond the tolerance) along at least one axis."""
-    spans = list(combinations_with_replacement(_POINTS, 2))
-    boxes = np.array([[a[0], b[0], c[0], a[1], b[1], c[1]] for a, b, c in product(spans, repeat=3)])
-    lo, hi = boxes[:, :3], boxes[:, 3:]
-    apart = ((hi < -_TOL) | (lo > 1 + _TOL)).any(axis=1)
-    return relate(lo[apart], hi[apart], np.zeros((1, 3)), np.ones((1, 3)), _TOL)[:, 0]
+    (beyond the tolerance) along at least one axis. A mask is the union of its axes' bits, each
+    axis's decided by that axis's spans alone: one kernel call per axis, then every combination."""
+    spans = np.array(list(combinations_with_replacement(_POINTS, 2)))  # (S, 2): lo, hi along one axis
+    apart = (spans[:, 1] < -_TOL) | (spans[:, 0] > 1 + _TOL)
+    per_axis = []
+    for k, axis in enumerate(AXES):
+        lo, hi = np.zeros((len(spans), 3)), np.ones((len(spans), 3))
+        lo[:, k], hi[:, k] = spans[:, 0], spans[:, 1]
+        bits = np.uint32(sum(v for name, v in BIT.items() if name.startswith(axis + "-")))
+        per_axis.append(relate(lo, hi, np.zeros((1, 3)), np.ones((1, 3)), _TOL)[:, 0] & bits)
+    x, y, z = np.meshgrid(*(np.arange(len(spans)),) * 3, indexing="ij")
+    x, y, z = x.ravel(), y.ravel(), z.ravel()
+    keep = apart[x] | apart[y] | apart[z]
+    return per_axis[0][x[keep]] | per_axis[1][y[keep]] | per_axis[2][z[keep]]
 
 
 def contact_only(defs: Definitions, relation: str) -> bool:
@@ -77,6 +85,7 @@ class Focus:
         self._contact: dict[str, bool] = {}
         self._ties: dict[str, list[Tie] | None] = {}
         self._plans: dict[str, list[tuple[tuple[str, ...], list[Tie]]] | None] = {}
+        self._paths: dict[str, list[tuple[str, tuple[str, ...]]]] = {}
         self._of: dict[str, np.ndarray] = {}
         self._last: tuple[np.ndarray, np.ndarray, _Touching] | None = None
 
@@ -141,6 +150,21 @@ class Focus:
         return self._contact[relation]
 
     # --- neighbourhoods -------------------------------------------------------------
+    def paths(self, action: str) -> list[tuple[str, tuple[str, ...]]]:
+        """The action's tied variables as paths, each once: the parameter a chain of ties starts
+        at and the classes along it (``robot-empty``'s held: robot, (EndEffector, SolidObject))."""
+        if action not in self._paths:
+            out: dict[tuple[str, tuple[str, ...]], None] = {}
+            for params, ties in self.plan(action) or ():
+                chain: dict[object, tuple[str, tuple[str, ...]]] = {
+                    key: (param, ()) for key, param in zip((REFERENCE, TARGET), params)}
+                for tie in ties:
+                    param, classes = chain[tie.to]
+                    chain[tie.var] = (param, classes + (tie.var.cls,))
+                    out[chain[tie.var]] = None
+            self._paths[action] = list(out)
+        return self._paths[action]
+
     def neighbourhood(self, action: str, args: dict[str, int], lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         """Indices of the objects the checks of ``action`` (local) depend on: ``args``
         (parameter -> object index; placed or not) and each tied variable's candidates, in the
@@ -148,14 +172,12 @@ class Focus:
         touching = self._touching_in(lo, hi)
         keep = np.zeros(len(lo), bool)
         keep[np.array(sorted(set(args.values())), np.int64)] = True
-        for params, ties in self.plan(action) or ():
-            bound: dict[object, np.ndarray] = {}
-            for key, param in zip((REFERENCE, TARGET), params):
-                bound[key] = np.array([args[param]], np.int64)
-            for tie in ties:
-                near = touching(bound[tie.to]) & self._of_class(tie.var.cls)
-                bound[tie.var] = np.flatnonzero(near)
-                keep |= near
+        found: dict[tuple[str, tuple[str, ...]], np.ndarray] = {}
+        for param, classes in self.paths(action):  # prefixes come first: (p, (A,)) before (p, (A, B))
+            base = found[(param, classes[:-1])] if len(classes) > 1 else np.array([args[param]], np.int64)
+            near = touching(base) & self._of_class(classes[-1])
+            found[(param, classes)] = np.flatnonzero(near)
+            keep |= near
         return np.flatnonzero(keep)
 
     def touching(self, objects: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
