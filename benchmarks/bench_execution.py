@@ -584,7 +584,7 @@ def cost_one(spec: dict) -> dict:
 
 def compare(args: argparse.Namespace, folder: Path) -> dict:
     """Verification cost per action, this checkout and ``args.baseline`` interleaved."""
-    trees = {"new": ROOT, "old": Path(args.baseline).resolve()}
+    trees = {"new": Path(args.candidate or ROOT).resolve(), "old": Path(args.baseline).resolve()}
     limits = dict(tuple(map(int, x.split(":"))) for x in args.cost_actions)
     sizes: dict[int, dict] = {}
     for n in args.cost_parts:
@@ -624,7 +624,8 @@ def compare(args: argparse.Namespace, folder: Path) -> dict:
             entry["median"][key] = {k: round(statistics.median(row["ms_per_action"].get(k, 0.0) for row in rows), 3)
                                     for k in parts}
             entry["median"][key]["goal_holds"] = all(row["goal_holds"] for row in rows)
-    return {"baseline": _commit_of(trees["old"]), "repeat": args.cost_repeat, "sizes": sizes,
+    return {"baseline": _commit_of(trees["old"]), "candidate": _commit_of(trees["new"]), "repeat": args.cost_repeat,
+            "sizes": sizes,
             "load_average_end": round(os.getloadavg()[0], 2)}
 
 
@@ -639,7 +640,8 @@ def render_compare(c: dict, checkout: dict) -> list[str]:
                                                                    if v["timed_actions"] != v["plan_actions"] else "")
                      for n, v in sizes.items())
     lines = ["### Verification cost per action: neighbourhoods against the whole cell", "",
-             f"Today's code (commit `{c['baseline']}`, a git worktree) and this checkout (`{checkout.get('commit', '?')}`) "
+             f"Today's code (commit `{c['baseline']}`) and the new (commit `{c.get('candidate', checkout.get('commit', '?'))}`), "
+             "each a git worktree (so that edits in the working tree during the run do not mix in), "
              "timed in the same run on the same generated kits (`kitkb scenario generate --parts N --kits 1 --seed 0`; "
              f"{desc}), fault-free `kb.execution.run_plan`, in memory and with the run store on SQLite; every "
              "measurement a fresh process, old and new interleaved with the order alternating, "
@@ -986,6 +988,7 @@ def main(argv: list[str] | None = None) -> None:
                     help="parts of the fault-free kits of the cost figures")
     ap.add_argument("--kit-parts", type=int, default=160)
     ap.add_argument("--baseline", help="compare: a checkout (git worktree) of the commit to compare with")
+    ap.add_argument("--candidate", help="compare: a checkout of the new code (default: this one)")
     ap.add_argument("--cost-actions", nargs="*", default=[], metavar="PARTS:ACTIONS",
                     help="compare: time only the first ACTIONS actions of the PARTS-part kit's plan")
     ap.add_argument("--keep", action="store_true",
