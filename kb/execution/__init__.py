@@ -2,8 +2,9 @@
 
 :func:`run_scenario` / :func:`run_plan` carry out a plan on a cell (simulated by default) and
 return a :class:`Run` to query (failures by kit, action, predicate, mode and time; the history;
-why an action failed). Inside: the executor (:mod:`.executor`), its recovery from failed
-checks (:mod:`.recovery`: diagnosis, retry, rebind, replan, stop), the plan's steps
+why an action failed). Inside: the executor (:mod:`.executor`), its focus of attention on an
+action's neighbourhood (:mod:`.focus`), its recovery from failed checks (:mod:`.recovery`:
+diagnosis, retry, rebind, replan, stop), the plan's steps
 (:mod:`.steps`), its belief of the cell (:mod:`.belief`), late-bound CRCL targets
 (:mod:`.targets`), the records a run leaves (:mod:`.records`) and their store (:mod:`.store`).
 """

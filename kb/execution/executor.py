@@ -3,13 +3,15 @@
 For each plan action (seed 004 §4, seed 002 §4-5):
 
 1. the cell hears which action starts (``begin_action``; a simulator injects its faults there);
-2. focus of attention: the action's objects and the classes its predicates search (their
-   arguments' and quantified variables' classes) are sensed, the belief updated
-   (:mod:`kb.execution.belief`) and the world-model store told the new poses;
+2. focus of attention: the action's neighbourhood (:mod:`.focus`: its objects and what its
+   predicates' quantified variables can be, the objects touching those) is sensed, or, for an
+   action whose definitions do not allow it, the classes its predicates search; the belief is
+   updated (:mod:`kb.execution.belief`) and the world-model store told the new poses;
 3. late binding: a part to take is inspected (a defective part never goes into a kit) and, if
    it is missing or defective, another part of the same SKU lying in a tray is bound instead,
    in this step and the rest of the plan, before replanning is considered;
-4. preconditions are evaluated from geometry (:mod:`kb.spatial.predicates`);
+4. preconditions are evaluated from geometry (:mod:`kb.spatial.predicates`), on the
+   neighbourhood's scene (the same truth as the whole cell's);
 5. the action's CRCL commands come from its program in the ontology
    (:class:`kb.model.failures.ActionProgram`), targets computed now (:mod:`.targets`), and go
    to the cell; the effects are evaluated from geometry;
