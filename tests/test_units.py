@@ -162,7 +162,8 @@ def test_scenario_generate_and_transform_write_other_units(tmp_path: Path, gener
 
 def test_run_says_why_it_did_not_execute(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
     """A part posed 30 cm above its tray: the geometry disagrees with the file's facts; the run
-    is refused with exit 1, the atom and a report with executed: false and the reason."""
+    is refused with exit 1, the atom, its likely cause (the implausible pose) and a report with
+    executed: false and the reason."""
     init = tmp_path / "init.ttl"
     text = (SMALL / "init.ttl").read_text()
     init.write_text(_lower(text, "part_a_1_point", -0.3))
@@ -172,6 +173,7 @@ def test_run_says_why_it_did_not_execute(tmp_path: Path, capsys: pytest.CaptureF
     data = json.loads(report.read_text())
     assert data["executed"] is False
     assert "part-location-partstray part_a_1 part_a_tray" in data["reason"]
+    assert "likely cause: part_a_1 floats 0.3 m above the floor of part_a_tray" in data["reason"]
     assert "not executed" in capsys.readouterr().out
 
 

@@ -15,11 +15,13 @@ from typing import Sequence
 
 import numpy as np
 
+from kb.core.namespaces import local_name
 from kb.core.units import LENGTH
 from kb.model.definitions import load_definitions
 from kb.planning.model import read_specs
 from kb.planning.state import pddl_name
 from kb.spatial import Evaluator, Scene
+from kb.spatial.plausibility import check, describe
 
 
 @dataclass
@@ -81,8 +83,11 @@ def likely_causes(scene: Scene, atoms: Sequence[tuple[str, ...]]) -> list[str]:
     """Why a state's geometry may disagree with its facts: the implausible poses
     (:mod:`kb.spatial.plausibility`) of objects the disagreeing atoms name, and lengths that do
     not look like the unit the workstation declares."""
+    named = {a for atom in atoms for a in atom[1:]}
+    causes = [describe(f, local_name, scene.units) for f in check(scene)
+              if {pddl_name(f.obj), pddl_name(f.other or f.obj)} & named]
     unit = unit_suspicion(scene)
-    return [unit] if unit else []
+    return causes + ([unit] if unit else [])
 
 
 def unit_suspicion(scene: Scene) -> str | None:

@@ -36,12 +36,14 @@ or against it). An object below the ground interpenetrates the workstation.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
-from typing import Mapping
+from typing import Callable, Mapping
 
 import numpy as np
 
 from kb.core.namespaces import KTW
+from kb.core.units import SI, Units
 from kb.spatial.rcc8 import DEFAULT_TOLERANCE
 from kb.spatial.scene import STAND_INS, Scene
 
@@ -484,3 +486,26 @@ def _world_hull(a: Boxes) -> tuple[np.ndarray, np.ndarray]:
 
 __all__ = ["FLOATING", "INTERPENETRATION", "RULES", "Boxes", "Finding", "check", "in_frame_of",
            "overlapping_pairs", "sat_depth"]
+
+
+def describe(f: Finding, name: Callable[[str], str], units: Units = SI) -> str:
+    """One sentence for finding ``f``: objects spelled by ``name`` (IRI -> text), the depth in
+    the file's length unit with four significant digits (``"20 mm"``, ``"0.7874 in"``)."""
+    obj = name(f.obj)
+    other = name(f.other) if f.other else None
+    depth = length_text(f.depth, units)
+    if f.rule == FLOATING:
+        below = {"floor": f"the floor of {other}", "top": str(other)}.get(f.how, "the ground (z = 0)")
+        return f"{obj} floats {depth} above {below}"
+    if f.how == "ground":
+        return f"{obj} is {depth} below the ground (z = 0 of the workstation)"
+    if f.how in ("floor", "wall"):
+        return f"{obj} goes {depth} through {'the floor' if f.how == 'floor' else 'a wall'} of {other}"
+    return f"{obj} and {other} interpenetrate by {depth}"
+
+
+def length_text(metres: float, units: Units = SI) -> str:
+    """``metres`` in the file's length unit with four significant digits."""
+    value = abs(units.from_si("length", metres))
+    digits = max(0, 3 - math.floor(math.log10(value))) if value > 0 else 0
+    return units.length_text(metres, digits)

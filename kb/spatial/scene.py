@@ -50,6 +50,7 @@ from kb.core.namespaces import KTW
 from kb.core.resources import ontology_path
 from kb.core.units import SI, Units
 from kb.io import load, load_file
+from kb.io.loader import Source
 from kb.io.views import TripleView
 from kb.model.units import quantity_kinds, read_units
 from kb.spatial.rcc8 import world_boxes
@@ -160,13 +161,19 @@ class Scene:
         facts but no geometry (as the PDDL generator reads objects that first appear in the
         goal). ``match_names``: an individual of a declared file is the state's individual of
         the same local name (NIST names its initial and goal states in two namespaces)."""
-        kb = load(list(paths), resolve_imports=False)
-        views = [s.view() for s in kb.sources]
+        return cls.from_sources(load(list(paths), resolve_imports=False).sources, declared, match_names)
+
+    @classmethod
+    def from_sources(cls, sources: Sequence[Source], declared: Sequence[str | Path] = (),
+                     match_names: bool = False) -> "Scene":
+        """:meth:`from_files` of files already loaded (:class:`kb.io.loader.Source`: e.g. the
+        validator's, so a file is not parsed twice)."""
+        views = [s.view() for s in sources]
         extra = [load_file(p).view() for p in declared]
         if match_names and extra:
             extra = [_renamed(v, views) for v in extra]
-        path = str(kb.sources[0].path)
-        locate = kb.sources[0].line_of if len(kb.sources) == 1 else (lambda *a: None)
+        path = str(sources[0].path)
+        locate = sources[0].line_of if len(sources) == 1 else (lambda *a: None)
         return _Builder(views, extra, path, locate).build()
 
     @classmethod

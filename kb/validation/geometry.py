@@ -11,19 +11,14 @@ SOAP domain) are not read again.
 
 from __future__ import annotations
 
-import math
-from typing import TYPE_CHECKING, Any, Collection
+from typing import Any, Collection
 
 from rdflib import URIRef
 
 from kb.core.diagnostics import Diagnostic
 from kb.core.errors import InputError
 from kb.core.namespaces import KTW
-from kb.core.units import SI, Units
 from kb.validation.rules import RuleContext, graph_of
-
-if TYPE_CHECKING:
-    from kb.spatial.plausibility import Finding
 
 #: the rule of a state file whose geometry could not be read (so was not checked)
 UNCHECKED = "geometry-unchecked"
@@ -42,14 +37,14 @@ def check_geometry(ctx: RuleContext, src: Any, ignore: Collection[str] = ()) -> 
     where = locations(src)
     if not where:
         return
-    from kb.spatial.plausibility import RULES, check  # numpy and the scene: only for state files
+    from kb.spatial.plausibility import RULES, check, describe  # numpy and the scene: only for state files
     from kb.spatial.rcc8 import DEFAULT_TOLERANCE
     from kb.spatial.scene import Scene
     wanted = tuple(r for r in RULES if r not in ignore)
     if not wanted:
         return
     try:
-        scene = Scene.from_files([src.path])
+        scene = Scene.from_sources([src])
     except InputError as exc:
         if UNCHECKED not in ignore:
             ctx.out.append(Diagnostic(str(src.path), exc.line, "warning",
@@ -58,7 +53,7 @@ def check_geometry(ctx: RuleContext, src: Any, ignore: Collection[str] = ()) -> 
     for f in check(scene, DEFAULT_TOLERANCE, where, wanted):
         focus = URIRef(f.obj)
         line = ctx.locate(src, URIRef(f.pose) if f.pose else focus, None, None)
-        message = _message(ctx, src, f, scene.units)
+        message = describe(f, lambda iri: ctx.name(URIRef(iri), src), scene.units)
         ctx.report(src, line, "warning", message, f.rule, focus)
         nodes = [n for obj in (f.obj, f.other) if obj for n in _pose_nodes(src, URIRef(obj))]
         key = (str(src.path), f.rule, ctx.name(focus, src), message)
@@ -81,26 +76,3 @@ def _pose_nodes(src: Any, obj: URIRef) -> list[Any]:
         out += [n for n in (g.value(loc, p) for p in _POSE) if n is not None]
         obj = g.value(loc, KTW.hasPhysicalLocation_RefObject)
     return out
-
-
-def _message(ctx: RuleContext, src: Any, f: "Finding", units: Units) -> str:
-    from kb.spatial.plausibility import FLOATING
-    name = ctx.name(URIRef(f.obj), src)
-    other = ctx.name(URIRef(f.other), src) if f.other else None
-    depth = length_text(f.depth, units)
-    if f.rule == FLOATING:
-        below = {"floor": f"the floor of {other}", "top": str(other)}.get(f.how, "the ground (z = 0)")
-        return f"{name} floats {depth} above {below}"
-    if f.how == "ground":
-        return f"{name} is {depth} below the ground (z = 0 of the workstation)"
-    if f.how in ("floor", "wall"):
-        return f"{name} goes {depth} through {'the floor' if f.how == 'floor' else 'a wall'} of {other}"
-    return f"{name} and {other} interpenetrate by {depth}"
-
-
-def length_text(metres: float, units: Units = SI) -> str:
-    """``metres`` in the file's length unit with four significant digits (``"20 mm"``,
-    ``"0.02 m"``, ``"0.7874 in"``)."""
-    value = abs(units.from_si("length", metres))
-    digits = max(0, 3 - math.floor(math.log10(value))) if value > 0 else 0
-    return units.length_text(metres, digits)
