@@ -189,3 +189,27 @@ def test_run_reason_names_a_unit_the_sizes_do_not_fit(tmp_path: Path) -> None:
     assert main(["run", str(init), str(goal), "-o", str(tmp_path / "out"), "--report", str(report), "-q"]) == 1
     reason = json.loads(report.read_text())["reason"]
     assert "likely cause" in reason and "millimeters" in reason
+
+
+def test_turning_a_location_without_axes_turns_it(tmp_path: Path) -> None:
+    """A pose location that leaves its axes to the model's defaults (x along x, z up) is
+    given turned axes: the turned object's world box is turned too."""
+    from rdflib import Graph
+
+    from kb.core.namespaces import KTW
+    from kb.io.turtle import turtle
+    from kb.scenario.variants import turn
+
+    g = Graph()
+    g.parse(SMALL / "init.ttl")
+    tray = next(s for s in g.subjects(KTW.hasSkuObject_Sku) if str(s).endswith("part_b_tray"))
+    loc = g.value(tray, KTW.hasSolidObject_PrimaryLocation)
+    g.remove((loc, KTW.hasPoseLocation_XAxis, None))
+    plain = tmp_path / "plain.ttl"
+    plain.write_text(turtle(g))
+    turned = tmp_path / "turned.ttl"
+    turned.write_text(turtle(turn(g, 90.0, ["part_b_tray"])))
+    a, b = Scene.from_files([plain]), Scene.from_files([turned])
+    i = a.index[str(tray)]
+    np.testing.assert_allclose(b.poses[i][:3, 0], [0.0, 1.0, 0.0], atol=1e-9)
+    np.testing.assert_allclose(b.hi[i] - b.lo[i], (a.hi[i] - a.lo[i])[[1, 0, 2]], atol=1e-9)

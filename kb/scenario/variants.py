@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import Iterable
 
 import numpy as np
-from rdflib import Graph, Literal, URIRef
+from rdflib import BNode, Graph, Literal, URIRef
 from rdflib.namespace import RDF, XSD
 
 from kb.core.errors import InputError
@@ -134,8 +134,8 @@ def _find(graph: Graph, name: str) -> URIRef:
 
 def _turn_location(graph: Graph, loc, r: np.ndarray, move_point: bool) -> None:  # noqa: ANN001
     """Rotate a pose location's axes by ``r`` (and its point about the origin of its frame)."""
-    nodes = [(graph.value(loc, _POINT), _XYZ, move_point), (graph.value(loc, _XAXIS), _IJK, True),
-             (graph.value(loc, _ZAXIS), _IJK, True)]
+    nodes = [(graph.value(loc, _POINT), _XYZ, move_point), (_axis(graph, loc, _XAXIS, "x", (1.0, 0.0, 0.0)), _IJK, True),
+             (_axis(graph, loc, _ZAXIS, "z", (0.0, 0.0, 1.0)), _IJK, True)]
     for node, props, rotate in nodes:
         if node is None or not rotate:
             continue
@@ -145,3 +145,16 @@ def _turn_location(graph: Graph, loc, r: np.ndarray, move_point: bool) -> None: 
             for o in list(graph.objects(node, p)):
                 graph.remove((node, p, o))
             graph.add((node, p, number(0.0 if abs(x) < 1e-12 else x)))
+
+
+def _axis(graph: Graph, loc, prop, name: str, default: tuple[float, float, float]):  # noqa: ANN001, ANN202
+    """The vector of a pose location's axis; one made with the model's default (x along x, z up)
+    where the location gives none, so that a turn turns it."""
+    node = graph.value(loc, prop)
+    if node is None:
+        node = URIRef(f"{loc}_{name}_axis") if isinstance(loc, URIRef) else BNode()
+        graph.add((loc, prop, node))
+        graph.add((node, RDF.type, KTW.Vector))
+        for p, v in zip(_IJK, default):
+            graph.add((node, p, number(v)))
+    return node
