@@ -149,9 +149,10 @@ class RunStore:
 
     # --- stable states ------------------------------------------------------------------
     def poses_changed(self, poses: dict[str, np.ndarray]) -> None:
-        """Sensed global poses, kept until the next stable state."""
+        """Sensed global poses, kept (copied: the caller's arrays are its belief, which changes,
+        e.g. to NaN when the object is gone) until the next stable state."""
         known = self._names()
-        self.pending.update({n: _in_units(m, self.metres) for n, m in poses.items() if n in known})
+        self.pending.update({n: _in_units(np.array(m, float), self.metres) for n, m in poses.items() if n in known})
 
     def commit_stable(self, action_index: int) -> None:
         """The action's effects hold: its sensed poses become the database's stable state."""
