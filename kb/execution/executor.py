@@ -206,9 +206,11 @@ class Executor(Recovery):
             moved = self.belief.observe(sense_names(self.cell, names), asked=names)
             changed += moved
             sensed.update(todo)
+            if not moved:  # the belief is as it was: so is the neighbourhood, sensed in full now
+                self._near = np.array(sorted(sensed), np.int64)
+                break
             near = set(self.focus.neighbourhood(step.action, args, *self.belief.world_boxes()).tolist())
-            if moved:
-                near.update(self.focus.touching([index[n] for n in moved], *before).tolist())
+            near.update(self.focus.touching([index[n] for n in moved], *before).tolist())
             todo = sorted(near - sensed)
             if not todo:
                 self._near = np.array(sorted(sensed), np.int64)
