@@ -167,8 +167,14 @@ class Injector:
 
     # --- the kinds ----------------------------------------------------------------------
     def _part(self, args: tuple[str, ...]) -> int | None:
+        """The part a take-part names (args[1]): a placed part the robot does not hold, else None
+        (an announced action's arguments are whatever a client sent)."""
         i = self.world.index.get(args[1]) if len(args) > 1 else None
-        return i if i is not None and self.world.placed(i) else None
+        return i if i is not None and self.world.is_a(i, "Part") and self._free(i) else None
+
+    def _free(self, i: int) -> bool:
+        """``i`` is placed and not carried by the robot."""
+        return self.world.placed(i) and i not in self.world.subtree(self.robot.index)
 
     def missed_grasp(self, index: int, args: tuple[str, ...]) -> None:
         self.robot.miss_grasp = True
@@ -242,7 +248,7 @@ class Injector:
     def kit_tray_moved(self, index: int, args: tuple[str, ...]) -> None:
         w = self.world
         kit = w.index.get(args[2]) if len(args) > 2 else None
-        if kit is None or not w.placed(kit):
+        if kit is None or not w.is_a(kit, "Kit") or not self._free(kit):
             return
         support = int(w.parent[kit])
         lo, hi = w.box(kit)

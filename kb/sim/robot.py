@@ -41,6 +41,9 @@ from kb.sim.world import TOLERANCE, World, translate
 GRASP_TOLERANCE = 2 * TOLERANCE
 #: A held part armed to drop falls in the first move that carries its tip this far sideways (m).
 TRANSIT = 0.05
+#: How far (m) from the workstation's origin a target may be on any axis: far beyond any cell,
+#: near enough that poses composed there stay rigid to well under a micrometre.
+REACH = 1000.0
 
 #: fault kind, objects, detail -> None: how the robot reports an armed fault taking effect.
 FaultHook = Callable[[str, tuple[str, ...], str], None]
@@ -94,12 +97,20 @@ class Robot:
         return Status.ok()
 
     def move(self, waypoints: tuple[crcl.Pose, ...]) -> Status:
-        """Move the tip through ``waypoints`` to the last one."""
+        """Move the tip through ``waypoints`` to the last one; a waypoint that is no rigid pose,
+        or out of :data:`REACH`, or a path the clock cannot time, is an error status and the
+        robot does not move."""
+        targets = []
         for pose in waypoints:
             try:
-                target = pose.matrix()
+                targets.append(_target(pose))
             except ValueError as e:
                 return Status.error(f"bad pose: {e}")
+        points = np.array([self.tip()[:3, 3]] + [t[:3, 3] for t in targets])
+        seconds = float(np.linalg.norm(np.diff(points, axis=0), axis=1).sum()) / self.speed
+        if not np.isfinite(self.time + seconds):
+            return Status.error(f"a path of {seconds} s at {self.speed} m/s: the clock would overflow")
+        for target in targets:
             self._segment(target)
         return Status.ok()
 
@@ -203,17 +214,33 @@ class Robot:
 
     def dwell(self, seconds: float) -> Status:
         """Wait: the clock advances."""
-        if seconds < 0:
+        if not seconds >= 0:
             return Status.error(f"negative dwell time {seconds}")
+        if not np.isfinite(self.time + seconds):
+            return Status.error(f"a dwell of {seconds} s: the clock would overflow")
         self.time += seconds
         return Status.ok()
 
     def set_speed(self, speed: float) -> Status:
-        """Set the tip speed (m/s)."""
-        if not speed > 0:
-            return Status.error(f"speed must be positive, not {speed}")
+        """Set the tip speed (m/s): positive and finite."""
+        if not (speed > 0 and np.isfinite(speed)):
+            return Status.error(f"speed must be a positive number, not {speed}")
         self.speed = speed
         return Status.ok()
+
+
+def _target(pose: crcl.Pose) -> np.ndarray:
+    """The 4x4 tip pose of a CRCL pose: a finite rigid transform within :data:`REACH` of the
+    workstation's origin, else ValueError (an axis of 1e300 overflows its norm, and a point
+    kilometres away is out of any workcell, where composing poses would lose their rigidity)."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        m = pose.matrix()
+    r = m[:3, :3]
+    if not (np.isfinite(m).all() and np.allclose(r.T @ r, np.eye(3), atol=1e-9)):
+        raise ValueError(f"axes {pose.z_axis} (Z), {pose.x_axis} (X) give no rotation")
+    if np.abs(m[:3, 3]).max() > REACH:
+        raise ValueError(f"point {pose.point} is out of reach (more than {REACH:g} m from the origin)")
+    return m
 
 
 def _unit(expected: str) -> Callable[[Robot, crcl.Command], Status]:
