@@ -25,7 +25,11 @@ Conventions (those of the state files):
   be along the flange's, as in a holder that presents it tool-down). ``OpenToolChanger``
   leaves it where it is: in the holder it sits in, else it falls;
 * only metres and radians (and the ``Workstation`` frame) are supported; other units are an
-  error status, as is an ``Unreadable`` line. Other commands are accepted.
+  error status, as is an ``Unreadable`` line. Other commands are accepted;
+* a move whose waypoint is no rigid pose (axes so large their norm overflows) or lies farther
+  than :data:`REACH` (1 km) from the origin on an axis, a move or dwell that would overflow the
+  clock, and a speed that is not a positive number are error statuses: the robot does not move,
+  so every pose stays a finite rigid transform (``tests/test_sim_properties.py``).
 """
 
 from __future__ import annotations
