@@ -70,8 +70,8 @@ def fault_specs() -> st.SearchStrategy[FaultSpec]:
                      st.floats(0, 1), st.integers(0, 2**32 - 1))
 
 
-def _unit(draw: st.DataObject, label: str) -> tuple[float, float, float]:
-    v = np.array(draw.draw(st.tuples(*[st.floats(-1, 1)] * 3), label=label))
+def _unit(data: st.DataObject, label: str) -> tuple[float, float, float]:
+    v = np.array(data.draw(st.tuples(*[st.floats(-1, 1)] * 3), label=label))
     return tuple(v) if np.linalg.norm(v) > 0.1 else DOWN  # type: ignore[return-value]
 
 
@@ -108,12 +108,17 @@ def _extent(w: World) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _pose(data: st.DataObject, cell: SimulatedCell) -> crcl.Pose:
-    if data.draw(st.integers(0, 19), label="wild point?") == 0:  # far away: kilometres to 1e300 m
-        point = tuple(data.draw(st.floats(-1e300, 1e300), label="wild") for _ in range(3))
-    else:
-        point = _point(data, cell)
-    x, z = _orientation(data)
-    return crcl.Pose(point, x, z)
+    """A target near the cell, or (one in twenty) a wild one: a point kilometres to 1e300 m
+    away, or axes whose norm overflows."""
+    if data.draw(st.integers(0, 19), label="wild?") == 0:
+        huge = st.tuples(*[st.floats(-1e300, 1e300)] * 3)
+        if data.draw(st.booleans(), label="wild point"):
+            return crcl.Pose(data.draw(huge, label="point"), *_orientation(data))
+        z, x = data.draw(huge, label="z axis"), data.draw(huge, label="x axis")
+        if not (any(z) and any(x)):
+            z, x = DOWN, (1.0, 0.0, 0.0)
+        return crcl.Pose(_point(data, cell), x, z)
+    return crcl.Pose(_point(data, cell), *_orientation(data))
 
 
 def _mount_pose(data: st.DataObject, cell: SimulatedCell) -> crcl.Pose | None:
