@@ -645,7 +645,14 @@ def render_compare(c: dict, checkout: dict) -> list[str]:
     desc = ", ".join(f"{n} parts: {v['plan_actions']} actions" + (f" (the first {v['timed_actions']} timed)"
                                                                    if v["timed_actions"] != v["plan_actions"] else "")
                      for n, v in sizes.items())
+    at = " ".join(f"{n}:{v['timed_actions']}" for n, v in sizes.items() if v["timed_actions"] != v["plan_actions"])
+    reps = " ".join(f"{n}:{v['repeat']}" for n, v in sizes.items() if v.get("repeat", c["repeat"]) != c["repeat"])
     lines = ["### Verification cost per action: neighbourhoods against the whole cell", "",
+             f"Command: `git worktree add /tmp/kitkb-base {c['baseline']}`, `git worktree add /tmp/kitkb-new "
+             f"{c.get('candidate', 'HEAD')}`, then `.venv/bin/python benchmarks/bench_execution.py --parts compare "
+             f"--baseline /tmp/kitkb-base --candidate /tmp/kitkb-new --cost-parts {' '.join(map(str, sizes))}"
+             + (f" --cost-actions {at}" if at else "") + f" --cost-repeat {c['repeat']}"
+             + (f" --cost-repeat-at {reps}" if reps else "") + " --keep`.", "",
              f"Today's code (commit `{c['baseline']}`) and the new (commit `{c.get('candidate', checkout.get('commit', '?'))}`), "
              "each a git worktree (so that edits in the working tree during the run do not mix in), "
              "timed in the same run on the same generated kits (`kitkb scenario generate --parts N --kits 1 --seed 0`; "
@@ -673,7 +680,7 @@ def render_compare(c: dict, checkout: dict) -> list[str]:
                          f"{new.get('belief', 0):.2f} | {new.get('checks', 0):.2f} | {store:.2f} | {old['total']:.2f} | "
                          f"{new['total']:.2f} |")
             if backend == "sqlite":
-                limit = 5.0 if n <= 160 else 10.0
+                limit = 5.0 if int(n) <= 160 else 10.0
                 verdicts.append(f"{n} parts: {new['verification']:.2f} ms ({'met' if new['verification'] <= limit else 'NOT met'}"
                                 f" against {limit:g} ms; today {old['verification']:.2f} ms)")
     lines += ["", "Goal (SQLite: at most 5 ms per action at 160 parts, at most 10 ms at 1,000), as measured in this "
@@ -757,11 +764,17 @@ def render(run: dict) -> str:
              "with other jobs: wall times are noisy).", ""]
     kept = run.get("kept")
     if kept:
+        km = kept["machine"]
         lines[-2] += (f" The {', '.join(kept['parts'])} figures below are kept from the earlier run of {kept['started']}"
-                      f" (commit `{kept['checkout'].get('commit', '?')}`, load average {kept['machine'].get('load_average')}"
-                      " at its start), before the change this run measures.")
+                      f" (commit `{kept['checkout'].get('commit', '?')}`, on {km.get('cpu')}"
+                      + (f", PostgreSQL {km['postgresql']} on loopback" if km.get("postgresql") else "")
+                      + f", load average {km.get('load_average')} at its start), before the change this run measures.")
     co = run.get("checkout", {})
-    if co:
+    measured = [p for p in ("campaign", "cost", "kit") if p in run and p not in (kept or {}).get("parts", [])]
+    if co and not measured:
+        lines[-2] += (" This run measured only the comparison below, whose two commits ran from git worktrees "
+                      "(the working tree's uncommitted changes were not measured).")
+    elif co:
         lines[-2] += (f" Code: commit `{co['commit']}`" + (
             f" with uncommitted changes of {', '.join(f'`{f}`' for f in co['kb_changes'])} (measured as they were)."
             if co["kb_changes"] else "."))
