@@ -61,3 +61,26 @@ def test_kitkb_run_of_that_case_exits_0_with_a_report(tmp_path: Path) -> None:
                  "-o", str(tmp_path / "out"), "-q"])
     assert code == 0
     assert json.loads(report.read_text())["goal_holds"] is True
+
+
+def test_an_internal_error_during_execution_stops_the_run_for_the_operator(tmp_path: Path, monkeypatch) -> None:
+    """A fault of kitkb's own in the middle of a run (here: computing a motion target fails at
+    the fourth computation) is not reported as bad input nor as a crash: the run stops for the
+    operator with the reason, kitkb run exits 1 and writes its report."""
+    from kb.execution import targets
+
+    real, calls = targets.Targets.compute, []
+
+    def failing(self, expr, args):  # noqa: ANN001, ANN202
+        calls.append(expr)
+        if len(calls) == 4:
+            raise ZeroDivisionError("a bug")
+        return real(self, expr, args)
+
+    monkeypatch.setattr(targets.Targets, "compute", failing)
+    report = tmp_path / "r.json"
+    assert main(["run", str(INIT), str(GOAL), "-o", str(tmp_path / "out"), "--report", str(report), "-q"]) == 1
+    data = json.loads(report.read_text())
+    assert data["executed"] and data["goal_holds"] is False
+    assert data["stopped"].startswith("stopped for the operator: internal error at action ")
+    assert "ZeroDivisionError: a bug" in data["stopped"]

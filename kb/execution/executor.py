@@ -32,7 +32,7 @@ from typing import Callable
 
 import numpy as np
 
-from kb.core.errors import KitkbError
+from kb.core.errors import CellError, KitkbError
 from kb.core.namespaces import KTW
 from kb.crcl import COMMANDS, Command, Dwell, EndCanon, InitCanon, Message, Pose
 from kb.crcl.cell import CellInterface, execute_program, sense_names
@@ -113,7 +113,19 @@ class Executor(Recovery):
         except Stop as stop:
             rec.stopped = str(stop)
             self._say(f"stopped: {stop}")
-        rec.goal_holds = self.goal_holds()
+        except CellError:  # the cell is gone: nothing more can be sensed or done (exit 2, as at the start)
+            raise
+        except Exception as exc:  # noqa: BLE001 - a fault of kitkb's own: the run stops, the report says why
+            log.exception("execution stopped by an internal error")
+            rec.stopped = f"stopped for the operator: internal error at action {self.index}: {type(exc).__name__}: {exc}"
+            self._say(rec.stopped)
+        try:
+            rec.goal_holds = self.goal_holds()
+        except CellError:
+            raise
+        except Exception:  # noqa: BLE001 - the goal cannot be decided: it does not hold
+            log.exception("the goal could not be checked")
+            rec.goal_holds = False
         rec.ended = time.perf_counter()
         return rec
 
