@@ -183,9 +183,9 @@ def test_units_and_unreadable_lines() -> None:
     cell = SimulatedCell(INIT)
     assert cell.execute(crcl.SetLengthUnits("meter")).done
     assert cell.execute(crcl.SetAngleUnits("radian")).done
-    assert cell.execute(crcl.SetLengthUnits("millimeter")) == Status.error(
-        "SetLengthUnits millimeter: only meter is supported")
-    assert not cell.execute(crcl.SetAngleUnits("degree")).done
+    assert cell.execute(crcl.SetLengthUnits("millimeter")).done and cell.robot.metres == 0.001
+    assert cell.execute(crcl.SetAngleUnits("degree")).done
+    assert cell.execute(crcl.SetCoordinateFrame("RobotBase")).state == "error"
     assert cell.execute(crcl.Unreadable("MoveTo(")).state == "error"
     for c in (crcl.Message("hi"), crcl.StartObjectScan("part_a_1"), crcl.StopObjectScan(), crcl.StopMotion(0),
               crcl.EndCanon()):

@@ -213,3 +213,26 @@ def test_turning_a_location_without_axes_turns_it(tmp_path: Path) -> None:
     i = a.index[str(tray)]
     np.testing.assert_allclose(b.poses[i][:3, 0], [0.0, 1.0, 0.0], atol=1e-9)
     np.testing.assert_allclose(b.hi[i] - b.lo[i], (a.hi[i] - a.lo[i])[[1, 0, 2]], atol=1e-9)
+
+
+def test_the_simulated_robot_takes_crcl_in_any_length_unit() -> None:
+    """CRCL after SetLengthUnits(millimeter) or (inch) moves the robot where the same program
+    in metres does, at the same speed."""
+    from kb import crcl
+    from kb.sim import SimulatedCell
+
+    def flange_after(unit: str, per_metre: float) -> tuple[np.ndarray, float]:
+        cell = SimulatedCell(SMALL / "init.ttl")
+        start = cell.robot.tip()
+        target = crcl.Pose.from_matrix(start)
+        point = (np.asarray(target.point) + (0.1, -0.05, 0.2)) * per_metre
+        program = [crcl.SetLengthUnits(unit), crcl.SetAbsoluteSpeed(0.5 * per_metre),
+                   crcl.MoveTo(crcl.Pose(tuple(point), target.x_axis, target.z_axis))]
+        assert all(cell.execute(c).ok for c in program)
+        return cell.robot.flange.copy(), cell.time
+
+    metres, t = flange_after("meter", 1.0)
+    for unit, per in (("millimeter", 1000.0), ("inch", 1 / 0.0254)):
+        flange, t2 = flange_after(unit, per)
+        np.testing.assert_allclose(flange, metres, atol=1e-9)
+        assert t2 == pytest.approx(t)

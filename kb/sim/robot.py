@@ -11,7 +11,7 @@ Conventions (those of the state files):
   the flange's far face with no effector. So ``flange = tip @ translate(0, 0, -(effector
   length + flange height))``;
 * moves are instantaneous: the end pose is reached (through the waypoints); the clock advances
-  by the tip's path length / speed (``SetAbsoluteSpeed``, default 1 m/s); ``Dwell`` adds its time;
+  by the tip's path length / speed (``SetAbsoluteSpeed``, default 1 m/s, in the length unit in force); ``Dwell`` adds its time;
 * ``CloseGripper`` grasps the object whose top face is at the tip (within :data:`GRASP_TOLERANCE`
   = 2 x :data:`kb.spatial.rcc8.DEFAULT_TOLERANCE` = 2 mm) and whose footprint contains the
   tip's x, y (its own footprint, in its frame: a part of a turned tray, not its world box) —
@@ -24,8 +24,11 @@ Conventions (those of the state files):
   (within :data:`GRASP_TOLERANCE`); the effector keeps its orientation (its z axis is taken to
   be along the flange's, as in a holder that presents it tool-down). ``OpenToolChanger``
   leaves it where it is: in the holder it sits in, else it falls;
-* only metres and radians (and the ``Workstation`` frame) are supported; other units are an
-  error status, as is an ``Unreadable`` line. Other commands are accepted;
+* lengths are in metres until a ``SetLengthUnits`` (meter, millimeter, inch) says otherwise:
+  the positions and speeds of the commands after it are in that unit (the ground truth stays
+  in metres); ``SetAngleUnits`` takes degree or radian (no command the simulator executes has
+  an angle); another unit, a coordinate frame other than ``Workstation`` and an ``Unreadable``
+  line are error statuses. Other commands are accepted;
 * a move whose waypoint is no rigid pose (axes so large their norm overflows) or lies farther
   than :data:`REACH` (1 km) from the origin on an axis, a move or dwell that would overflow the
   clock, and a speed that is not a positive number are error statuses: the robot does not move,
@@ -39,6 +42,7 @@ from typing import Callable
 import numpy as np
 
 from kb import crcl
+from kb.core.units import ANGLE, LENGTH
 from kb.crcl.cell import Status
 from kb.sim.world import TOLERANCE, World, translate
 
@@ -63,7 +67,8 @@ class Robot:
             raise ValueError("the state has no placed robot")
         self.index = robots[0]
         self.time = 0.0
-        self.speed = 1.0
+        self.speed = 1.0  # m/s
+        self.metres = 1.0  # metres per length unit of the commands (CRCL SetLengthUnits; metre by default)
         self.on_fault = on_fault or (lambda kind, objects, detail: None)
         self.miss_grasp = False  # armed faults (kb.sim.faults)
         self.drop_in_transit = False
@@ -107,7 +112,7 @@ class Robot:
         targets = []
         for pose in waypoints:
             try:
-                targets.append(_target(pose))
+                targets.append(_target(pose, self.metres))
             except ValueError as e:
                 return Status.error(f"bad pose: {e}")
         points = np.array([self.tip()[:3, 3]] + [t[:3, 3] for t in targets])
@@ -226,14 +231,22 @@ class Robot:
         return Status.ok()
 
     def set_speed(self, speed: float) -> Status:
-        """Set the tip speed (m/s): positive and finite."""
-        if not (speed > 0 and np.isfinite(speed)):
+        """Set the tip speed (length units of the commands per second): positive and finite."""
+        if not (speed > 0 and np.isfinite(speed * self.metres)):
             return Status.error(f"speed must be a positive number, not {speed}")
-        self.speed = speed
+        self.speed = speed * self.metres
+        return Status.ok()
+
+    def set_length_units(self, unit: str) -> Status:
+        """Lengths of the following commands are in ``unit`` (meter, millimeter, inch)."""
+        metres = LENGTH.get(str(unit))
+        if metres is None:
+            return Status.error(f"SetLengthUnits {unit}: not one of {', '.join(LENGTH)}")
+        self.metres = metres
         return Status.ok()
 
 
-def _target(pose: crcl.Pose) -> np.ndarray:
+def _target(pose: crcl.Pose, metres: float = 1.0) -> np.ndarray:
     """The 4x4 tip pose of a CRCL pose: a finite rigid transform within :data:`REACH` of the
     workstation's origin, else ValueError (an axis of 1e300 overflows its norm, and a point
     kilometres away is out of any workcell, where composing poses would lose their rigidity)."""
@@ -242,6 +255,7 @@ def _target(pose: crcl.Pose) -> np.ndarray:
     r = m[:3, :3]
     if not (np.isfinite(m).all() and np.allclose(r.T @ r, np.eye(3), atol=1e-9)):
         raise ValueError(f"axes {pose.z_axis} (Z), {pose.x_axis} (X) give no rotation")
+    m[:3, 3] *= metres
     if np.abs(m[:3, 3]).max() > REACH:
         raise ValueError(f"point {pose.point} is out of reach (more than {REACH:g} m from the origin)")
     return m
@@ -269,7 +283,8 @@ _HANDLERS: dict[type, Callable[[Robot, crcl.Command], Status]] = {
     crcl.OpenToolChanger: lambda r, c: r.open_tool_changer(),
     crcl.Dwell: lambda r, c: r.dwell(c.dwell_time),  # type: ignore[attr-defined]
     crcl.SetAbsoluteSpeed: lambda r, c: r.set_speed(c.speed),  # type: ignore[attr-defined]
-    crcl.SetLengthUnits: _unit("meter"),
-    crcl.SetAngleUnits: _unit("radian"),
+    crcl.SetLengthUnits: lambda r, c: r.set_length_units(c.unit_name),  # type: ignore[attr-defined]
+    crcl.SetAngleUnits: lambda r, c: (Status.ok() if c.unit_name in ANGLE  # type: ignore[attr-defined]
+                                      else Status.error(f"SetAngleUnits {c.unit_name}: not one of {', '.join(ANGLE)}")),
     crcl.SetCoordinateFrame: _unit("Workstation"),
 }
