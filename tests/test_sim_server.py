@@ -224,8 +224,8 @@ def test_programs_get_the_envelope_crcl_xsd_needs_and_unsendable_commands_are_er
         statuses = remote.execute_program([crcl.Dwell(1), crcl.InitCanon()])
         assert statuses[1].state == "error" and "InitCanon only as the first" in statuses[1].message
         assert remote.execute(crcl.Unreadable("MoveTo(", "bad")).state == "error"
-        assert remote.execute(crcl.SetLengthUnits("inch")) == Status.error("SetLengthUnits inch: only meter is "
-                                                                            "supported")
+        assert remote.execute(crcl.SetCoordinateFrame("ToolTip")).state == "error"  # not in CRCL.xsd: not sent
+        assert remote.execute(crcl.SetLengthUnits("inch")) == Status.ok()  # the cell takes inches from now on
         assert remote.sense("Robot")[0].time == 2.0  # the two Dwell(1) that ran
 
 
