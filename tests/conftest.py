@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+from typing import Iterator
 
 import pytest
 
@@ -23,3 +24,12 @@ def url(request, tmp_path):
     world.drop_all(PG_URL)
     yield PG_URL
     world.drop_all(PG_URL)
+
+
+@pytest.fixture(scope="module")
+def own_directory(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
+    """Fast Downward's driver writes output.sas in the working directory: a module's tests
+    plan in one of their own (``pytestmark = pytest.mark.usefixtures("own_directory")``)."""
+    with pytest.MonkeyPatch.context() as mp:
+        mp.chdir(tmp_path_factory.mktemp("cwd"))
+        yield

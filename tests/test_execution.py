@@ -11,7 +11,7 @@ import io
 import json
 from functools import lru_cache
 from pathlib import Path
-from typing import Any, Iterator
+from typing import Any
 
 import numpy as np
 import pytest
@@ -51,12 +51,7 @@ ALLOWED = {
 MOVED = {"part-moved", "kit-tray-moved"}
 
 
-@pytest.fixture(autouse=True, scope="module")
-def _own_directory(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
-    """Fast Downward's driver writes output.sas in the working directory: plan in one of our own."""
-    with pytest.MonkeyPatch.context() as mp:
-        mp.chdir(tmp_path_factory.mktemp("cwd"))
-        yield
+pytestmark = pytest.mark.usefixtures("own_directory")
 
 
 def files(name: str) -> tuple[str, str]:

@@ -35,12 +35,7 @@ MIXED = "missed-grasp=0.1,dropped-part=0.1,part-moved=0.1,part-missing=0.1,defec
         "kit-tray-moved=0.3"
 
 
-@pytest.fixture(autouse=True, scope="module")
-def _own_directory(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
-    """Fast Downward's driver writes output.sas in the working directory: plan in one of our own."""
-    with pytest.MonkeyPatch.context() as mp:
-        mp.chdir(tmp_path_factory.mktemp("cwd"))
-        yield
+pytestmark = pytest.mark.usefixtures("own_directory")
 
 
 @lru_cache(maxsize=None)

@@ -5,7 +5,7 @@ sensed at that moment, gives (fault-free runs and runs with every fault kind).""
 from __future__ import annotations
 
 import copy
-from typing import Any, Iterator
+from typing import Any
 
 import numpy as np
 import pytest
@@ -25,12 +25,7 @@ from test_execution import SHIPPED, SMALL, assert_built, execute, files
 SOAP = "https://w3id.org/kitkb/soap#"
 
 
-@pytest.fixture(autouse=True, scope="module")
-def _own_directory(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
-    """Fast Downward's driver writes output.sas in the working directory: plan in one of our own."""
-    with pytest.MonkeyPatch.context() as mp:
-        mp.chdir(tmp_path_factory.mktemp("cwd"))
-        yield
+pytestmark = pytest.mark.usefixtures("own_directory")
 
 
 @pytest.fixture

@@ -14,7 +14,6 @@ when the parts run out, saying which SKU."""
 from __future__ import annotations
 
 from collections import Counter
-from typing import Iterator
 
 import pytest
 
@@ -28,12 +27,7 @@ from test_execution import (ALLOWED, MOVED, SMALL, assert_built, assert_diagnose
                             first, local, plan_of)
 
 
-@pytest.fixture(autouse=True, scope="module")
-def _own_directory(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
-    """Fast Downward's driver writes output.sas in the working directory: plan in one of our own."""
-    with pytest.MonkeyPatch.context() as mp:
-        mp.chdir(tmp_path_factory.mktemp("cwd"))
-        yield
+pytestmark = pytest.mark.usefixtures("own_directory")
 
 
 @pytest.fixture
