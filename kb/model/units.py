@@ -46,9 +46,3 @@ def read_units(views: Sequence[TripleView], path: str | None = None, locate: Cal
                     raise InputError(f"{local_name(ws)}: {kind} unit {text!r} differs from {found[kind]!r} "
                                      "declared by another workstation of the same state", path, where)
     return Units(**{k: found.get(k, getattr(SI, k)) for k in UNIT_PROPS})
-
-
-def file_units(path: str | object) -> Units:
-    """The units the state file at ``path`` declares."""
-    source = load_file(path)
-    return read_units([source.view()], str(path), source.line_of)
