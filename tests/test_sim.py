@@ -246,6 +246,19 @@ def test_dropped_part_falls_in_transit() -> None:
     assert "the floor" in inj.detail
 
 
+def test_dropped_part_never_drops_what_is_not_a_part() -> None:
+    """A client may announce take-part and then grasp a kit tray: the armed fault waits for a part."""
+    cell = SimulatedCell(INIT, faults=FaultSpec(at={3: "dropped-part"}, seed=1))
+    mount(cell, TRAY_GRIPPER_MOUNT)
+    cell.begin_action(3, "take-part", TAKE)
+    pick(cell, KIT_TRAY_TOP)
+    run(cell, move(1.4, 0.0, 1.2))
+    assert cell.injected == []
+    lo, hi = box(cell, NS + "kit_tray_1")
+    np.testing.assert_allclose((lo + hi)[:2] / 2, (1.4, 0.0), atol=0.05)  # carried, not fallen
+    assert lo[2] > 0.5
+
+
 def test_part_missing_takes_the_part_out_of_the_cell() -> None:
     cell = SimulatedCell(INIT, faults=FaultSpec.parse("part-missing@0", seed=1))
     cell.begin_action(0, "take-part", TAKE)

@@ -126,7 +126,8 @@ class Robot:
     def _segment(self, target: np.ndarray) -> None:
         start = self.tip()
         step = target[:3, 3] - start[:3, 3]
-        if self.drop_in_transit and self.held is not None and np.linalg.norm(step[:2]) >= TRANSIT:
+        if (self.drop_in_transit and self.held is not None and self.world.is_a(self.held, "Part")
+                and np.linalg.norm(step[:2]) >= TRANSIT):
             mid = target.copy()
             mid[:3, 3] = start[:3, 3] + step / 2
             self._go(mid)
