@@ -20,6 +20,7 @@ from typing import Any, Callable, Sequence
 
 from kb.cli.output import Output
 from kb.core.errors import KitkbError
+from kb.core.files import command_scope
 from kb.core.units import LENGTH
 
 DESCRIPTION = ("kitkb: a knowledge base for robotic kit building (NIST / IEEE ORA kitting). "
@@ -273,6 +274,27 @@ def handler(command: str) -> Callable[..., int]:
     return getattr(importlib.import_module(module), function)
 
 
+#: Options that name files a command reads (noted before it runs, so that no output replaces
+#: them even where a forked child does the reading), and the option naming its database.
+_INPUT_OPTIONS = ("files", "input", "init", "goal", "first", "second", "datafile", "state", "domain", "file",
+                  "xsd")
+
+
+def _guard(options: dict[str, Any]) -> Any:
+    """The command's :func:`~kb.core.files.command_scope` with its input files and database."""
+    inputs: list[str] = []
+    for name in _INPUT_OPTIONS:
+        value = options.get(name)
+        if isinstance(value, str):
+            inputs.append(value)
+        elif isinstance(value, (list, tuple)):
+            inputs.extend(v for v in value if isinstance(v, str))
+    db = options.get("db")
+    databases = [db] if isinstance(db, str) and "://" not in db else []
+    return command_scope(inputs=inputs, databases=databases,
+                         outputs=[v for v in (options.get("output"), options.get("report")) if isinstance(v, str)])
+
+
 _PARSER_ONLY = {"subcommand", "scenario_command", "generate_command", "db_command", "crcl_command",
                 "sim_command", "command", "quiet", "traceback"}
 
@@ -288,7 +310,8 @@ def _dispatch(args: argparse.Namespace) -> int:
         fn = handler(args.command)
         accepted = inspect.signature(fn).parameters
         options = {k: v for k, v in vars(args).items() if k not in _PARSER_ONLY and k in accepted}
-        return int(fn(out=out, **options) or 0)
+        with _guard(options):  # no output of this command may replace a file it reads
+            return int(fn(out=out, **options) or 0)
     except KitkbError as exc:
         if args.traceback:
             raise

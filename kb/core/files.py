@@ -1,9 +1,15 @@
-"""Files kitkb writes: complete or not at all, with the permissions a user expects.
+"""Files kitkb writes: complete or not at all, never over what the command reads.
 
-Every output (converted ontologies, PDDL, plans, SQL, dumps, scenarios) is written to a
-temporary file beside its target and renamed over it, so a failure or a kill never leaves half
+Every output (converted ontologies, PDDL, plans, SQL, dumps, scenarios, reports) is written to
+a temporary file beside its target and renamed over it, so a failure or a kill never leaves half
 a file behind nor clobbers the old one. A new file gets the mode the process's umask gives
 (``-rw-r--r--`` under the usual 022), an existing file keeps its mode.
+
+Inside :func:`command_scope` (one per ``kitkb`` command) every file a reader opens
+(:func:`note_input`) and every SQLite database the command opens (:func:`note_database`) is
+remembered by device and inode; writing over any of them is an :class:`InputError` naming both
+paths, so ``-o i.ttl``, ``-o ./i.ttl``, a symlink or a hard link to an input are all caught.
+Overwriting an earlier output that is not an input stays allowed, as Unix tools do.
 """
 
 from __future__ import annotations
@@ -11,10 +17,72 @@ from __future__ import annotations
 import os
 import tempfile
 from contextlib import contextmanager
+from contextvars import ContextVar
 from pathlib import Path
 from typing import Iterator, Sequence
 
 from kb.core.errors import InputError
+
+
+#: (device, inode) -> (what it is, the path the command named it by), for the running command.
+_READ: ContextVar[dict[tuple[int, int], tuple[str, str]] | None] = ContextVar("kitkb_read", default=None)
+
+
+@contextmanager
+def command_scope(inputs: Sequence[str | Path] = (), databases: Sequence[str | Path] = (),
+                  outputs: Sequence[str | Path] = ()) -> Iterator[None]:
+    """One command's guard: ``inputs`` and ``databases`` (and whatever readers note while the
+    block runs) may not be written over by :func:`atomic_paths` inside it. ``outputs`` are
+    checked at once, so a command refuses before it works rather than after."""
+    token = _READ.set({})
+    try:
+        for path in inputs:
+            note_input(path)
+        for path in databases:
+            note_database(path)
+        for path in outputs:
+            check_output(path)
+        yield
+    finally:
+        _READ.reset(token)
+
+
+def _identity(path: str | Path) -> tuple[int, int] | None:
+    try:
+        st = os.stat(path)
+    except (OSError, ValueError):
+        return None
+    return (st.st_dev, st.st_ino)
+
+
+def note_input(path: str | Path, what: str = "input") -> None:
+    """Remember ``path`` as read by the running command (nothing outside a command scope)."""
+    read = _READ.get()
+    if read is None:
+        return
+    key = _identity(path)
+    if key is not None:
+        read.setdefault(key, (what, str(path)))
+
+
+def note_database(path: str | Path) -> None:
+    """Remember the SQLite file ``path`` (and its ``-wal``/``-journal``) as a database the running
+    command opens."""
+    note_input(path, "database")
+    for suffix in ("-wal", "-shm", "-journal"):
+        note_input(f"{path}{suffix}", "database")
+
+
+def check_output(path: str | Path) -> None:
+    """InputError (exit 2) if writing ``path`` would replace a file the running command reads."""
+    read = _READ.get()
+    if not read:
+        return
+    key = _identity(path)
+    if key is not None and key in read:
+        what, original = read[key]
+        raise InputError(f"refusing to write over {original}, the {what} this command reads "
+                         f"(the same file); choose another output path", path)
 
 
 def _umask() -> int:
@@ -48,12 +116,17 @@ def atomic_paths(paths: Sequence[str | Path]) -> Iterator[list[Path]]:
     """
     targets = [Path(p) for p in paths]
     temps: list[Path] = []
+    for target in targets:
+        check_output(target)
     try:
         for target in targets:
+            if target.is_dir():
+                raise InputError("is a folder; give a file path", target)
             folder = target.parent
             if folder.exists() and not folder.is_dir():
-                raise InputError("output folder is a file", folder)
+                raise InputError(f"cannot write {target}: {folder} is a file, not a folder", target)
             folder.mkdir(parents=True, exist_ok=True)
+            check_output(target)  # again: "x/../i.ttl" names i.ttl only once x exists
             fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=folder)
             os.close(fd)
             temps.append(Path(tmp))

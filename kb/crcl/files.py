@@ -7,7 +7,7 @@ from pathlib import Path
 from lxml import etree
 
 from kb.core.errors import InputError
-from kb.core.files import write_atomic
+from kb.core.files import note_input, write_atomic
 from kb.crcl.commands import Program
 from kb.crcl.text import read_text, write_text
 from kb.crcl.xml import read_xml, write_xml
@@ -27,6 +27,7 @@ def form_of(path: str | Path) -> str:
 
 def read_file(path: str | Path, schema: etree.XMLSchema | None = None) -> Program:
     """The program in ``path`` (an XML file validated against ``schema`` when given)."""
+    note_input(path)
     if form_of(path) == "xml":
         return read_xml(Path(path), schema)
     return read_text(Path(path))

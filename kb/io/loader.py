@@ -28,6 +28,7 @@ from rdflib.namespace import OWL, RDF, RDFS, XSD
 from kb.core import namespaces as ns
 from kb.core.diagnostics import Diagnostic
 from kb.core.errors import InputError
+from kb.core.files import note_input
 from kb.core.memory import gc_paused
 from kb.core.resources import ontology_path
 from kb.io.lines import LineIndex, build_index
@@ -257,6 +258,7 @@ def load_file(path: str | Path) -> Source:
 
 
 def _load_file(path: Path) -> Source:
+    note_input(path)
     try:
         data = path.read_bytes()
     except FileNotFoundError:

@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import Any, Callable
 
 from kb.core.errors import InputError
+from kb.core.files import note_input
 from kb.patches.unified_planning import environment
 
 
@@ -36,6 +37,7 @@ def read_pddl(domain_path: str | Path, problem_path: str | Path,
     warn = warn or (lambda msg: print(msg, file=sys.stderr))
     texts = {}
     for path in (domain_path, problem_path):
+        note_input(path)
         try:
             texts[path] = Path(path).read_text(encoding="utf-8")
         except OSError as exc:

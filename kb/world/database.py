@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any
 
 from kb import __version__
 from kb.core.errors import InputError
+from kb.core.files import note_database
 from kb.world import sqlite
 from kb.world.plan import load_plan
 
@@ -70,6 +71,7 @@ def open_engine(url: str | Path, must_exist: bool = False) -> Engine:
     if must_exist and path is not None and not path.is_file():
         raise InputError(f"no such database file: {path}")
     if path is not None:
+        note_database(path)  # an existing file; a new one is noted once created, below
         sqlite.make_folder(path)
     try:
         parsed = make_url(url)
@@ -86,6 +88,8 @@ def open_engine(url: str | Path, must_exist: bool = False) -> Engine:
         raise InputError(f"cannot open database {safe_url(url)}: {first_line(exc)}") from None
     except ImportError as exc:
         raise InputError(f"cannot open database {safe_url(url)}: missing driver ({exc.name})") from None
+    if path is not None:
+        note_database(path)
     return engine
 
 
