@@ -14,6 +14,10 @@ the domain (actions, their predicate atoms, failure modes, remediations: loaded 
 
 Objects the database does not know (a kit that appears during the run) keep their poses in
 the run records only.
+
+A run holds its database's writer lock (:mod:`kb.world.lock`) from :func:`prepare` to
+:meth:`RunStore.close`: a second run or a load into the same database is refused while it
+works, and a killed run leaves the lock to the system, which gives it back.
 """
 
 from __future__ import annotations
@@ -36,6 +40,12 @@ from kb.io import load_file
 from kb.core.units import SI, Units
 from kb.execution.records import ActionRecord, AtomCheck, FailureRecord, RunRecord, Sighting
 from kb.world import LoadReport, load, normalize_url, open_engine
+from kb.world.lock import Held, acquire
+
+#: What a run's lock says it is held by.
+RUN = "a run"
+#: Locks taken by :func:`prepare`, handed to the :class:`RunStore` that follows it on that URL.
+_PREPARED: dict[str, Held] = {}
 
 log = logging.getLogger("kitkb.execution")
 META = MetaData()
@@ -93,14 +103,25 @@ def prepare(url: str | Path, init: str | Path, domain_files: Sequence[str | Path
             replace: bool = False) -> LoadReport:
     """Load the initial state and the domain's SOAP individuals into ``url`` (one transaction;
     a database that holds a world model or run history only with ``replace``)."""
-    domain = _domain_sources(domain_files) if domain_files else [ontology_path("kitting-domain.ttl")]
-    with tempfile.TemporaryDirectory(prefix="kitkb-run-") as tmp:
-        both = Path(tmp) / f"{Path(init).stem}+domain.nt"
-        with open(both, "w", encoding="utf-8") as out:
-            for path in [init, *domain]:
-                for s, p, o in load_file(path).triples():
-                    out.write(f"{s.n3()} {p.n3()} {o.n3()} .\n")
-        return load(both, url, replace=replace)
+    url = normalize_url(url)
+    held = acquire(url, RUN)  # before anything is read: a busy database is refused at once
+    try:
+        domain = _domain_sources(domain_files) if domain_files else [ontology_path("kitting-domain.ttl")]
+        with tempfile.TemporaryDirectory(prefix="kitkb-run-") as tmp:
+            both = Path(tmp) / f"{Path(init).stem}+domain.nt"
+            with open(both, "w", encoding="utf-8") as out:
+                for path in [init, *domain]:
+                    for s, p, o in load_file(path).triples():
+                        out.write(f"{s.n3()} {p.n3()} {o.n3()} .\n")
+            report = load(both, url, replace=replace)
+    except BaseException:
+        held.release()
+        raise
+    old = _PREPARED.pop(url, None)
+    if old is not None:  # prepared twice without a run between: one hold is enough
+        old.release()
+    _PREPARED[url] = held
+    return report
 
 
 def _domain_sources(domain_files: Sequence[str | Path]) -> list[Path]:
@@ -117,9 +138,14 @@ class RunStore:
     def __init__(self, url: str | Path):
         from kb.world import WorldModel
         self.url = normalize_url(url)
-        self.engine = open_engine(self.url)
-        META.create_all(self.engine, checkfirst=True)
-        self.world = WorldModel(self.url)
+        self._lock: Held | None = _PREPARED.pop(self.url, None) or acquire(self.url, RUN)
+        try:
+            self.engine = open_engine(self.url)
+            META.create_all(self.engine, checkfirst=True)
+            self.world = WorldModel(self.url)
+        except BaseException:
+            self._release()
+            raise
         self.run_id: int | None = None
         self.pending: dict[str, np.ndarray] = {}
         self.units = _units(self.engine)  # poses are sensed in metres; the database keeps its file's units
@@ -130,8 +156,17 @@ class RunStore:
         self._t0 = time.perf_counter()
 
     def close(self) -> None:
-        self.world.close()
-        self.engine.dispose()
+        """Close the database and give its writer lock back."""
+        try:
+            self.world.close()
+            self.engine.dispose()
+        finally:
+            self._release()
+
+    def _release(self) -> None:
+        if self._lock is not None:
+            self._lock.release()
+            self._lock = None
 
     # --- the run ------------------------------------------------------------------------
     def begin_run(self, record: RunRecord, init: Any = None, goal: Any = None) -> None:

@@ -72,6 +72,7 @@ def open_engine(url: str | Path, must_exist: bool = False) -> Engine:
         raise InputError(f"no such database file: {path}")
     if path is not None:
         note_database(path)  # an existing file; a new one is noted once created, below
+        sqlite.check_file(path, url)  # not an SQLite file (a Turtle file): refused untouched
         sqlite.make_folder(path)
     try:
         parsed = make_url(url)

@@ -34,6 +34,7 @@ from kb.world.bulk import copy_buffers, insert_sqlite
 from kb.world.database import (DEFAULT_DB, SchemaVersionError, first_line, normalize_url, open_engine,
                                other_version, safe_url, sqlite_file, stamp_values)
 from kb.world.ddl import kitkb_tables, load_ddl
+from kb.world.lock import hold
 from kb.world.plan import load_plan
 from kb.world.rows import Built, RowBuilder
 from kb.world.triples import DataFile
@@ -91,6 +92,11 @@ def load(datafile: str | Path, url: str | Path = DEFAULT_DB, replace: bool = Fal
     error nothing changes (a new SQLite file is removed again).
     """
     url = normalize_url(url)
+    with hold(url, "a load"):  # not while a run (or another load) writes this world model
+        return _load(datafile, url, replace)
+
+
+def _load(datafile: str | Path, url: str, replace: bool) -> LoadReport:
     target = sqlite_file(url)
     existed = target is None or target.exists()
     writer = _writer(url, replace)
@@ -231,8 +237,8 @@ class _Writer:
             return [], None
         url = self.url
         if "kitkb_meta" not in names:
-            raise SchemaVersionError(f"database {safe_url(url)} is not a kitkb database (it has no kitkb_meta "
-                                     f"table); load into a new database")
+            raise SchemaVersionError(f"database {safe_url(url)} is not a kitkb database (it has tables of its "
+                                     f"own and no kitkb_meta table); it is left as it is: load into a new database")
         cur.execute("SELECT key, value FROM kitkb_meta")
         meta = {k: v for k, v in cur.fetchall()}
         things = None
@@ -268,7 +274,7 @@ class _SQLite(_Writer):
     new = False
 
     def _tables(self, cur: Any) -> list[str]:
-        cur.execute("SELECT name FROM sqlite_master WHERE type = 'table' AND name NOT LIKE 'sqlite_%'")
+        cur.execute("SELECT name FROM sqlite_master WHERE type IN ('table', 'view') AND name NOT LIKE 'sqlite_%'")
         return [r[0] for r in cur.fetchall()]
 
     def check(self) -> None:
@@ -291,9 +297,8 @@ class _SQLite(_Writer):
                 except BaseException:
                     cur.execute("ROLLBACK")
                     raise
-                if self.new:
-                    cur.execute("PRAGMA journal_mode = WAL")  # as every kitkb SQLite database
-                    cur.execute("PRAGMA synchronous = NORMAL")
+                cur.execute("PRAGMA journal_mode = WAL")  # as every kitkb SQLite database
+                cur.execute("PRAGMA synchronous = NORMAL")
                 return report
             finally:
                 cur.execute("PRAGMA foreign_keys = ON")
@@ -357,7 +362,8 @@ class _PostgreSQL(_Writer):
         cur.execute("SELECT pg_advisory_xact_lock(%s)", (_PG_LOCK,))
         drop, self.replaced = self._existing(cur)
         if drop:
-            cur.execute("DROP TABLE " + ", ".join(f'"{n}"' for n in drop) + " CASCADE")
+            # no CASCADE: a view or a key of another application on kitkb's tables refuses the load
+            cur.execute("DROP TABLE " + ", ".join(f'"{n}"' for n in drop))
         cur.execute(";\n".join(load_ddl("postgresql").create))
 
     def _stop(self) -> None:
@@ -424,7 +430,7 @@ def _writer(url: str, replace: bool) -> _Writer:
     SQLAlchemy import: 0.1 s of a load), anything else through an SQLAlchemy engine."""
     path = sqlite.plain_file(url)
     if path is not None:
-        new = not path.exists()
+        new = not sqlite.check_file(path, url)  # missing or 0 bytes: nothing in it to keep
         writer = _SQLite(url, replace, lambda: _Direct(sqlite.connect(path, url, wal=not new)), (_sqlite3.Error,),
                          lambda: None)
         writer.new = new

@@ -5,6 +5,11 @@ SQLAlchemy, by the bulk load of :mod:`kb.world.load`).
 Settings: transactions begun explicitly (``isolation_level=None``; writers ``BEGIN IMMEDIATE``),
 foreign keys on, a busy timeout of 60 s, and for files WAL with ``synchronous=NORMAL`` (a
 committed transaction survives a crash of the application; an OS crash may lose the last ones).
+
+A file that is not kitkb's is never changed by being opened: a file that is not an SQLite
+database at all is refused before SQLite sees it (:func:`check_file`), and WAL (which rewrites
+the file's header) is only switched on in a database that holds a kitkb world model (a load
+switches a new one on when it commits).
 """
 
 from __future__ import annotations
@@ -18,6 +23,8 @@ from kb.core.errors import InputError
 
 #: Seconds a connection waits for another writer's lock.
 BUSY_TIMEOUT = 60
+#: The first 16 bytes of every SQLite database file.
+MAGIC = b"SQLite format 3\x00"
 _PLAIN_FILE = re.compile(r"sqlite(?:\+pysqlite)?:///(/[^?#]*)\Z")
 
 
@@ -36,9 +43,35 @@ def settings(dbapi_conn: Any, database: str, wal: bool = True) -> None:
     cur.execute("PRAGMA foreign_keys = ON")
     cur.execute(f"PRAGMA busy_timeout = {BUSY_TIMEOUT * 1000}")
     if wal and database and database != ":memory:":
-        cur.execute("PRAGMA journal_mode = WAL")
         cur.execute("PRAGMA synchronous = NORMAL")
+        if _kitkb(cur) and cur.execute("PRAGMA journal_mode").fetchone()[0] != "wal":
+            cur.execute("PRAGMA journal_mode = WAL")
     cur.close()
+
+
+def _kitkb(cur: Any) -> bool:
+    """The database holds a kitkb world model (a ``kitkb_meta`` table)."""
+    return cur.execute("SELECT 1 FROM sqlite_master WHERE type = 'table' AND name = 'kitkb_meta'").fetchone() \
+        is not None
+
+
+def check_file(path: Path, url: str) -> bool:
+    """Refuse (one-line InputError) an existing file that is not an SQLite database (a Turtle
+    file, a picture), before SQLite opens it; True if the file holds something (not missing,
+    not 0 bytes)."""
+    try:
+        with open(path, "rb") as f:
+            head = f.read(len(MAGIC))
+    except FileNotFoundError:
+        return False
+    except IsADirectoryError:
+        raise InputError(f"database {url} is a folder, not a kitkb world model") from None
+    except OSError as exc:
+        raise InputError(f"cannot open database {url}: {exc.strerror or exc}") from None
+    if head and head != MAGIC:
+        raise InputError(f"database {url} is not a kitkb world model (the file is not an SQLite database); "
+                         f"it is left as it is: give a new file") from None
+    return bool(head)
 
 
 def make_folder(path: Path) -> None:
@@ -53,6 +86,7 @@ def make_folder(path: Path) -> None:
 def connect(path: Path, url: str, wal: bool = True) -> sqlite3.Connection:
     """A connection to database file ``path`` (made if missing) with kitkb's settings."""
     make_folder(path)
+    check_file(path, url)
     try:
         conn = sqlite3.connect(str(path), timeout=BUSY_TIMEOUT, isolation_level=None)
         settings(conn, str(path), wal)
