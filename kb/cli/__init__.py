@@ -25,7 +25,9 @@ from kb.core.units import LENGTH
 
 DESCRIPTION = ("kitkb: a knowledge base for robotic kit building (NIST / IEEE ORA kitting). "
                "Validate ontology files, generate PDDL, SQL and scenarios from the ontologies, "
-               "plan with a real planner, and keep the world model in a database.")
+               "plan with a real planner, and keep the world model in a database. Long work shows its progress "
+               "on standard error when that is a terminal (not with --quiet); every command takes --format json "
+               "for one JSON object on standard output.")
 EXIT_CODES = ("exit codes: 0 success (validate: the files conform); 1 violations found, or no plan "
               "exists; 2 unusable input (one line naming the file and line); 3 internal error; "
               "130 interrupted")
@@ -57,27 +59,32 @@ def _common() -> argparse.ArgumentParser:
     """Options every subcommand takes (also accepted before the subcommand)."""
     common = argparse.ArgumentParser(add_help=False)
     common.add_argument("-q", "--quiet", action="store_true", default=argparse.SUPPRESS,
-                        help="print no line on success (errors are still printed)")
+                        help="print no line on success and no progress (errors are still printed)")
     common.add_argument("--traceback", action="store_true", default=argparse.SUPPRESS,
                         help="show the Python traceback of an error (for debugging kitkb)")
     return common
 
 
-def _sub(sub: Any, name: str, command: str, help: str, **kw: Any) -> argparse.ArgumentParser:
+FORMAT_HELP = ("text: the line(s) kitkb prints; json: one JSON object on standard output with the same facts "
+               "(paths written, counts, timings, warnings) and the text line as 'message' (default text)")
+
+
+def _sub(sub: Any, name: str, command: str, help: str, format_help: str = FORMAT_HELP,
+         **kw: Any) -> argparse.ArgumentParser:
     p = sub.add_parser(name, help=help, description=kw.pop("description", help[:1].upper() + help[1:] + "."),
                        epilog=EXIT_CODES, parents=[_common()], **kw)
     p.set_defaults(command=command)
+    p.add_argument("--format", choices=["text", "json"], default="text", help=format_help)
     return p
 
 
 def _add_files(sub: Any) -> None:
-    p = _sub(sub, "validate", "validate", "closed-world validation of ontology files (SHACL), with file:line reports")
+    p = _sub(sub, "validate", "validate", "closed-world validation of ontology files (SHACL), with file:line reports",
+             format_help="text: one file:line line per problem and a summary; json: an object with "
+                         "conforms, files, counts and diagnostics (default text)")
     p.add_argument("files", nargs="*", metavar="FILE",
                    help="Turtle, RDF/XML, OWL/XML or OWL functional syntax files, with their imports "
                         "(default: the shipped model and scenarios)")
-    p.add_argument("--format", choices=["text", "json"], default="text",
-                   help="text: one file:line line per problem and a summary; json: an object with "
-                        "conforms, files, counts and diagnostics (default text)")
     p.add_argument("--ignore", action="append", default=[], metavar="RULE[,RULE...]",
                    help="leave the findings of these rules (the names in brackets, e.g. floating-object) out "
                         "of the report and the exit code; may be repeated")
@@ -171,6 +178,8 @@ def _add_db(sub: Any) -> None:
 
 def _add_run(sub: Any) -> None:
     p = _sub(sub, "run", "run", "the closed loop: validate, plan, execute with every action checked from geometry",
+             format_help="text: a line per stage and per action; json: the run's report (what --report writes) "
+                         "on standard output instead (default text)",
              description="kitkb run [INIT GOAL]: validate the state files, plan with a real planner, and execute "
                          "the plan in the simulated cell (or --cell), every action's preconditions and effects "
                          "checked from geometry, failures diagnosed by the ontology's failure modes and "
@@ -191,7 +200,8 @@ def _add_run(sub: Any) -> None:
     p.add_argument("--domain", action="append", metavar="FILE",
                    help="domain ontology with the actions, predicates, failure modes and remediations "
                         "(repeatable; default: the shipped kitting-domain.ttl)")
-    p.add_argument("--report", metavar="FILE", help="write the JSON report (goal_holds, injected, failures, ...)")
+    p.add_argument("--report", metavar="FILE", help="write the JSON report (goal_holds, injected, failures, ...); "
+                                                   "--format json prints the same report on standard output")
     p.add_argument("--cell", metavar="HOST:PORT", help="drive a cell server (kitkb sim serve) instead of the "
                                                         "in-process simulator")
     p.add_argument("--match-names", action="store_true",
@@ -214,6 +224,7 @@ def _add_crcl(sub: Any) -> None:
 
 def _add_predicates(sub: Any) -> None:
     p = _sub(sub, "predicates", "predicates", "the predicates that hold in a state file, computed from its geometry",
+             format_help="text: name(arg1, arg2) a line; json: a list of {predicate, args} (default text)",
              description="Print every predicate atom that holds in a workstation state file, one "
                          "name(arg1, arg2) a line, evaluated from the definitions in the domain "
                          "ontology (3-D RCC8 relations of the objects' boxes, SKU and model facts).")
@@ -229,13 +240,14 @@ def _add_predicates(sub: Any) -> None:
     p.add_argument("-p", "--predicate", action="append", metavar="NAME", help="only this predicate (repeatable)")
     p.add_argument("--tolerance", type=float, metavar="METRES",
                    help="contact and equality tolerance in metres (default 0.001)")
-    p.add_argument("--format", choices=["text", "json"], default="text", help="output format (default text)")
 
 
 def _add_sim(sub: Any) -> None:
     p = sub.add_parser("sim", help="the simulated workcell", description="The simulated workcell.")
     ssub = p.add_subparsers(dest="sim_command", required=True, metavar="SUBCOMMAND")
     g = _sub(ssub, "serve", "sim serve", "serve a simulated workcell on 127.0.0.1 until SIGINT or SIGTERM",
+             format_help="text: one line with the bound ports; json: one object with init, host, sensor_port, "
+                         "command_port and cell (the --cell address) (default text)",
              description="Serve a simulated workcell of a state file on 127.0.0.1: a sensor port speaking "
                          "USARTruth key-value lines ({Class C}, {Name N}, {Inspect N}) and a command port "
                          "taking CRCL XML programs ({Length N} and N bytes), as kb.crcl.wire documents. "
@@ -305,7 +317,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 def _dispatch(args: argparse.Namespace) -> int:
-    out = Output(quiet=args.quiet)
+    out = Output(quiet=args.quiet, format=getattr(args, "format", "text"), command=args.command)
     try:
         fn = handler(args.command)
         accepted = inspect.signature(fn).parameters

@@ -11,17 +11,21 @@ stage, so that ``./main.sh`` shows a new user what the project does:
    global pose back.
 
 Outputs go to ``out_dir`` (default ``out/``): ``<scenario>/domain.pddl``, ``problem.pddl``,
-``plan.txt`` and ``world.sqlite``.
+``plan.txt`` and ``world.sqlite``. On a terminal each stage also shows as progress on standard
+error (the execution as actions done of the plan's); with ``--format json`` the stage lines are
+left out and the report (what ``--report`` writes) is printed on standard output.
 """
 
 from __future__ import annotations
 
 import json
+import re
+import sys
 import time
 from collections import Counter
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TextIO
+from typing import Any, Callable, TextIO
 
 from kb import planning
 from kb.cli.output import Output
@@ -29,6 +33,7 @@ from kb.core.errors import InputError, NotSolvableError
 from kb.core.files import write_atomic
 from kb.core.generators import get_generator
 from kb.core.namespaces import local_name
+from kb.core.progress import SILENT, Progress
 from kb.core.resources import ontologies_dir, scenario_dirs
 from kb.crcl.remote import RemoteCell
 from kb.execution import run_plan
@@ -50,9 +55,43 @@ def run(files: list[str], output: str, faults: str | None, seed: int, db: str | 
         raise InputError("--db takes one scenario (kitkb run INIT GOAL --db URL); the main job writes "
                          "out/<scenario>/world.sqlite for each")
     options = RunOptions(faults, seed, db, cell, match_names, domain, replace)
+    show = _Show(display=out.tracker, problems=sys.stderr if out.is_json else None,
+                 on_report=(lambda data: print(json.dumps(data, indent=1), file=out.results, flush=True))
+                 if out.is_json else None)
+    stream: TextIO = _Discard() if out.is_json else out.stdout or _Stdout()  # type: ignore[assignment]
     if files:
-        return run_files(out.results, files[0], files[1], output, options, report, quiet=out.quiet)
-    return run_main_job(out.results, output, quiet=out.quiet, options=options, report_path=report)
+        return run_files(stream, files[0], files[1], output, options, report, quiet=out.quiet, show=show)
+    return run_main_job(stream, output, quiet=out.quiet, options=options, report_path=report, show=show)
+
+
+class _Stdout:
+    """Standard output as it is when written to (a progress display may stand in for it)."""
+
+    def write(self, text: str) -> int:
+        return sys.stdout.write(text)
+
+    def flush(self) -> None:
+        sys.stdout.flush()
+
+
+class _Discard:
+    """The stage lines with ``--format json``: nowhere."""
+
+    def write(self, text: str) -> int:
+        return len(text)
+
+    def flush(self) -> None:
+        pass
+
+
+@dataclass
+class _Show:
+    """Where a run shows itself besides its lines: progress, the problems' stream (default: the
+    lines' own), the report once made (``--format json``)."""
+
+    display: Progress = SILENT
+    problems: TextIO | None = None
+    on_report: Callable[[Any], None] | None = None
 
 
 @dataclass
@@ -69,10 +108,13 @@ class RunOptions:
 
 
 class _Progress:
-    """The main job's lines: stages (unless quiet) and problems (always)."""
+    """The main job's lines: stages (unless quiet) and problems (always); ``display`` shows each
+    stage's progress while it runs."""
 
-    def __init__(self, out: TextIO, quiet: bool) -> None:
+    def __init__(self, out: TextIO, quiet: bool, show: _Show | None = None) -> None:
         self.out, self.quiet = out, quiet
+        self.show = show or _Show()
+        self.display = self.show.display
 
     def say(self, text: str) -> None:
         if not self.quiet:
@@ -82,30 +124,33 @@ class _Progress:
         self.say(f"  {label} ({time.perf_counter() - started:.2f} s)")
 
     def problem(self, text: str) -> None:
-        print(text, file=self.out)
+        print(text, file=self.show.problems or self.out)
 
 
 def run_main_job(out: TextIO, out_dir: str | Path = "out", quiet: bool = False, options: RunOptions | None = None,
-                 report_path: str | None = None) -> int:
+                 report_path: str | None = None, show: _Show | None = None) -> int:
     """Run every stage on the shipped scenarios; 0 when all succeeded, 1 otherwise."""
     options = options or RunOptions()
-    progress = _Progress(out, quiet)
+    progress = _Progress(out, quiet, show)
     reports: list[dict] = []
     status = 0
     model = sorted(ontologies_dir().glob("*.ttl"))
     scenarios = scenario_dirs()
     progress.say(f"kitkb: main job on {len(scenarios)} shipped scenarios, outputs in {out_dir}/")
     t = time.perf_counter()
-    report = validate([str(p) for p in model])
+    with progress.display.task(f"validating the model ({len(model)} files)"):
+        report = validate([str(p) for p in model])
     progress.stage(f"model: {len(model)} files, {report.summary()}", t)
     for diag in report.diagnostics:
         progress.problem("    " + diag.format())
     status |= 0 if report.conforms else 1
-    for scenario in scenarios:
-        progress.say(f"{scenario.name}:")
-        status |= _scenario(scenario.name, scenario / "init.ttl", scenario / "goal.ttl", Path(out_dir) / scenario.name,
-                            progress, options, reports)
-    _write_report(report_path, reports)
+    with progress.display.task("shipped scenarios", total=len(scenarios), unit="scenarios") as task:
+        for scenario in scenarios:
+            progress.say(f"{scenario.name}:")
+            status |= _scenario(scenario.name, scenario / "init.ttl", scenario / "goal.ttl",
+                                Path(out_dir) / scenario.name, progress, options, reports)
+            task.advance()
+    _write_report(report_path, reports, progress.show)
     if status:
         progress.problem("kitkb: main job found problems")
     else:
@@ -114,19 +159,28 @@ def run_main_job(out: TextIO, out_dir: str | Path = "out", quiet: bool = False, 
 
 
 def run_files(out: TextIO, init: str | Path, goal: str | Path, out_dir: str | Path, options: RunOptions,
-              report: str | None, quiet: bool = False) -> int:
+              report: str | None, quiet: bool = False, show: _Show | None = None) -> int:
     """The closed loop on one initial and goal state: 0 when the goal holds at the end."""
-    progress = _Progress(out, quiet)
+    progress = _Progress(out, quiet, show)
     reports: list[dict] = []
     name = Path(init).parent.name if Path(init).stem == "init" else Path(init).stem
     status = _scenario(name, Path(init), Path(goal), Path(out_dir) / name, progress, options, reports, model_files=False)
-    _write_report(report, reports)
+    _write_report(report, reports, progress.show)
     return status
 
 
-def _write_report(path: str | None, reports: list[dict]) -> None:
-    if path is None:
+def _write_report(path: str | None, reports: list[dict], show: _Show | None = None) -> None:
+    """The report to ``path`` (if given) and to ``show.on_report`` (``--format json``)."""
+    if path is None and (show is None or show.on_report is None):
         return
+    data = _report_data(reports)
+    if path is not None:
+        write_atomic(Path(path), json.dumps(data, indent=1) + "\n")
+    if show is not None and show.on_report is not None:
+        show.on_report(data)
+
+
+def _report_data(reports: list[dict]) -> dict:
     if len(reports) == 1:
         data = reports[0]
     else:
@@ -134,13 +188,15 @@ def _write_report(path: str | None, reports: list[dict]) -> None:
                 "injected": [dict(x, scenario=r["scenario"]) for r in reports for x in r["injected"]],
                 "failures": [dict(x, scenario=r["scenario"]) for r in reports for x in r["failures"]],
                 "runs": reports}
-    write_atomic(Path(path), json.dumps(data, indent=1) + "\n")
+    return data
 
 
 def _scenario(name: str, init: Path, goal: Path, target: Path, progress: _Progress, options: RunOptions,
               reports: list[dict], model_files: bool = True) -> int:
     t = time.perf_counter()
-    report = validate([str(init), str(goal)])
+    display = progress.display
+    with display.task(f"{name}: validating {init.name} and {goal.name}"):
+        report = validate([str(init), str(goal)])
     progress.stage(f"validate: {report.summary()}", t)
     for diag in report.diagnostics:
         progress.problem(f"    {name}: {diag.format()}")
@@ -148,18 +204,21 @@ def _scenario(name: str, init: Path, goal: Path, target: Path, progress: _Progre
         errors = sum(1 for d in report.diagnostics if d.severity == "error")
         return _not_executed(name, f"the state files do not validate ({errors} error(s))", progress, reports)
     t = time.perf_counter()
-    model = planning.kitting_model([init], [goal], "strips", match_names=options.match_names,
-                                   domain_files=options.domain)
-    get_generator("pddl")(model).write_outputs(target)
+    with display.task(f"{name}: generating the PDDL domain and problem"):
+        model = planning.kitting_model([init], [goal], "strips", match_names=options.match_names,
+                                       domain_files=options.domain)
+        get_generator("pddl")(model).write_outputs(target)
     progress.stage(f"pddl: {target / 'domain.pddl'}, {target / 'problem.pddl'}", t)
     t = time.perf_counter()
     try:
-        result = planning.run(model.up_problem, target / "plan.txt")
+        with display.task(f"{name}: planning"):
+            result = planning.run(model.up_problem, target / "plan.txt", progress=display)
     except NotSolvableError as e:
         return _not_executed(name, f"no plan: {e}", progress, reports)
     progress.stage(f"plan: {len(result.lines)} actions by {result.planner}, validated -> {target / 'plan.txt'}", t)
     t = time.perf_counter()
-    geo = check_geometry([init], [goal], match_names=options.match_names, domain_files=options.domain)
+    with display.task(f"{name}: deciding the predicates from geometry"):
+        geo = check_geometry([init], [goal], match_names=options.match_names, domain_files=options.domain)
     verdict = ("equal to the PDDL init facts" if geo.initial_agrees else "DISAGREE with the PDDL init facts") + (
         "; every goal fact holds in the goal" if not geo.goal_not_holding else
         f"; {len(geo.goal_not_holding)} goal fact(s) do not hold in the goal file's own geometry")
@@ -177,9 +236,10 @@ def _scenario(name: str, init: Path, goal: Path, target: Path, progress: _Progre
     db_file: str | Path = options.db or target / "world.sqlite"
     if not options.db:  # the job's own output: made anew each time
         Path(db_file).unlink(missing_ok=True)
-    loaded = prepare(db_file, init, options.domain, replace=options.replace)
-    with WorldModel(db_file) as world:
-        poses = world.global_poses()
+    with display.task(f"{name}: loading the world model"):
+        loaded = prepare(db_file, init, options.domain, replace=options.replace)
+        with WorldModel(db_file) as world:
+            poses = world.global_poses()
     progress.stage(f"world model: {loaded.individuals} individuals (workstation and domain), {len(poses)} global "
                    f"poses -> {safe_url(str(db_file))}", t)
     return _execute(name, init, goal, result.lines, progress, options, reports, db_file)
@@ -196,11 +256,12 @@ def _execute(name: str, init: Path, goal: Path, plan: list[str], progress: _Prog
         f" (faults {options.faults}, seed {options.seed})" if options.faults else "")
     progress.say(f"  execute in {where}:")
     try:
-        run = run_plan(plan, init, goal, cell=cell, faults=options.faults, seed=options.seed,
-                       match_names=options.match_names, domain_files=options.domain,
-                       progress=lambda line: progress.say("  " + line),
-                       notifier=lambda who, text: progress.say(f"      notify {who}: {text}"), name=name,
-                       store=store)
+        with progress.display.task(f"{name}: executing the plan", total=len(plan), unit="actions") as task:
+            actions = _Actions(task, progress)
+            run = run_plan(plan, init, goal, cell=cell, faults=options.faults, seed=options.seed,
+                           match_names=options.match_names, domain_files=options.domain, progress=actions.line,
+                           notifier=lambda who, text: progress.say(f"      notify {who}: {text}"), name=name,
+                           store=store)
     finally:
         store.close()
         if cell is not None:
@@ -221,6 +282,24 @@ def _execute(name: str, init: Path, goal: Path, plan: list[str], progress: _Prog
     if rec.stopped:
         progress.problem(f"    {name}: stopped: {rec.stopped}")
     return 0 if run.goal_holds and rec.stopped is None else 1
+
+
+class _Actions:
+    """The executor's lines, said and counted: an action done (``ok``) advances ``task``; a
+    replan makes the total the actions done plus the new plan's."""
+
+    _REPLANNED = re.compile(r"replanned: (\d+) actions")
+
+    def __init__(self, task: Any, progress: _Progress) -> None:
+        self.task, self.progress, self.done = task, progress, 0
+
+    def line(self, text: str) -> None:
+        self.progress.say("  " + text)
+        if text.endswith("  ok"):
+            self.done += 1
+            self.task.advance()
+        elif (m := self._REPLANNED.search(text)) is not None:
+            self.task.update(total=self.done + int(m.group(1)))
 
 
 def _not_executed(name: str, reason: str, progress: _Progress, reports: list[dict]) -> int:

@@ -14,9 +14,11 @@ from kb.core.generators import get_generator
 
 def generate_pddl(init: str, goal: str, output: str, encoding: str, match_names: bool, out: Output) -> int:
     """Write ``domain.pddl`` and ``problem.pddl`` for INIT -> GOAL into the folder ``output``."""
-    model = planning.kitting_model([init], [goal], encoding, match_names=match_names)
-    written = get_generator("pddl")(model).write_outputs(Path(output))
-    out.done(f"wrote {' and '.join(map(str, written))} ({encoding} encoding)")
+    with out.progress(f"generating PDDL from {Path(init).name} and {Path(goal).name}"):
+        model = planning.kitting_model([init], [goal], encoding, match_names=match_names)
+        written = get_generator("pddl")(model).write_outputs(Path(output))
+    out.done(f"wrote {' and '.join(map(str, written))} ({encoding} encoding)", written=[str(w) for w in written],
+             encoding=encoding)
     return 0
 
 
@@ -24,18 +26,24 @@ def plan(first: str, second: str, output: str, planner: str | None, encoding: st
          engine_defaults: bool, match_names: bool, out: Output) -> int:
     """Plan from INIT GOAL ontology files, or from DOMAIN PROBLEM PDDL files; write the plan."""
     start = time.perf_counter()
-    if planning.is_pddl(first) and planning.is_pddl(second):
-        problem = planning.read_pddl(first, second, warn=out.warn)
-        source = "PDDL"
-    else:
-        problem = planning.kitting_model([first], [second], encoding, overlap=True,
-                                         match_names=match_names).up_problem
-        source = f"ontology, {encoding} encoding"
-    built = time.perf_counter() - start
-    result = planning.run(problem, output, planner, timeout, engine_defaults)
+    with out.progress(f"planning {Path(first).name} -> {Path(second).name}"):
+        if planning.is_pddl(first) and planning.is_pddl(second):
+            with out.progress("reading the PDDL files"):
+                problem = planning.read_pddl(first, second, warn=out.warn)
+            source = "PDDL"
+        else:
+            with out.progress("building the planning problem from the ontology files"):
+                problem = planning.kitting_model([first], [second], encoding, overlap=True,
+                                                 match_names=match_names).up_problem
+            source = f"ontology, {encoding} encoding"
+        built = time.perf_counter() - start
+        result = planning.run(problem, output, planner, timeout, engine_defaults, progress=out.tracker)
     total = time.perf_counter() - start
     out.done(f"wrote {output}: {len(result.lines)} actions by {result.planner} ({source}), validated by "
-             f"unified-planning, in {total:.2f} s")
+             f"unified-planning, in {total:.2f} s", output=output, actions=len(result.lines),
+             planner=result.planner, source=source, validated=True, seconds=round(total, 3),
+             times={"model": round(built, 3), "solve": round(result.times["solve"], 3),
+                    "validate": round(result.times["validate"], 3)}, plan=result.lines)
     if os.environ.get("KITKB_TIMING"):
         cpu = os.times()
         print(f"timing: model {built:.2f} s, solve {result.times['solve']:.2f} s, validate "

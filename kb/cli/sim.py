@@ -22,13 +22,17 @@ def serve(init: str, goal: str | None, faults: str | None, seed: int, noise: str
           sensor_port: int, command_port: int, out: Output) -> int:
     """Serve a :class:`SimulatedCell` of ``init`` (with the individuals only ``goal`` names)
     on 127.0.0.1; print one line with the bound ports; 0 when stopped by SIGINT or SIGTERM."""
-    cell = _cell(init, goal, faults, seed, noise)
+    with out.progress(f"building the simulated cell of {Path(init).name}"):
+        cell = _cell(init, goal, faults, seed, noise)
     with CellServer(cell, sensor_port=sensor_port, command_port=command_port) as server:
         address = f"{server.host}:{server.sensor_port},{server.command_port}"
-        _until_signal(lambda: print(f"kitkb: serving {init}: sensor port {server.sensor_port}, command port "
-                                    f"{server.command_port} on {server.host} (--cell {address})",
-                                    file=out.results, flush=True))
-    out.done("cell server stopped")
+        line = (f"kitkb: serving {init}: sensor port {server.sensor_port}, command port {server.command_port} on "
+                f"{server.host} (--cell {address})")
+        facts = {"message": line[len("kitkb: "):], "init": init, "host": server.host,
+                 "sensor_port": server.sensor_port, "command_port": server.command_port, "cell": address}
+        _until_signal(lambda: out.emit(facts, indent=None) if out.is_json else print(line, file=out.results, flush=True))
+    if not out.is_json:  # the JSON object is the ready line; stopping is the exit code 0
+        out.done("cell server stopped")
     return 0
 
 

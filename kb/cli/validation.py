@@ -17,7 +17,9 @@ def validate(files: list[str], format: str, out: Output, ignore: list[str] | Non
     object with ``conforms``, ``files``, ``counts`` and ``diagnostics``); 0 conforms, 1 not.
     ``ignore``: rule names (each may list several, comma-separated) left out of the report."""
     rules = {r.strip() for item in ignore or () for r in item.split(",") if r.strip()}
-    report = validate_files(files or default_files(), ignore=rules)
+    files = files or default_files()
+    with out.progress(f"validating {_files(files)}"):
+        report = validate_files(files, ignore=rules)
     if format == "json":
         print(json.dumps(report.as_dict(), indent=2), file=out.results)
     else:
@@ -29,7 +31,15 @@ def validate(files: list[str], format: str, out: Output, ignore: list[str] | Non
 
 def convert(input: str, output: str, out: Output) -> int:
     """Write ``input`` to ``output`` in the syntax of its extension."""
-    n = convert_file(Path(input), Path(output))
+    with out.progress(f"converting {Path(input).name} to {Path(output).name}"):
+        n = convert_file(Path(input), Path(output))
     syntax = _SYNTAX[OUTPUT_FORMATS[Path(output).suffix.lower()]]
-    out.done(f"wrote {output} ({syntax}, {n} statements)")
+    out.done(f"wrote {output} ({syntax}, {n} statements)", output=output, input=input, syntax=syntax, statements=n)
     return 0
+
+
+def _files(files: list[str]) -> str:
+    """``a.ttl, b.ttl (12.3 MB)`` (the first three names, and the total size)."""
+    size = sum(Path(f).stat().st_size for f in files if Path(f).is_file())
+    names = ", ".join(Path(f).name for f in files[:3]) + (f" and {len(files) - 3} more" if len(files) > 3 else "")
+    return f"{names} ({size / 1e6:.1f} MB)"

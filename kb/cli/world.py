@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import time
+from pathlib import Path
+
 from kb.cli.output import Output
 from kb.world import dump as dump_db
 from kb.world import load as load_db
@@ -9,13 +12,21 @@ from kb.world import load as load_db
 
 def load(datafile: str, db: str, out: Output, replace: bool = False) -> int:
     """Load ``datafile`` into database ``db`` (``replace``: the world model it already holds)."""
-    report = load_db(datafile, db, replace=replace)
-    out.done(f"loaded {datafile} into {db}: {report.summary()}")
+    start = time.perf_counter()
+    with out.progress(f"loading {Path(datafile).name}"):
+        report = load_db(datafile, db, replace=replace, progress=out.tracker)
+    out.done(f"loaded {datafile} into {db}: {report.summary()}", datafile=datafile, db=db,
+             statements=report.statements, individuals=report.individuals, tables=report.tables,
+             outside_model=report.outside_model, replaced=report.replaced,
+             seconds=round(time.perf_counter() - start, 3))
     return 0
 
 
 def dump(db: str, output: str, out: Output) -> int:
     """Write database ``db`` to ``output`` as Turtle."""
-    dump_db(db, output)
-    out.done(f"wrote {output} (the content of {db})")
+    start = time.perf_counter()
+    with out.progress(f"writing {Path(output).name} from the database"):
+        dump_db(db, output)
+    out.done(f"wrote {output} (the content of {db})", output=output, db=db, bytes=Path(output).stat().st_size,
+             seconds=round(time.perf_counter() - start, 3))
     return 0

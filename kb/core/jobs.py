@@ -19,6 +19,8 @@ import signal
 import threading
 from collections.abc import Callable
 
+from kb.core.progress import pausable_threads, threads_paused
+
 
 def usable_cores() -> int:
     """Cores this process may run on."""
@@ -29,8 +31,9 @@ def usable_cores() -> int:
 
 
 def fork_is_safe() -> bool:
-    """True on a POSIX system with no thread but this one running."""
-    return hasattr(os, "fork") and threading.active_count() == 1
+    """True on a POSIX system with no thread but this one running (a progress display's
+    refresh thread does not count: :class:`Forked` pauses it for the fork)."""
+    return hasattr(os, "fork") and threading.active_count() - pausable_threads() == 1
 
 
 class Forked:
@@ -50,7 +53,8 @@ class Forked:
             return
         r, w = os.pipe()
         try:
-            pid = os.fork()
+            with threads_paused():
+                pid = os.fork()
         except OSError:
             os.close(r)
             os.close(w)

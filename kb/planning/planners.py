@@ -20,6 +20,7 @@ from typing import Any
 
 from kb.core.errors import ConfigurationError, KitkbError, NotSolvableError
 from kb.core.files import write_atomic
+from kb.core.progress import SILENT, Progress
 from kb.patches.unified_planning import environment, validator_speedups
 
 #: Which PyPI package provides a unified-planning engine.
@@ -160,15 +161,18 @@ def write_plan(lines: list[str], path: str | Path) -> Path:
 
 
 def run(problem: Any, out: str | Path | None, planner: str | None = None,
-        timeout: float | None = None, engine_defaults: bool = False) -> PlanResult:
-    """Choose a planner, solve, validate, and write the plan to ``out`` (if given)."""
+        timeout: float | None = None, engine_defaults: bool = False, progress: Progress = SILENT) -> PlanResult:
+    """Choose a planner, solve, validate, and write the plan to ``out`` (if given);
+    ``progress``: where solving and validating report (:mod:`kb.core.progress`)."""
     times: dict[str, float] = {}
     t0 = time.perf_counter()
     name = choose_planner(problem, planner)
-    plan = solve(problem, name, timeout, engine_defaults)
+    with progress.task(f"solving with {name}" + (f" (time limit {timeout:g} s)" if timeout else "")):
+        plan = solve(problem, name, timeout, engine_defaults)
     times["solve"] = time.perf_counter() - t0
     t1 = time.perf_counter()
-    validate(problem, plan)
+    with progress.task("validating the plan (unified-planning)"):
+        validate(problem, plan)
     times["validate"] = time.perf_counter() - t1
     lines = plan_lines(plan)
     if out is not None:

@@ -21,6 +21,7 @@ from pathlib import Path
 from kb.core.errors import InputError
 from kb.core.files import atomic_paths
 from kb.core.jobs import Forked
+from kb.core.progress import SILENT, Progress
 from kb.core.resources import ontologies_dir
 from kb.scenario.blocks import STATES, state_blocks, state_graph
 from kb.scenario.layout import Scenario, layout
@@ -70,9 +71,14 @@ def _write_states(sc: Scenario, paths: list[Path]) -> None:
         _write_state(sc, "goal", goal)
 
 
-def write_scenario(out_dir: Path, *, parts: int, kits: int, seed: int) -> tuple[Path, Path]:
-    """Generate a scenario (see :func:`build_scenario`) and write it into ``out_dir``."""
-    return write_spec(build_scenario(parts, kits, seed), out_dir)
+def write_scenario(out_dir: Path, *, parts: int, kits: int, seed: int,
+                   progress: Progress = SILENT) -> tuple[Path, Path]:
+    """Generate a scenario (see :func:`build_scenario`) and write it into ``out_dir``
+    (``progress``: where its two steps report, :mod:`kb.core.progress`)."""
+    with progress.task(f"laying out a workstation of {parts} parts"):
+        sc = build_scenario(parts, kits, seed)
+    with progress.task(f"writing {Path(out_dir) / 'init.ttl'} and goal.ttl"):
+        return write_spec(sc, out_dir)
 
 
 def write_shipped(root: Path | None = None) -> list[Path]:

@@ -28,6 +28,7 @@ from typing import Any, Callable
 
 from kb.core.errors import InputError
 from kb.core.memory import gc_paused
+from kb.core.progress import SILENT, Progress
 from kb.core.namespaces import PREFIXES, local_name
 from kb.world import sqlite
 from kb.world.bulk import copy_buffers, insert_sqlite
@@ -65,46 +66,61 @@ class LoadReport:
         return line + (f"; replaced {self.replaced}" if self.replaced else "")
 
 
-def build(datafile: str | Path) -> Built:
+def build(datafile: str | Path, progress: Progress = SILENT) -> Built:
     """The rows of ``datafile``: every statement placed, checked, numbered (nothing written)."""
-    data = DataFile(datafile)
-    with gc_paused():
-        builder = RowBuilder(data.terms, data.line_of, str(datafile))
-        try:
-            builder.feed(data.quads())
-        except DataFile.PARSE_ERRORS as exc:
-            error = data.parse_error(exc)
-            if error is None:
-                raise
-            raise error from None
-        built = builder.finish(data.prefixes)
+    with progress.task(f"reading {Path(datafile).name}", total=_size(datafile), unit="bytes") as task:
+        data = DataFile(datafile, task if progress.enabled else None)
+        with gc_paused():
+            built = _rows(data, datafile)
     if not built.individuals:
         raise InputError("no individual of the kitting or SOAP model in this file (nothing typed with a "
                          "model class): refusing to load an empty world", file=str(datafile))
     return built
 
 
-def load(datafile: str | Path, url: str | Path = DEFAULT_DB, replace: bool = False) -> LoadReport:
+def _size(datafile: str | Path) -> int | None:
+    try:
+        return Path(datafile).stat().st_size
+    except OSError:
+        return None
+
+
+def _rows(data: DataFile, datafile: str | Path) -> Built:
+    builder = RowBuilder(data.terms, data.line_of, str(datafile))
+    try:
+        builder.feed(data.quads())
+    except DataFile.PARSE_ERRORS as exc:
+        error = data.parse_error(exc)
+        if error is None:
+            raise
+        raise error from None
+    return builder.finish(data.prefixes)
+
+
+def load(datafile: str | Path, url: str | Path = DEFAULT_DB, replace: bool = False,
+         progress: Progress = SILENT) -> LoadReport:
     """Load the statements of ``datafile`` into database ``url``, in one transaction.
 
     A database that already holds a world model or run history is refused unless ``replace``;
     then its world model and history are dropped in the same transaction as the load. On any
-    error nothing changes (a new SQLite file is removed again).
+    error nothing changes (a new SQLite file is removed again). ``progress``: where reading
+    the file and writing the rows report (:mod:`kb.core.progress`).
     """
     url = normalize_url(url)
     with hold(url, "a load"):  # not while a run (or another load) writes this world model
-        return _load(datafile, url, replace)
+        return _load(datafile, url, replace, progress)
 
 
-def _load(datafile: str | Path, url: str, replace: bool) -> LoadReport:
+def _load(datafile: str | Path, url: str, replace: bool, progress: Progress = SILENT) -> LoadReport:
     target = sqlite_file(url)
     existed = target is None or target.exists()
     writer = _writer(url, replace)
+    writer.progress = progress
     try:
         writer.check()  # before reading the file: refuse at once
         writer.start()
         try:
-            built = build(datafile)
+            built = build(datafile, progress)
         except BaseException:
             writer.abort()
             raise
@@ -196,6 +212,8 @@ class _Writer:
     """One load's transaction on one kind of database (raw driver connection):
     :meth:`check` refuses early, :meth:`start` may begin the work while the file is read,
     :meth:`finish` writes the rows and commits, :meth:`abort` rolls back."""
+
+    progress: Progress = SILENT
 
     def __init__(self, url: str, replace: bool, connect: Callable[[], Any], errors: tuple[type[BaseException], ...],
                  dispose: Callable[[], None]):
@@ -314,9 +332,13 @@ class _SQLite(_Writer):
         ddl = load_ddl("sqlite")
         for stmt in ddl.create:
             cur.execute(stmt)
-        insert_sqlite(cur, built.tables)
-        for stmt in ddl.index:
-            cur.execute(stmt)
+        rows = sum(len(r) for _, _, r in built.tables)
+        with self.progress.task(f"writing {len(built.tables)} tables", total=rows, unit="rows") as task:
+            insert_sqlite(cur, _advancing(built.tables, task))
+        with self.progress.task("indexing", total=len(ddl.index), unit="indexes") as task:
+            for stmt in ddl.index:
+                cur.execute(stmt)
+                task.advance()
         cur.execute("PRAGMA foreign_key_check")
         broken = cur.fetchmany(3)
         if broken:
@@ -324,6 +346,13 @@ class _SQLite(_Writer):
                              ", ".join(f"{t} row {r} -> {p}" for t, r, p, _ in broken))
         cur.executemany("INSERT INTO kitkb_meta (key, value) VALUES (?, ?)", _meta(built, source))
         return _report(built, replaced)
+
+
+def _advancing(tables: list[Any], task: Any) -> Any:
+    """``tables`` (name, columns, rows), ``task`` advanced by each one's rows once it was written."""
+    for table in tables:
+        yield table
+        task.advance(len(table[2]))
 
 
 class _PostgreSQL(_Writer):

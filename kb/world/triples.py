@@ -9,6 +9,7 @@ and line look-ups are answered by :mod:`kb.io` (on demand: only a failing load p
 
 from __future__ import annotations
 
+import io
 from functools import cached_property
 from pathlib import Path
 from typing import Any, Iterable
@@ -17,6 +18,7 @@ import pyoxigraph as ox
 from rdflib import BNode, Literal, URIRef
 
 from kb.core.errors import InputError
+from kb.core.progress import Task
 from kb.io.loader import Source, load_file
 from kb.io.parsing import detect_format, make_literal, map_iri
 
@@ -83,7 +85,7 @@ class DataFile:
     """One data file being read: its statements as ``(s, p, o, graph)`` tuples (read once),
     how to read their terms (:attr:`terms`), its prefixes once read, and lines of statements."""
 
-    def __init__(self, path: str | Path):
+    def __init__(self, path: str | Path, progress: Task | None = None):
         self.path = Path(path)
         self._parser: Any = None
         self._source: Source | None = None
@@ -91,8 +93,9 @@ class DataFile:
         fmt = detect_format(head.decode("utf-8", "replace"), self.path)
         if fmt in _OX_FORMATS and not head.startswith(_BOM):
             self.terms: Any = OxTerms()
-            self._parser = ox.parse(path=self.path, format=_OX_FORMATS[fmt],
-                                    base_iri=self.path.resolve().as_uri())
+            # ``progress`` (shown on a terminal): advanced by the bytes the parser reads
+            source = {"path": self.path} if progress is None else {"input": _Counted(self.path, progress)}
+            self._parser = ox.parse(**source, format=_OX_FORMATS[fmt], base_iri=self.path.resolve().as_uri())
         else:
             self._source = load_file(self.path)
             self.terms = RdfTerms()
@@ -170,3 +173,23 @@ class DataFile:
 def _literal_args(parts: LiteralParts) -> tuple[str, str | None, str | None]:
     lex, dt, lang = parts
     return lex, lang, dt
+
+
+class _Counted(io.RawIOBase):
+    """A file read by the parser, ``task`` advanced by each chunk's bytes (closed at its end)."""
+
+    def __init__(self, path: Path, task: Task):
+        self._file, self._task = open(path, "rb"), task
+
+    def readable(self) -> bool:
+        return True
+
+    def readinto(self, buffer: Any) -> int:
+        if self._file.closed:
+            return 0
+        n = self._file.readinto(buffer) or 0
+        if n:
+            self._task.advance(n)
+        else:
+            self._file.close()
+        return n
