@@ -20,8 +20,9 @@ import os
 import re
 from dataclasses import fields
 from pathlib import Path
-from typing import Any, Iterator
+from typing import Any, Iterable, Iterator
 
+from kb.core import limits
 from kb.core.errors import InputError
 from kb.crcl.commands import (COMMANDS, Command, EndCanon, MoveThroughTo, Program, SetLengthUnits,
                               Unreadable)
@@ -53,24 +54,42 @@ def read_text(source: str | os.PathLike[str], *, name: str | None = None) -> Pro
     """The program of CRCL text: ``source`` is the text itself (a ``str``) or a file path
     (a :class:`~pathlib.Path` or other path object). ``name`` is the program's source name
     (default: the path). An unreadable file is an :class:`~kb.core.errors.InputError`;
-    unparsable lines are :class:`~kb.crcl.commands.Unreadable` commands, not errors."""
+    unparsable lines are :class:`~kb.crcl.commands.Unreadable` commands, not errors.
+
+    A file is read line by line (a program of millions of lines costs its commands, not its
+    text as well); more commands than :data:`kb.core.limits.CRCL_COMMANDS`, or a statement
+    longer than :data:`kb.core.limits.LITERAL`, is an InputError at its line."""
     if isinstance(source, str):
-        return Program(tuple(_commands(source)), source=name)
+        lines = source.removeprefix("\ufeff").split("\n")
+        return Program(tuple(_commands(lines, name)), source=name)
     path = Path(source)
     try:
-        raw = path.read_bytes()
+        with open(path, "rb") as f:
+            return Program(tuple(_commands(_file_lines(f, path), str(path))), source=name or str(path))
     except OSError as exc:
         raise InputError(f"cannot read: {exc.strerror or exc}", path) from None
-    try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        line = raw.count(b"\n", 0, exc.start) + 1
-        raise InputError("not UTF-8 text", path, line) from None
-    return Program(tuple(_commands(text)), source=name or str(path))
 
 
-def _commands(text: str) -> Iterator[Command]:
-    for line, statement in _statements(text):
+def _file_lines(f: Any, path: Path) -> Iterator[str]:
+    """The lines of a binary file as text, without their ``\\n``; not UTF-8 is an
+    InputError at its line."""
+    for number, raw in enumerate(f, 1):
+        try:
+            text = raw.decode("utf-8")
+        except UnicodeDecodeError:
+            raise InputError("not UTF-8 text", path, number) from None
+        if number == 1:
+            text = text.removeprefix("\ufeff")
+        yield text.removesuffix("\n")
+
+
+def _commands(lines: Iterable[str], name: str | None = None) -> Iterator[Command]:
+    most = limits.CRCL_COMMANDS.value()
+    count = 0
+    for line, statement in _statements(lines, name):
+        count += 1
+        if most is not None and count > most:
+            raise limits.CRCL_COMMANDS.error(None, name, line, "too many commands")
         try:
             yield _command(statement, line)
         except _Bad as bad:
@@ -82,21 +101,40 @@ def _skipped(line: str) -> bool:
     return not stripped or stripped.startswith(("#", "//"))
 
 
-def _statements(text: str) -> Iterator[tuple[int, str]]:
-    """(first line number, text) of each statement; continuation lines joined with ``\\n``."""
-    lines = [line.removesuffix("\r") for line in text.removeprefix("\ufeff").split("\n")]
-    i = 0
-    while i < len(lines):
-        if _skipped(lines[i]):
-            i += 1
+def _statements(lines: Iterable[str], name: str | None = None) -> Iterator[tuple[int, str]]:
+    """(first line number, text) of each statement; continuation lines joined with ``\\n``.
+    ``lines`` is read once, one line ahead."""
+    longest = limits.LITERAL.value()
+    numbered = enumerate((line.removesuffix("\r") for line in lines), 1)
+    ahead = next(numbered, None)
+    while ahead is not None:
+        first, text = ahead
+        ahead = next(numbered, None)
+        if _skipped(text):
             continue
-        first, parts = i, [lines[i]]
-        i += 1
-        while (_depth(parts) > 0 and i < len(lines) and not _skipped(lines[i])
-               and not _START.match(lines[i])):
-            parts.append(lines[i])
-            i += 1
-        yield first + 1, "\n".join(parts)
+        parts, size = [text], len(text)
+        open_ = _opened(text)
+        while (open_ > 0 and ahead is not None and not _skipped(ahead[1])
+               and not _START.match(ahead[1])):
+            parts.append(ahead[1])
+            size += len(ahead[1]) + 1
+            if longest is not None and size > longest:
+                raise limits.LITERAL.error(None, name, first, f"a statement of more than {longest:,} characters")
+            open_ = _depth(parts)
+            ahead = next(numbered, None)
+        if longest is not None and size > longest:
+            raise limits.LITERAL.error(None, name, first, f"a statement of {size:,} characters")
+        yield first, "\n".join(parts)
+
+
+def _opened(line: str) -> int:
+    """:func:`_depth` of one line, by ``str.count`` where that gives the same answer: no
+    string on the line and no bracket left open (the common, one-line command)."""
+    if '"' not in line and "\u201c" not in line:
+        depth = line.count("(") + line.count("{") - line.count(")") - line.count("}")
+        if depth <= 0:  # _depth says the same or 0 (cannot tokenize): the statement ends
+            return depth
+    return _depth([line])
 
 
 def _depth(parts: list[str]) -> int:

@@ -84,11 +84,12 @@ def schema(path: str | os.PathLike[str] | None = None) -> etree.XMLSchema:
         raise InputError(f"not a usable XML schema: {exc}", found) from None
 
 
-def _check_schema(tree: Any, xsd: etree.XMLSchema, name: str | None, what: str) -> None:
+def _check_schema(tree: Any, xsd: etree.XMLSchema, name: str | None, what: str, shift: int = 0) -> None:
+    """InputError at the first error of ``tree`` against ``xsd`` (its line moved by ``shift``)."""
     if not xsd.validate(tree):
         errors = list(xsd.error_log)
         more = f" (and {len(errors) - 1} more)" if len(errors) > 1 else ""
-        raise InputError(f"{what} CRCL.xsd: {errors[0].message}{more}", name, errors[0].line)
+        raise InputError(f"{what} CRCL.xsd: {errors[0].message}{more}", name, errors[0].line + shift)
 
 
 # --- reading ----------------------------------------------------------------------------------
@@ -243,19 +244,41 @@ def _misplaced(command: Command, first: bool, last: bool) -> str | None:
 def write_xml(program: Program, schema: etree.XMLSchema | None = None) -> bytes:
     """``program`` as a CRCL.xsd instance (UTF-8, indented). A command the schema cannot
     hold, or a program out of its sequence, is an :class:`~kb.core.errors.InputError` naming
-    the program's source and the command's line. With ``schema`` the result is validated."""
-    root = etree.Element("CRCLProgram")
+    the program's source and the command's line. With ``schema`` the result is validated.
+
+    Written (and validated) :data:`CHUNK` commands at a time, so a program of millions of
+    commands costs its output bytes, not an element tree of them all."""
     commands = program.commands
     for i, command in enumerate(commands):
         problem = _unwritable(command) or _misplaced(command, i == 0, i == len(commands) - 1)
         if problem:
             raise InputError(problem, program.source, command.line)
-        _write_command(etree.SubElement(root, type(command).__name__), command)
     _check_order(commands, program.source)
-    data = etree.tostring(root, xml_declaration=True, encoding="UTF-8", pretty_print=True)
-    if schema is not None:
-        _check_schema(_parse(data, program.source), schema, program.source, "kitkb wrote XML that breaks")
-    return data
+    out = [b"<?xml version='1.0' encoding='UTF-8'?>\n<CRCLProgram>\n"]
+    line = 3  # of the first command
+    starts = list(range(0, len(commands), max(CHUNK, 2)))
+    if len(starts) > 1 and len(commands) - starts[-1] < 2:
+        starts.pop()  # a last chunk of EndCanon alone would not be a program by itself
+    for start, end in zip(starts, starts[1:] + [len(commands)]):
+        root = etree.Element("CRCLProgram")
+        for command in commands[start:end]:
+            _write_command(etree.SubElement(root, type(command).__name__), command)
+        body = etree.tostring(root, encoding="UTF-8", pretty_print=True)
+        body = body[len(b"<CRCLProgram>\n"): -len(b"</CRCLProgram>\n")]
+        if schema is not None:  # a chunk alone, framed by InitCanon / EndCanon where it lacks them
+            head = b"" if start == 0 else b"  <InitCanon/>\n"
+            tail = b"" if end == len(commands) else b"  <EndCanon/>\n"
+            chunk = b"<CRCLProgram>\n" + head + body + tail + b"</CRCLProgram>\n"
+            _check_schema(_parse(chunk, program.source), schema, program.source,
+                          "kitkb wrote XML that breaks", line - 2 - head.count(b"\n"))
+        out.append(body)
+        line += body.count(b"\n")
+    out.append(b"</CRCLProgram>\n")
+    return b"".join(out)
+
+
+#: Commands :func:`write_xml` turns into XML (and validates) at a time.
+CHUNK = 10_000
 
 
 def unwritable(command: Command) -> str | None:

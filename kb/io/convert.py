@@ -20,6 +20,7 @@ from rdflib.namespace import OWL, RDF
 
 from kb.core import namespaces as ns
 from kb.core.errors import InputError
+from kb.core import limits
 from kb.core.files import write_atomic
 from kb.io.loader import Source, catalog, load_file, resolve_import
 
@@ -36,7 +37,12 @@ def convert(in_path: Path, out_path: Path) -> int:
         raise InputError(f"unknown output extension '{out_path.suffix}' (use one of {known})", out_path)
     source = load_file(in_path)
     graph = output_graph(source)
-    write_atomic(out_path, graph.serialize(format=fmt, encoding="utf-8"))
+    try:
+        with limits.deep_calls():  # rdflib's Turtle writer recurses into nested blank nodes
+            data = graph.serialize(format=fmt, encoding="utf-8")
+    except RecursionError:
+        raise limits.NESTING.error(None, in_path, None, "blank nodes nested too deep to write") from None
+    write_atomic(out_path, data)
     return len(graph)
 
 

@@ -29,6 +29,7 @@ from kb.core import namespaces as ns
 from kb.core.diagnostics import Diagnostic
 from kb.core.errors import InputError
 from kb.core.files import note_input
+from kb.core.limits import check_file_size, deep_calls
 from kb.core.memory import gc_paused
 from kb.core.resources import ontology_path
 from kb.io.lines import LineIndex, build_index
@@ -167,7 +168,7 @@ class Source:
 
     def _scan(self, subjects: set) -> None:
         if subjects:
-            with gc_paused():
+            with gc_paused(), deep_calls():
                 self._target.index(subjects, self._partial)
             self._covered |= subjects
 
@@ -202,7 +203,11 @@ class Source:
             return LineIndex()
         if self.format == "ofn":
             text, _ = strip_slash_comments(text, self.path)
-        return build_index(text, self.format, self.path.resolve().as_uri())
+        try:
+            with deep_calls():  # the readers recurse once per level of nesting
+                return build_index(text, self.format, self.path.resolve().as_uri())
+        except RecursionError:  # nesting limit lifted: no lines rather than a crash
+            return LineIndex()
 
 
 class KnowledgeBase:
@@ -252,7 +257,8 @@ def catalog() -> dict[str, Path]:
 
 
 def load_file(path: str | Path) -> Source:
-    """Read one file (any supported format); InputError if it is missing or malformed."""
+    """Read one file (any supported format); InputError if it is missing or malformed, or
+    past a limit of :mod:`kb.core.limits` (size, statements, literal length, nesting)."""
     with gc_paused():
         return _load_file(Path(path))
 
@@ -260,6 +266,7 @@ def load_file(path: str | Path) -> Source:
 def _load_file(path: Path) -> Source:
     note_input(path)
     try:
+        check_file_size(path, path.stat().st_size if path.is_file() else None)
         data = path.read_bytes()
     except FileNotFoundError:
         raise InputError("no such file", path) from None

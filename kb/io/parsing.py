@@ -10,6 +10,7 @@ from __future__ import annotations
 import logging
 import re
 import xml.parsers.expat
+from itertools import islice
 from pathlib import Path
 from typing import Iterable
 
@@ -17,6 +18,7 @@ import pyoxigraph as ox
 from rdflib import BNode, Graph, Literal, URIRef
 
 from kb.core.diagnostics import Diagnostic
+from kb.core import limits
 from kb.core.errors import InputError
 from kb.core.namespaces import NAMESPACE_MAP, PREFIXES
 from kb.patches.rdflib import memory_graph
@@ -30,9 +32,13 @@ _OWL_NS = "http://www.w3.org/2002/07/owl#"
 _XML_ROOT = re.compile(r"<(?:([A-Za-z_][\w.-]*):)?([A-Za-z_][\w.-]*)[\s>/]")
 _OFN_START = re.compile(r"(?:Prefix|Ontology)\s*\(")
 _MAX_ENTITY_TEXT = 10_000
-#: Deepest XML element / OFN parenthesis nesting accepted (py-horned-owl recurses natively).
-MAX_NESTING = 1000
+# Nesting (kb.core.limits.NESTING): py-horned-owl recurses natively per level, rdflib's Turtle
+# writer and kitkb's line indexes in Python; tokens that open and close a level, per syntax.
 _OFN_NESTING = re.compile(r'"(?:[^"\\]|\\.)*"|<[^<>\s]*>|[()]')
+_TURTLE_NESTING = re.compile("|".join((
+    r'"""(?:[^"\\]|\\.|"(?!""))*"""', r"'''(?:[^'\\]|\\.|'(?!''))*'''",  # long strings
+    r'"(?:[^"\\\n]|\\.)*"', r"'(?:[^'\\\n]|\\.)*'",  # strings
+    r'<[^<>"{}|^`\\\s]*>', r"#[^\n]*", r"[\[\]()]")))  # IRIs, comments, the nesting tokens
 _XSD_STRING = "http://www.w3.org/2001/XMLSchema#string"
 _PREFIX_NAME = re.compile(r"(?:[A-Za-z][\w.-]*)?")
 
@@ -160,11 +166,13 @@ def check_xml(text: str, path: Path) -> None:
         raise InputError("external XML reference is not allowed (nothing is fetched)", path, parser.CurrentLineNumber)
 
     depth = [0]
+    deepest = limits.NESTING.value() or float("inf")
 
     def start(name, attrs):  # noqa: ANN001
         depth[0] += 1
-        if depth[0] > MAX_NESTING:
-            raise InputError(f"XML nested deeper than {MAX_NESTING} elements", path, parser.CurrentLineNumber)
+        if depth[0] > deepest:
+            raise limits.NESTING.error(None, path, parser.CurrentLineNumber,
+                                       "XML elements nested too deep")
 
     def end(name):  # noqa: ANN001
         depth[0] -= 1
@@ -209,9 +217,10 @@ def parse_text(text: str, fmt: str, path: Path, terms: dict | None = None,
     prefixes = {} if prefixes is None else prefixes
     if fmt in ("rdfxml", "owlxml"):
         check_xml(text, path)
-    if fmt == "ofn":
-        check_nesting(text, path)
-    if fmt in ("ofn", "owlxml"):
+    if fmt in ("ofn", "turtle"):
+        check_nesting(text, path, fmt)
+    rewritten = fmt in ("ofn", "owlxml")
+    if rewritten:
         text = _horned_to_rdfxml(text, fmt, path, prefixes)
         fmt = "rdfxml"
     if raw is None or fmt not in ("turtle", "ntriples"):
@@ -220,7 +229,7 @@ def parse_text(text: str, fmt: str, path: Path, terms: dict | None = None,
         raw = raw[3:]
     try:
         quads = ox.parse(raw, format=_OX_FORMAT[fmt], base_iri=path.resolve().as_uri())
-        triples = _convert(quads, {} if terms is None else terms)
+        triples = _convert(quads, {} if terms is None else terms, path, None if rewritten else raw)
         for name, iri in (getattr(quads, "prefixes", None) or {}).items():
             prefixes.setdefault(name, map_iri(iri))
         return triples
@@ -230,17 +239,25 @@ def parse_text(text: str, fmt: str, path: Path, terms: dict | None = None,
         raise InputError(f"cannot parse: {exc}", path) from None
 
 
-def check_nesting(text: str, path: Path) -> None:
-    """Refuse OWL functional syntax nested deeper than :data:`MAX_NESTING` parentheses."""
+def check_nesting(text: str, path: Path, fmt: str = "ofn") -> None:
+    """Refuse OWL functional syntax nested deeper than :data:`kb.core.limits.NESTING`
+    parentheses, or Turtle with blank nodes ``[`` and collections ``(`` nested deeper."""
+    deepest = limits.NESTING.value()
+    if deepest is None:
+        return
+    opening = "(" if fmt == "ofn" else "[("
+    if sum(text.count(c) for c in opening) <= deepest:  # cannot nest deeper: no scan (C speed)
+        return
     depth = 0
-    for m in _OFN_NESTING.finditer(text):
+    for m in (_OFN_NESTING if fmt == "ofn" else _TURTLE_NESTING).finditer(text):
         token = m.group()
-        if token == "(":
+        if token in opening:
             depth += 1
-            if depth > MAX_NESTING:
+            if depth > deepest:
                 line = text.count("\n", 0, m.start()) + 1
-                raise InputError(f"nested deeper than {MAX_NESTING} parentheses", path, line)
-        elif token == ")":
+                what = "parentheses" if fmt == "ofn" else "blank nodes '[' and collections '('"
+                raise limits.NESTING.error(None, path, line, f"{what} nested too deep")
+        elif token in ")]":
             depth -= 1
 
 
@@ -283,11 +300,19 @@ def _horned_error(raw: str, text: str, fmt: str, path: Path) -> InputError:
     return InputError(f"{kind}: {detail}", path, line)
 
 
-def _convert(quads: Iterable[ox.Quad], iris: dict) -> list[Triple]:
-    """rdflib triples of pyoxigraph quads; each distinct term is converted once."""
+def _convert(quads: Iterable[ox.Quad], iris: dict, path: Path | None = None,
+             raw: bytes | None = None) -> list[Triple]:
+    """rdflib triples of pyoxigraph quads; each distinct term is converted once. More than
+    :data:`kb.core.limits.STATEMENTS` statements, or a literal longer than
+    :data:`kb.core.limits.LITERAL`, is an InputError (``path``, ``raw``: the file and its
+    bytes, to name them)."""
     cache: dict[object, object] = {}
     bnodes: dict[str, BNode] = {}
     NamedNode, OxLiteral = ox.NamedNode, ox.Literal
+    most = limits.STATEMENTS.value()
+    longest = limits.LITERAL.value()
+    if most is not None:
+        quads = islice(quads, most + 1)  # counted in C: nothing per statement here
 
     def term(x):  # noqa: ANN001, ANN202
         r = cache.get(x)
@@ -295,6 +320,9 @@ def _convert(quads: Iterable[ox.Quad], iris: dict) -> list[Triple]:
             if isinstance(x, NamedNode):
                 r = iris[x.value] = URIRef(map_iri(x.value))
             elif isinstance(x, OxLiteral):
+                if longest is not None and len(x.value) > longest:
+                    raise limits.LITERAL.error(None, path, _line_of(raw, x.value),
+                                               f"a literal of {len(x.value):,} characters")
                 r = make_literal(x.value, x.language, x.datatype.value)
             else:
                 r = bnodes.setdefault(x.value, BNode())
@@ -317,7 +345,17 @@ def _convert(quads: Iterable[ox.Quad], iris: dict) -> list[Triple]:
         if c is None:
             c = term(o)
         append((a, b, c))
+    if most is not None and len(out) > most:
+        raise limits.STATEMENTS.error(None, path, None, "too many statements")
     return out
+
+
+def _line_of(raw: bytes | None, text: str) -> int | None:
+    """The line where ``text`` (its first characters) first appears in ``raw``, if it does."""
+    if raw is None:
+        return None
+    at = raw.find(text[:200].encode("utf-8"))
+    return raw.count(b"\n", 0, at) + 1 if at >= 0 else None
 
 
 def expat_parser(namespace_separator: str) -> xml.parsers.expat.XMLParserType:

@@ -392,7 +392,15 @@ class _PostgreSQL(_Writer):
         drop, self.replaced = self._existing(cur)
         if drop:
             # no CASCADE: a view or a key of another application on kitkb's tables refuses the load
-            cur.execute("DROP TABLE " + ", ".join(f'"{n}"' for n in drop))
+            try:
+                cur.execute("DROP TABLE " + ", ".join(f'"{n}"' for n in drop))
+            except self.errors as exc:
+                if getattr(exc, "pgcode", None) != "2BP01":  # dependent_objects_still_exist
+                    raise
+                detail = getattr(getattr(exc, "diag", None), "message_detail", None) or first_line(exc)
+                raise InputError(f"database {safe_url(self.url)}: objects of another application depend on "
+                                 f"kitkb's tables ({detail.splitlines()[0]}); --replace leaves them as they are: "
+                                 f"drop them first, or load into a new database") from None
         cur.execute(";\n".join(load_ddl("postgresql").create))
 
     def _stop(self) -> None:
