@@ -63,23 +63,26 @@ class Held:
 def acquire(url: str, what: str) -> Held:
     """The writer lock of database ``url`` (a normalized URL) for ``what`` ("a run", "a load of
     init.ttl"); :class:`DatabaseBusy` if another process holds it."""
-    with _GUARD:
-        held = _HELD.get(url)
-        if held is not None:
-            held.count += 1
-            return held
     from kb.world.database import sqlite_file
 
     path = sqlite_file(url)
+    if path is not None:
+        path = path.resolve()  # one lock whichever symlink or relative name the file is given by
+    key = str(path) if path is not None else url
+    with _GUARD:
+        held = _HELD.get(key)
+        if held is not None:
+            held.count += 1
+            return held
     if path is None and url.startswith("sqlite"):  # in memory: one process by nature
         free: Callable[[], None] = lambda: None  # noqa: E731
     elif path is not None:
         free = _lock_file(path, url, what)
     else:
         free = _lock_server(url, what)
-    held = Held(url, free)
+    held = Held(key, free)
     with _GUARD:
-        _HELD[url] = held
+        _HELD[key] = held
     return held
 
 
