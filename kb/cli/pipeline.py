@@ -234,10 +234,9 @@ def _scenario(name: str, init: Path, goal: Path, target: Path, progress: _Progre
         return _not_executed(name, geo.reason(), progress, reports)
     t = time.perf_counter()
     db_file: str | Path = options.db or target / "world.sqlite"
-    if not options.db:  # the job's own output: made anew each time
-        Path(db_file).unlink(missing_ok=True)
-    with display.task(f"{name}: loading the world model"):
-        loaded = prepare(db_file, init, options.domain, replace=options.replace)
+    with display.task(f"{name}: loading the world model"):  # the job's own output is replaced (under
+        # the run's lock: never removed under another run writing it)
+        loaded = prepare(db_file, init, options.domain, replace=options.replace or not options.db)
         with WorldModel(db_file) as world:
             poses = world.global_poses()
     progress.stage(f"world model: {loaded.individuals} individuals (workstation and domain), {len(poses)} global "
