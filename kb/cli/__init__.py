@@ -47,6 +47,7 @@ HANDLERS = {
     "db dump": "kb.cli.world:dump",
     "run": "kb.cli.pipeline:run",
     "crcl convert": "kb.cli.crcl:convert",
+    "metrics": "kb.cli.metrics:metrics",
     "predicates": "kb.cli.predicates:predicates",
     "sim serve": "kb.cli.sim:serve",
 }
@@ -222,6 +223,27 @@ def _add_crcl(sub: Any) -> None:
                         "kitkb's own reader only)")
 
 
+def _add_metrics(sub: Any) -> None:
+    p = _sub(sub, "metrics", "metrics", "the static metrics of a CRCL program (the kittingViewer's ACE ... UCE)",
+             format_help="text: a table of the metrics and the score; json: one object with metrics, names, "
+                         "units, robot, score and (with --per-command) rows (default text)",
+             description="Evaluate a CRCL program (.crcl text or .xml CRCL XML) command by command on a "
+                         "simulated robot and print the first paper's static metrics with cumulative values: "
+                         "ACE, OCE, TCE, TDM, CCE, TET, RE, PE, CSE, TE, UCE (docs/metrics.md defines them), "
+                         "and a weighted total score.")
+    p.add_argument("program", metavar="PROGRAM", help="a .crcl (text form) or .xml (CRCL XML) program")
+    p.add_argument("--per-command", action="store_true",
+                   help="also print the metrics after every command, one row each, as NIST's kittingViewer "
+                        "showed them")
+    p.add_argument("--max-speed", type=float, metavar="M/S",
+                   help="the robot's maximum speed of the controlled point in m/s (default 1, the kittingViewer's)")
+    p.add_argument("--max-acceleration", type=float, metavar="M/S2",
+                   help="the robot's maximum acceleration in m/s² (default 10, the kittingViewer's)")
+    p.add_argument("--config", metavar="WEIGHTS.toml",
+                   help="TOML file with a [weights] table, metric = weight, for the total score (default "
+                        "weights: docs/metrics.md)")
+
+
 def _add_predicates(sub: Any) -> None:
     p = _sub(sub, "predicates", "predicates", "the predicates that hold in a state file, computed from its geometry",
              format_help="text: name(arg1, arg2) a line; json: a list of {predicate, args} (default text)",
@@ -274,8 +296,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("-q", "--quiet", action="store_true", help="print no line on success")
     parser.add_argument("--traceback", action="store_true", help="show the Python traceback of an error")
     sub = parser.add_subparsers(dest="subcommand", required=True, metavar="COMMAND")
-    for add in (_add_files, _add_scenario, _add_generate, _add_plan, _add_db, _add_run, _add_crcl, _add_predicates,
-                _add_sim):
+    for add in (_add_files, _add_scenario, _add_generate, _add_plan, _add_db, _add_run, _add_crcl, _add_metrics,
+                _add_predicates, _add_sim):
         add(sub)
     return parser
 
@@ -289,7 +311,7 @@ def handler(command: str) -> Callable[..., int]:
 #: Options that name files a command reads (noted before it runs, so that no output replaces
 #: them even where a forked child does the reading), and the option naming its database.
 _INPUT_OPTIONS = ("files", "input", "init", "goal", "first", "second", "datafile", "state", "domain", "file",
-                  "xsd")
+                  "xsd", "program", "config")
 
 
 def _guard(options: dict[str, Any]) -> Any:

@@ -1,0 +1,80 @@
+"""A total score of the static metrics from a user's weights (the first paper's "subjective
+combination of the other metrics in which the other metrics will be weighted and combined as
+desired by the user"): ``total = Σ weight × metric``, each metric's contribution kept.
+
+A weights file is TOML; every key of its ``[weights]`` table is one of the metrics' short
+names (ACE, OCE, TCE, TDM, CCE, TET, RE, PE, CSE, TE, UCE) with a number. A metric the file
+does not name keeps its default weight (:data:`DEFAULT_WEIGHTS`)::
+
+    [weights]
+    TET = -1.0    # per second
+    RE = -10      # per range error
+    UCE = 0       # useless commands do not count here
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Mapping
+
+from kb.core.errors import InputError
+from kb.core.files import note_input
+from kb.metrics.static import METRICS
+
+#: Default weights: every error costs 10 points, a useless command 1, a second of execution 1;
+#: counts of commands, the distance and the last command's time do not count (TE is not
+#: weighted, so that an error is not counted twice with RE, PE, CSE).
+DEFAULT_WEIGHTS: dict[str, float] = {
+    "ACE": 0.0, "OCE": 0.0, "TCE": 0.0, "TDM": 0.0, "CCE": 0.0, "TET": -1.0,
+    "RE": -10.0, "PE": -10.0, "CSE": -10.0, "TE": 0.0, "UCE": -1.0,
+}
+
+
+@dataclass(frozen=True)
+class Score:
+    """``total`` and each metric's ``contributions`` (weight × value) under ``weights``."""
+
+    total: float
+    weights: dict[str, float]
+    contributions: dict[str, float]
+
+    def as_dict(self) -> dict[str, Any]:
+        """The score as JSON data."""
+        return {"total": self.total, "weights": dict(self.weights), "contributions": dict(self.contributions)}
+
+
+def score(totals: Mapping[str, float], weights: Mapping[str, float] | None = None) -> Score:
+    """The weighted total of ``totals`` (a metric -> value mapping, as
+    :attr:`StaticMetrics.totals <kb.metrics.static.StaticMetrics.totals>`)."""
+    used = {**DEFAULT_WEIGHTS, **(weights or {})}
+    contributions = {m: used[m] * totals[m] for m in METRICS}
+    return Score(math.fsum(contributions.values()), used, contributions)
+
+
+def read_weights(path: str | Path) -> dict[str, float]:
+    """The weights a TOML file names; an unreadable file, an unknown metric or a weight that
+    is not a finite number is an :class:`~kb.core.errors.InputError`."""
+    note_input(path)
+    try:
+        with open(path, "rb") as f:
+            data = tomllib.load(f)
+    except OSError as exc:
+        raise InputError(f"cannot read: {exc.strerror or exc}", path) from None
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"not TOML: {exc}", path, getattr(exc, "lineno", None)) from None
+    table = data.get("weights")
+    unknown_tables = sorted(k for k in data if k != "weights")
+    if unknown_tables or not isinstance(table, dict):
+        raise InputError("a weights file holds one [weights] table of metric = number "
+                         f"(metrics: {', '.join(METRICS)})", path)
+    weights: dict[str, float] = {}
+    for name, value in table.items():
+        if name not in METRICS:
+            raise InputError(f"unknown metric {name!r} in [weights] (metrics: {', '.join(METRICS)})", path)
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+            raise InputError(f"the weight of {name} must be a finite number, not {value!r}", path)
+        weights[name] = float(value)
+    return weights

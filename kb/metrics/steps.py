@@ -1,0 +1,225 @@
+"""A CRCL program as the metrics read it: one :data:`Step` per command, in file order.
+
+A step is a plain tuple ``(kind, line, value)``: ``kind`` the command's name (CRCL.xsd's, or
+``"Unreadable"``), ``line`` where it stands in its file, ``value`` its one argument (a number,
+a name, the unreadable text) or, for the three moves, its poses as 9-tuples (point, Z axis,
+X axis). :func:`steps_of` makes them from :mod:`kb.crcl` commands, so any program kitkb reads
+(text or CRCL.xsd XML) can be measured.
+
+:func:`read_steps` reads a file. For the text form it has a fast path: a line holding one
+complete, plainly written command (numbers, poses, a name in double quotes without escapes)
+becomes its step directly, without a :class:`~kb.crcl.commands.Command` in between; every
+other line — continued statements, escapes, typographic quotes, comments after a command,
+anything that does not parse — is read by :func:`kb.crcl.read_text` itself, so what kitkb
+reads and what the metrics count cannot differ (``tests/test_metrics.py`` holds them equal).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from pathlib import Path
+from typing import Any, Iterable, Iterator
+
+from kb.core.errors import InputError
+from kb.core.files import note_input
+from kb.crcl import read_text, read_xml
+from kb.crcl.commands import (ANGLE_UNITS, COORDINATE_FRAMES, Command, EndCanon, MoveStraightTo,
+                              MoveThroughTo, MoveTo, StopMotion, Unreadable)
+from kb.crcl.files import form_of
+from kb.crcl.pose import Pose
+
+#: ``(kind, line, value)``; see the module's docstring.
+Step = tuple[str, "int | None", Any]
+#: A pose as the metrics keep it: x, y, z, the Z axis (i, j, k), the X axis (i, j, k).
+PoseTuple = tuple[float, float, float, float, float, float, float, float, float]
+
+#: Commands without arguments.
+BARE = frozenset({"InitCanon", "CloseGripper", "OpenGripper", "CloseToolChanger", "OpenToolChanger",
+                  "StopObjectScan"})
+#: Commands with one number (a float field).
+NUMBER = frozenset({"Dwell", "SetAbsoluteSpeed", "SetRelativeSpeed", "SetAbsoluteAcceleration",
+                    "SetRelativeAcceleration", "SetEndAngleTolerance", "SetEndPointTolerance",
+                    "SetIntermediatePointTolerance"})
+#: Commands with one name, and the names each allows (None: any).
+NAMED: dict[str, frozenset[str] | None] = {
+    "SetLengthUnits": frozenset({"meter", "millimeter", "inch", "mm"}),
+    "SetAngleUnits": frozenset(ANGLE_UNITS),
+    "SetCoordinateFrame": frozenset(COORDINATE_FRAMES),
+    "StartObjectScan": None,
+    "Message": None,
+}
+MOVES = frozenset({"MoveTo", "MoveStraightTo", "MoveThroughTo"})
+
+
+# --- from kb.crcl commands ------------------------------------------------------------------------
+
+def pose_tuple(pose: Pose) -> PoseTuple:
+    """``pose`` as (x, y, z, Z axis, X axis)."""
+    return (*pose.point, *pose.z_axis, *pose.x_axis)  # type: ignore[return-value]
+
+
+def step_of(command: Command, line_offset: int = 0) -> Step:
+    """The step of one :mod:`kb.crcl` command (its line moved on by ``line_offset``)."""
+    kind = type(command).__name__
+    line = None if command.line is None else command.line + line_offset
+    if isinstance(command, (MoveTo, MoveStraightTo)):
+        return kind, line, (pose_tuple(command.end_position),)
+    if isinstance(command, MoveThroughTo):
+        return kind, line, tuple(pose_tuple(p) for p in command.waypoints)
+    if isinstance(command, Unreadable):
+        return kind, line, (command.text, command.reason)
+    if isinstance(command, (EndCanon, StopMotion)):
+        return kind, line, command.reason if isinstance(command, EndCanon) else command.is_emergency
+    if kind in NUMBER or kind in NAMED:
+        return kind, line, getattr(command, _FIELD[kind])
+    return kind, line, None
+
+
+_FIELD = {**{k: "percent" for k in ("SetRelativeSpeed", "SetRelativeAcceleration")},
+          "Dwell": "dwell_time", "SetAbsoluteSpeed": "speed", "SetAbsoluteAcceleration": "acceleration",
+          **{k: "tolerance" for k in ("SetEndAngleTolerance", "SetEndPointTolerance",
+                                      "SetIntermediatePointTolerance")},
+          "SetLengthUnits": "unit_name", "SetAngleUnits": "unit_name", "SetCoordinateFrame": "coord_system",
+          "StartObjectScan": "name", "Message": "message"}
+
+
+def steps_of(commands: Iterable[Command], line_offset: int = 0) -> list[Step]:
+    """The steps of :mod:`kb.crcl` commands (a :class:`~kb.crcl.commands.Program`)."""
+    return [step_of(c, line_offset) for c in commands]
+
+
+# --- reading files ----------------------------------------------------------------------------------
+
+def read_steps(path: str | Path) -> list[Step]:
+    """The steps of the CRCL program in ``path`` (``.crcl`` text, ``.xml`` CRCL.xsd XML); an
+    unreadable file or an unknown suffix is an :class:`~kb.core.errors.InputError`."""
+    if form_of(path) == "xml":
+        note_input(path)
+        return steps_of(read_xml(Path(path)))
+    note_input(path)
+    try:
+        try:  # decoded by the io layer, line by line ("\n" ends a line, as in kb.crcl)
+            with open(path, encoding="utf-8", newline="\n") as f:
+                return list(text_steps(_text_lines(f), str(path)))
+        except UnicodeDecodeError:  # find the line that is not UTF-8
+            with open(path, "rb") as f:
+                return list(text_steps(_lines(f, Path(path)), str(path)))
+    except OSError as exc:
+        raise InputError(f"cannot read: {exc.strerror or exc}", path) from None
+
+
+def _text_lines(f: Any) -> Iterator[str]:
+    for number, text in enumerate(f, 1):
+        if number == 1:
+            text = text.removeprefix("\ufeff")
+        yield text.removesuffix("\n").removesuffix("\r")
+
+
+def _lines(f: Any, path: Path) -> Iterator[str]:
+    for number, raw in enumerate(f, 1):
+        try:
+            text = raw.decode("utf-8")
+        except UnicodeDecodeError:
+            raise InputError("not UTF-8 text", path, number) from None
+        if number == 1:
+            text = text.removeprefix("\ufeff")
+        yield text.removesuffix("\n").removesuffix("\r")
+
+
+def text_steps(lines: Iterable[str], name: str | None = None) -> Iterator[Step]:
+    """The steps of CRCL text given as lines (without their ends): fast lines directly, runs
+    of the other lines through :func:`kb.crcl.read_text`."""
+    slow: list[str] = []
+    first = 0
+    for number, line in enumerate(lines, 1):
+        step = _fast(line, number)
+        if step is None:
+            if not slow and _skipped(line):
+                continue
+            if not slow:
+                first = number
+            slow.append(line)
+            continue
+        if slow:
+            yield from _slow(slow, first, name)
+            slow = []
+        yield step
+    if slow:
+        yield from _slow(slow, first, name)
+
+
+def _skipped(line: str) -> bool:
+    stripped = line.strip()
+    return not stripped or stripped.startswith(("#", "//"))
+
+
+def _slow(lines: list[str], first: int, name: str | None) -> list[Step]:
+    try:
+        program = read_text("\n".join(lines), name=name)
+    except InputError as exc:  # a limit: name the line in the whole file
+        raise InputError(exc.message, name, None if exc.line is None else exc.line + first - 1) from None
+    return steps_of(program, first - 1)
+
+
+# --- the fast path ----------------------------------------------------------------------------------
+
+_NUM = r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?"
+_TRIPLE = rf"\{{\s*({_NUM})\s*,\s*({_NUM})\s*,\s*({_NUM})\s*\}}"
+_POSE = rf"\{{\s*{_TRIPLE}\s*,\s*{_TRIPLE}\s*,\s*{_TRIPLE}\s*\}}"
+_TRIPLE_ANY = rf"\{{\s*{_NUM}\s*,\s*{_NUM}\s*,\s*{_NUM}\s*\}}"
+_POSE_ANY = rf"\{{\s*{_TRIPLE_ANY}\s*,\s*{_TRIPLE_ANY}\s*,\s*{_TRIPLE_ANY}\s*\}}"
+_STATEMENT = re.compile(r"\s*([A-Za-z_]\w*)\s*\(\s*(.*?)\s*\)\s*")
+_NUMBER = re.compile(_NUM)
+_INT = re.compile(r"[+-]?\d+")
+_STRING = re.compile(r'"([^"\\\n]*)"')
+_ONE_POSE = re.compile(_POSE)
+_POSES = re.compile(rf"((?:{_POSE_ANY}\s*,\s*)+)({_INT.pattern})")
+_VALUES = re.compile(_NUM)
+
+
+def _fast(line: str, number: int) -> Step | None:
+    """The step of a plainly written one-line command, or None (read it the slow way)."""
+    m = _STATEMENT.fullmatch(line)
+    if m is None:
+        return None
+    kind, args = m.groups()
+    if kind in BARE:
+        return (kind, number, None) if not args else None
+    if kind in NUMBER:
+        if _NUMBER.fullmatch(args):
+            value = float(args)
+            return (kind, number, value) if math.isfinite(value) else None
+        return None
+    if kind in MOVES:
+        return _fast_move(kind, args, number)
+    if kind in NAMED:
+        s = _STRING.fullmatch(args)
+        allowed = NAMED[kind]
+        if s is None or (allowed is not None and s.group(1) not in allowed):
+            return None
+        value = s.group(1)
+        return kind, number, "millimeter" if value == "mm" and kind == "SetLengthUnits" else value
+    if kind in ("EndCanon", "StopMotion"):
+        if kind == "EndCanon" and not args:
+            return kind, number, 0
+        return (kind, number, int(args)) if _INT.fullmatch(args) else None
+    return None
+
+
+def _fast_move(kind: str, args: str, number: int) -> Step | None:
+    if kind == "MoveThroughTo":
+        m = _POSES.fullmatch(args)
+        if m is None:
+            return None
+        values = tuple(map(float, _VALUES.findall(m.group(1))))
+        count = len(values) // 9
+        if int(m.group(2)) != count or not math.isfinite(math.fsum(values)):
+            return None
+        return kind, number, tuple(values[i:i + 9] for i in range(0, len(values), 9))
+    m = _ONE_POSE.fullmatch(args)
+    if m is None:
+        return None
+    values = tuple(map(float, m.groups()))
+    # a sum of finite numbers can overflow: such a line only takes the slow path
+    return (kind, number, (values,)) if math.isfinite(sum(values)) else None
