@@ -55,6 +55,10 @@ from kb.spatial.rcc8 import BIT, DEFAULT_TOLERANCE, heading_groups, headings, re
 from kb.spatial.scene import Scene
 
 Mask = Callable[[np.ndarray], np.ndarray]
+#: A scene of at most this many objects (an action's neighbourhood) has the masks of all its
+#: pairs computed in one kernel call on first use, and each relation's truth over all of them
+#: once; a larger scene computes the masks of each atom's candidate sets as it needs them.
+WHOLE_SCENE = 160
 _OPS = {"<": operator.lt, "<=": operator.le, "=": operator.eq, ">=": operator.ge, ">": operator.gt}
 
 
@@ -88,6 +92,20 @@ def compile_relation(expr: RelationExpr) -> Mask:
     return all_of
 
 
+#: id(expression) -> (expression, its compiled test): each relation compiled once per process
+#: (by identity: hashing a frozen expression tree walks the whole tree every time)
+_COMPILED: dict[int, tuple[RelationExpr, Mask]] = {}
+
+
+def _compiled(expr: RelationExpr) -> Mask:
+    entry = _COMPILED.get(id(expr))
+    if entry is None or entry[0] is not expr:
+        if len(_COMPILED) > 4096:
+            _COMPILED.clear()
+        entry = _COMPILED[id(expr)] = (expr, compile_relation(expr))
+    return entry[1]
+
+
 @dataclass(frozen=True)
 class Axis:
     """One term in scope and the scene indices of its candidates."""
@@ -101,9 +119,10 @@ class Evaluator:
 
     def __init__(self, defs: Definitions, scene: Scene, tolerance: float = DEFAULT_TOLERANCE):
         self.defs, self.scene, self.tol = defs, scene, tolerance
-        self._tests: dict[str, Mask] = {}
         self._masks: dict[tuple, np.ndarray] = {}
         self._model: dict[str, np.ndarray] = {}
+        self._truth: dict[str, np.ndarray] = {}  # relation -> (K, K) truth (scenes up to WHOLE_SCENE)
+        self._all: np.ndarray | None = None  # (K, K) masks of every pair (scenes up to WHOLE_SCENE)
         # unplaced objects get a far-away point box (DC from everything; masked out anyway)
         self._lo = np.where(np.isnan(scene.lo), 1e30, scene.lo)
         self._hi = np.where(np.isnan(scene.hi), 1e30, scene.hi)
@@ -136,9 +155,10 @@ class Evaluator:
         p = self._predicate(name)
         if len(args) != p.arity:
             raise InputError(f"predicate {name} takes {p.arity} arguments, not {len(args)}")
-        ref = [args[0]] if p.arity >= 1 else None
-        tgt = [args[1]] if p.arity >= 2 else None
-        return bool(self.table(name, ref, tgt)[2].all())
+        if p.reference_type is None and args:  # the table's reading of such a predicate
+            return bool(self.table(name, [args[0]], None)[2].all())
+        axes = [Axis(key, self._indices([arg])) for key, arg in zip((REFERENCE, TARGET), args)]
+        return bool(np.asarray(self.eval(p.formula, axes)).all())  # one candidate per axis: no broadcast
 
     def holds_formula(self, formula: Formula, bindings: dict) -> bool:
         """Whether ``formula`` holds with its free terms (``"reference"``, ``"target"``, an
@@ -228,33 +248,37 @@ class Evaluator:
             out = out & back
         return out
 
-    def _bound_excluded(self, var: Variable, axes: list[Axis]) -> tuple[list[Axis], np.ndarray]:
+    def _bound_excluded(self, var: Variable, axes: list[Axis]) -> tuple[list[Axis], np.ndarray | None]:
         """The axes with ``var``'s candidates appended, and the mask that drops a candidate
-        equal to an object already bound on another axis."""
+        equal to an object already bound on another axis (None: no candidate is bound)."""
         cand = self.candidates(var.cls)
         inner = axes + [Axis(var, cand)]
         n = len(inner)
-        keep = np.ones((1,) * n, bool)
+        keep = None
+        names = set(cand.tolist())
         for k, a in enumerate(axes):
-            same = a.cand[:, None] == cand[None, :]
-            if same.any():
-                shape = [1] * n
-                shape[k], shape[-1] = len(a.cand), len(cand)
-                keep = keep & ~same.reshape(shape)
+            if names.isdisjoint(a.cand.tolist()):
+                continue
+            shape = [1] * n
+            shape[k], shape[-1] = len(a.cand), len(cand)
+            apart = (a.cand[:, None] != cand[None, :]).reshape(shape)
+            keep = apart if keep is None else keep & apart
         return inner, keep
 
+    def _over(self, var: Variable, body: Formula, axes: list[Axis]) -> np.ndarray:
+        """``body`` with ``var``'s candidates on a last axis of their number, the bound ones false."""
+        inner, keep = self._bound_excluded(var, axes)
+        out = self.eval(body, inner)
+        if keep is not None:
+            out = out & keep
+        m = len(inner[-1].cand)
+        return out if out.shape[-1] == m else np.broadcast_to(out, out.shape[:-1] + (m,))
+
     def _exists(self, f: Exists, axes: list[Axis]) -> np.ndarray:
-        inner, keep = self._bound_excluded(f.variable, axes)
-        body = self.eval(f.body, inner)
-        if body.shape[-1] == 1 and len(inner[-1].cand) != 1:
-            body = np.broadcast_to(body, body.shape[:-1] + (len(inner[-1].cand),))
-        return (body & keep).any(axis=-1)
+        return self._over(f.variable, f.body, axes).any(axis=-1)
 
     def _count(self, var: Variable, cond: Formula, axes: list[Axis]) -> np.ndarray:
-        inner, keep = self._bound_excluded(var, axes)
-        body = self.eval(cond, inner)
-        body = np.broadcast_to(body, body.shape[:-1] + (len(inner[-1].cand),))
-        return (body & keep).sum(axis=-1)
+        return self._over(var, cond, axes).sum(axis=-1)
 
     def _count_atom(self, f: Count, axes: list[Axis]) -> np.ndarray:
         counts = self._count(f.variable, f.condition, axes)
@@ -289,17 +313,34 @@ class Evaluator:
 
     # --- atoms over pairs -------------------------------------------------------------
     def _relation(self, f: Relation, axes: list[Axis]) -> np.ndarray:
-        test = self._tests.get(f.relation)
-        if test is None:
-            test = self._tests[f.relation] = compile_relation(self.defs.relation(f.relation))
+        if len(self.scene.names) <= WHOLE_SCENE:
+            truth = self._truth_of(f.relation)
+            return self._pairs(lambda s, o: truth[s[:, None], o], f.subject, f.object, axes,
+                               lambda c: truth[c, c])
+        test = self._test(f.relation)
         return self._pairs(lambda s, o: test(self._masks_of(s, o)) & self.scene.placed[s][:, None]
                            & self.scene.placed[o][None, :], f.subject, f.object, axes)
 
-    def _masks_of(self, s: np.ndarray, o: np.ndarray) -> np.ndarray:
+    def _test(self, relation: str) -> Mask:
+        return _compiled(self.defs.relation(relation))
+
+    def _truth_of(self, relation: str) -> np.ndarray:
+        """(K, K) whether ``relation`` holds of subject i and object j (both placed), from the
+        masks of every pair (one kernel call per scene)."""
+        truth = self._truth.get(relation)
+        if truth is None:
+            if self._all is None:
+                every = np.arange(len(self.scene.names))
+                self._all = self._masks_of(every, every, keep=False)
+            placed = self.scene.placed
+            truth = self._truth[relation] = self._test(relation)(self._all) & placed[:, None] & placed[None, :]
+        return truth
+
+    def _masks_of(self, s: np.ndarray, o: np.ndarray, keep: bool = True) -> np.ndarray:
         """Relation masks of subjects ``s`` x objects ``o``, each pair in its object's frame
         (:func:`kb.spatial.rcc8.reframe`; the world boxes alone when no object is turned)."""
         key = (s.tobytes(), o.tobytes())
-        m = self._masks.get(key)
+        m = self._masks.get(key) if keep else None
         if m is None:
             m = relate(self._lo[s], self._hi[s], self._lo[o], self._hi[o], self.tol)
             if self._yaw is None:
@@ -309,9 +350,10 @@ class Evaluator:
                 sc = self.scene
                 boxes = (sc.poses, sc.local_lo, sc.local_hi)
                 reframe(m, boxes, boxes, yaw, self.tol, s, o)
-            if len(self._masks) > 64:
-                self._masks.clear()
-            self._masks[key] = m
+            if keep:
+                if len(self._masks) > 64:
+                    self._masks.clear()
+                self._masks[key] = m
         return m
 
     @staticmethod
@@ -325,16 +367,31 @@ class Evaluator:
         labels, yaws = heading_groups(h)
         return yaws[labels]
 
-    def _pairs(self, matrix, subject, obj, axes: list[Axis]) -> np.ndarray:  # noqa: ANN001
+    def _pairs(self, matrix, subject, obj, axes: list[Axis], diagonal=None) -> np.ndarray:  # noqa: ANN001
+        """``matrix(s, o)`` (subjects x objects, Boolean) placed on the axes of ``subject`` and
+        ``obj``; where both are one term, each candidate with itself (``diagonal(cand)``)."""
         i, j = self._axis(subject, axes), self._axis(obj, axes)
         if i == j:
             cand = axes[i].cand
-            vec = np.array([bool(matrix(cand[k:k + 1], cand[k:k + 1])[0, 0]) for k in range(len(cand))], bool)
+            vec = diagonal(cand) if diagonal is not None else np.array([bool(matrix(cand[k:k + 1], cand[k:k + 1])[0, 0]) for k in range(len(cand))], bool)
             return self._place([(i, vec)], len(axes))
         return self._place_matrix(matrix(axes[i].cand, axes[j].cand), i, j, len(axes))
 
+    def _related(self, prop: str, subjects: Iterable[str]) -> dict[str, list[str]]:
+        """subject -> objects of ``prop``: the scene's index, or for a small scene (whose facts are
+        a whole cell's) the pairs of ``subjects`` only, found in one pass."""
+        sc = self.scene
+        if len(sc.names) > WHOLE_SCENE:
+            return sc.related(prop)
+        wanted = set(subjects)
+        out: dict[str, list[str]] = {}
+        for a, b in sc.facts.get(prop, ()):
+            if a in wanted:
+                out.setdefault(a, []).append(b)
+        return out
+
     def _model_matrix(self, prop: str, s: np.ndarray, o: np.ndarray) -> np.ndarray:
-        pairs = self.scene.related(prop)
+        pairs = self._related(prop, [self.scene.names[x] for x in s.tolist()])
         names, index = self.scene.names, self.scene.index
         pos = {x: k for k, x in enumerate(o.tolist())}
         out = np.zeros((len(s), len(o)), bool)
@@ -348,9 +405,10 @@ class Evaluator:
     def _sku_matrix(self, s: np.ndarray, o: np.ndarray) -> np.ndarray:
         """effector s is listed by the SKU of thing o (a kit: its tray's SKU)."""
         sc = self.scene
-        sku_of = sc.related(str(KTW.hasSkuObject_Sku))
-        tray_of = sc.related(str(KTW.hasKit_KitTray))
-        effectors = sc.related(str(KTW.hasStockKeepingUnit_EndEffector))
+        things = [sc.names[y] for y in o.tolist()]
+        tray_of = self._related(str(KTW.hasKit_KitTray), things)
+        sku_of = self._related(str(KTW.hasSkuObject_Sku), things + [t for ts in tray_of.values() for t in ts])
+        effectors = self._related(str(KTW.hasStockKeepingUnit_EndEffector), [k for ks in sku_of.values() for k in ks])
         pos = {x: k for k, x in enumerate(s.tolist())}
         out = np.zeros((len(s), len(o)), bool)
         for b, y in enumerate(o.tolist()):

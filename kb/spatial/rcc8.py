@@ -194,6 +194,10 @@ def _axis_table(axis: int) -> NDArray[np.uint32]:
 
 #: Per axis: 81-entry table of the axis's bits.
 _TABLES: tuple[NDArray[np.uint32], ...] = tuple(_axis_table(k) for k in range(3))
+#: The three axes' tables one after the other (axis k's entry i at 81 k + i).
+_TABLES_FLAT: NDArray[np.uint32] = np.concatenate(_TABLES)
+#: Where each axis's table starts in _TABLES_FLAT, shaped for (3, P) and (3, N, M) indexes.
+_AXIS_OFFSET = {2: np.arange(0, 243, 81, dtype=np.intp)[:, None], 3: np.arange(0, 243, 81, dtype=np.intp)[:, None, None]}
 #: x and y together: index ``ix + 81 iy`` -> the bits of both axes (6561 entries, 26 KB).
 _TABLE_XY: NDArray[np.uint32] = (_TABLES[0][None, :] | _TABLES[1][:, None]).reshape(-1)
 #: Weight of each axis's code in the table index (x, y share the 6561-entry table).
@@ -225,6 +229,8 @@ _RANK_MIN_SUBJECTS = 512
 #: Objects per chunk of the rank kernel: about subjects / 16, within these bounds (its tables
 #: are (4 C + 1) x C per axis, built once per chunk; 256 keeps them in L2).
 _RANK_CHUNK = (64, 256)
+#: Up to this many pairs, all three axes in one broadcast (:func:`_masks_all_axes`): few numpy calls.
+_FEW_PAIRS = 4096
 #: Pairs per chunk of the compare kernel (subjects x objects; its buffers stay in L2).
 _COMPARE_PAIRS = 1 << 16
 #: Subjects per block of the kernels.
@@ -259,12 +265,33 @@ def relate(a_lo: ArrayLike, a_hi: ArrayLike, b_lo: ArrayLike, b_hi: ArrayLike,
     a0s, a1s = _boxes(a_lo, a_hi, "subject")
     b0s, b1s = _boxes(b_lo, b_hi, "object")
     n, m = a0s.shape[1], b0s.shape[1]
+    if n * m <= _FEW_PAIRS:
+        return _masks_all_axes(a0s[:, :, None], a1s[:, :, None], b0s[:, None, :], b1s[:, None, :], t)
     out = np.empty((n, m), dtype=np.uint32)
     kernel, chunk = _plan(n)
     for start in range(0, m, chunk):
         cols = slice(start, min(m, start + chunk))
         _run_blocks(kernel(_Thresholds(b0s[:, cols], b1s[:, cols], t), a0s, a1s), out, cols)
     return out
+
+
+def _masks_all_axes(a0s: FloatArray, a1s: FloatArray, b0s: FloatArray, b1s: FloatArray, t: float) -> NDArray[np.uint32]:
+    """The masks of subject bounds ``a0s``, ``a1s`` against object bounds ``b0s``, ``b1s``, all
+    three axes in one broadcast (axis first: (3, ...) arrays broadcasting against each other):
+    the comparisons of the kernels, a handful of numpy calls whatever the shape (for few pairs)."""
+    lo0, hi0 = b0s - t, np.nextafter(b0s + t, np.inf)
+    lo1, hi1 = b1s - t, np.nextafter(b1s + t, np.inf)
+    index = None  # c00 + 3 c11 + 9 c10 + 27 c01, Horner form from c01 down, in uint8
+    for x, lo, hi in ((a0s, lo1, hi1), (a1s, lo0, hi0), (a1s, lo1, hi1), (a0s, lo0, hi0)):
+        code = (x >= lo).view(np.uint8)
+        code += (x >= hi).view(np.uint8)
+        if index is None:
+            index = code
+        else:
+            index *= np.uint8(3)
+            index += code
+    bits = _TABLES_FLAT[index + _AXIS_OFFSET[index.ndim]]
+    return bits[0] | bits[1] | bits[2]
 
 
 def _plan(n: int) -> tuple[type[_CompareKernel] | type[_RankKernel], int]:
@@ -493,7 +520,7 @@ def headings(poses: ArrayLike) -> FloatArray:
     if k == 0:
         return np.zeros(0)
     rot = g[:, :3, :3]
-    vertical = np.argmax(np.nan_to_num(np.abs(rot[:, 2, :]), nan=0.0), axis=1)
+    vertical = np.argmax(np.fmax(np.abs(rot[:, 2, :]), 0.0), axis=1)  # NaN counts as 0
     level = np.where(vertical == 0, 1, 0)
     axis = rot[np.arange(k), :, level]
     h = np.arctan2(axis[:, 1], axis[:, 0])
@@ -515,7 +542,11 @@ def heading_groups(h: ArrayLike, merge: float = HEADING_MERGE) -> tuple[NDArray[
     turned = np.flatnonzero(~(np.isnan(h) | (np.abs(h) <= merge)))
     if not turned.size:
         return labels, np.zeros(1)
-    order = turned[np.argsort(h[turned], kind="stable")]
+    v = h[turned]
+    if float(v.max()) - float(v.min()) <= merge / 2:  # one frame (a tray and what it holds): as below, fewer calls
+        labels[turned] = 1
+        return labels, np.array([0.0, sum(sorted(v.tolist())) / len(v)])
+    order = turned[np.argsort(v, kind="stable")]
     v = h[order]
     run = np.concatenate([[0], np.cumsum(np.diff(v) > merge)])
     first = np.concatenate([[0], np.flatnonzero(np.diff(run)) + 1])
@@ -595,9 +626,15 @@ def reframe(masks: NDArray[np.uint32], a: tuple, b: tuple, b_yaw: FloatArray, to
     yaw = b_yaw[j]
     ai = a_rows[i] if a_rows is not None else i
     bj = b_rows[j] if b_rows is not None else j
-    alo, ahi = frame_boxes(a[0][ai], a[1][ai], a[2][ai], yaw)
-    blo, bhi = frame_boxes(b[0][bj], b[1][bj], b[2][bj], yaw)
-    masks[i, j] = relate_rows(alo, ahi, blo, bhi, tol)
+    if a is b:  # subjects and objects from the same arrays: their boxes in one call
+        rows, p = np.concatenate([ai, bj]), len(ai)
+        lo, hi = frame_boxes(a[0][rows], a[1][rows], a[2][rows], np.concatenate([yaw, yaw]))
+        alo, ahi, blo, bhi = lo[:p], hi[:p], lo[p:], hi[p:]
+    else:
+        alo, ahi = frame_boxes(a[0][ai], a[1][ai], a[2][ai], yaw)
+        blo, bhi = frame_boxes(b[0][bj], b[1][bj], b[2][bj], yaw)
+    # relate_rows without its checks: these are hulls of placed boxes, finite, lo <= hi
+    masks[i, j] = _masks_all_axes(alo.T, ahi.T, blo.T, bhi.T, _check_tolerance(tol))
 
 
 def relate_rows(a_lo: ArrayLike, a_hi: ArrayLike, b_lo: ArrayLike, b_hi: ArrayLike,
@@ -607,12 +644,4 @@ def relate_rows(a_lo: ArrayLike, a_hi: ArrayLike, b_lo: ArrayLike, b_hi: ArrayLi
     t = _check_tolerance(tol)
     a0s, a1s = _boxes(a_lo, a_hi, "subject")
     b0s, b1s = _boxes(b_lo, b_hi, "object")
-    out = np.zeros(a0s.shape[1], dtype=np.uint32)
-    for axis in range(3):
-        a0, a1, b0, b1 = a0s[axis], a1s[axis], b0s[axis], b1s[axis]
-
-        def code(x: FloatArray, b: FloatArray) -> NDArray[np.uint8]:
-            return (x >= b - t).view(np.uint8) + (x >= np.nextafter(b + t, np.inf)).view(np.uint8)
-        index = code(a0, b0) + 3 * code(a1, b1) + 9 * code(a1, b0) + 27 * code(a0, b1)
-        out |= _TABLES[axis][index]
-    return out
+    return _masks_all_axes(a0s, a1s, b0s, b1s, t)
