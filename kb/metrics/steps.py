@@ -110,10 +110,12 @@ def read_steps(path: str | Path) -> list[Step]:
 
 
 def _text_lines(f: Any) -> Iterator[str]:
-    for number, text in enumerate(f, 1):
-        if number == 1:
-            text = text.removeprefix("\ufeff")
-        yield text.removesuffix("\n").removesuffix("\r")
+    """The lines of a text file with their ``\\n`` (:func:`text_steps` takes them off where it
+    needs to), the first without a byte order mark."""
+    first = f.readline()
+    if first:
+        yield first.removeprefix("\ufeff")
+        yield from f
 
 
 def _lines(f: Any, path: Path) -> Iterator[str]:
@@ -128,8 +130,8 @@ def _lines(f: Any, path: Path) -> Iterator[str]:
 
 
 def text_steps(lines: Iterable[str], name: str | None = None) -> Iterator[Step]:
-    """The steps of CRCL text given as lines (without their ends): fast lines directly, runs
-    of the other lines through :func:`kb.crcl.read_text`."""
+    """The steps of CRCL text given as lines (with or without their ``\\n``): fast lines
+    directly, runs of the other lines through :func:`kb.crcl.read_text`."""
     slow: list[str] = []
     first = 0
     for number, line in enumerate(lines, 1):
@@ -139,7 +141,7 @@ def text_steps(lines: Iterable[str], name: str | None = None) -> Iterator[Step]:
                 continue
             if not slow:
                 first = number
-            slow.append(line)
+            slow.append(line.removesuffix("\n"))
             continue
         if slow:
             yield from _slow(slow, first, name)
@@ -174,12 +176,19 @@ _NUMBER = re.compile(_NUM)
 _INT = re.compile(r"[+-]?\d+")
 _STRING = re.compile(r'"([^"\\\n]*)"')
 _ONE_POSE = re.compile(_POSE)
+_MOVE = re.compile(rf"\s*(MoveTo|MoveStraightTo)\s*\(\s*{_POSE}\s*\)\s*")
 _POSES = re.compile(rf"((?:{_POSE_ANY}\s*,\s*)+)({_INT.pattern})")
 _VALUES = re.compile(_NUM)
 
 
 def _fast(line: str, number: int) -> Step | None:
     """The step of a plainly written one-line command, or None (read it the slow way)."""
+    m = _MOVE.fullmatch(line)
+    if m is not None:  # the commonest command first, in one match
+        groups = m.groups()
+        values = tuple(map(float, groups[1:]))
+        # a sum of finite numbers can overflow: such a line only takes the slow path
+        return (groups[0], number, (values,)) if math.isfinite(sum(values)) else None
     m = _STATEMENT.fullmatch(line)
     if m is None:
         return None
