@@ -326,6 +326,29 @@ def test_a_second_run_during_a_run_is_refused(url, scenario, reference, tmp_path
     assert _state(url)[0] == ACTIONS
 
 
+def test_two_runs_into_one_output_folder(scenario, tmp_path):
+    """Without --db a run writes out/<scenario>/world.sqlite, its own output: a second run into
+    the same folder is refused, never removes the database under the first."""
+    out = tmp_path / "out"
+    db = out / scenario[0].parent.name / "world.sqlite"
+    url = world.normalize_url(db)
+    first = subprocess.Popen([*SLOW_KITKB, "run", *map(str, scenario), "-o", str(out), "-q"],
+                             env=_slow(0.6), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        _started(first, url)
+        second = subprocess.run([*KITKB, "run", *map(str, scenario), "-o", str(out), "-q"],
+                                capture_output=True, text=True, timeout=300)
+        still_running = first.poll() is None
+    finally:
+        _, err = first.communicate(timeout=300)
+    assert first.returncode == 0, err
+    assert still_running, "the first run ended before the second came: the test proves nothing"
+    assert second.returncode == 2
+    _one_line_error(second.stderr, str(db))
+    _check_database(url)
+    assert _state(url)[0] == ACTIONS
+
+
 # --- a killed run --------------------------------------------------------------------------------
 
 @pytest.fixture(scope="module")

@@ -163,17 +163,21 @@ def _same_file(fd: int, path: Path) -> bool:
 
 def _lock_server(url: str, what: str) -> Callable[[], None]:
     from sqlalchemy import create_engine
+    from sqlalchemy.exc import SQLAlchemyError
     from sqlalchemy.pool import NullPool
 
-    from kb.world.database import open_engine
+    from kb.world.database import first_line, open_engine, safe_url
 
-    open_engine(url).dispose()  # the usual one-line errors for a bad URL or an unreachable server
-    args: dict[str, Any] = {}
-    if url.startswith("postgresql"):
-        args["application_name"] = _holder(what)[:63]
-    engine = create_engine(url, poolclass=NullPool, connect_args=args)
-    raw = engine.raw_connection()
+    engine = open_engine(url)  # the usual one-line errors for a bad URL or an unreachable server
+    if engine.dialect.name != "postgresql":  # kitkb loads and runs on SQLite and PostgreSQL only
+        engine.dispose()
+        return lambda: None
+    engine.dispose()
+    engine = create_engine(url, poolclass=NullPool, connect_args={"application_name": _holder(what)[:63]})
+    errors = (engine.dialect.dbapi.Error, SQLAlchemyError)  # type: ignore[union-attr]
+    raw = None
     try:
+        raw = engine.raw_connection()
         conn = raw.driver_connection
         conn.autocommit = True  # the lock outlives transactions; no transaction is left open
         cur = conn.cursor()
@@ -187,14 +191,21 @@ def _lock_server(url: str, what: str) -> Callable[[], None]:
             row = cur.fetchone()
             holder = (row[0] or f"a kitkb process (server pid {row[1]})") if row else ""
             raise _busy(url, holder)
+    except errors as exc:
+        _close(raw, engine)
+        raise InputError(f"cannot lock database {safe_url(url)}: {first_line(exc)}") from None
     except BaseException:
-        raw.close()
-        engine.dispose()
+        _close(raw, engine)
         raise
 
     def free() -> None:
-        try:
-            raw.close()  # ends the session: the server gives the lock back
-        finally:
-            engine.dispose()
+        _close(raw, engine)  # ends the session: the server gives the lock back
     return free
+
+
+def _close(raw: Any, engine: Any) -> None:
+    try:
+        if raw is not None:
+            raw.close()
+    finally:
+        engine.dispose()
