@@ -101,6 +101,18 @@ def test_fig11_has_no_sequence_errors_and_its_totals() -> None:
                                                  + move_time(3, 3.8, 10) + move_time(5, 3.8, 10) + 0.4)
 
 
+def test_rows_show_the_settings_in_the_units_in_force() -> None:
+    result = program_metrics(FIG11, rows=True)
+    before, after = by_line(result, 20).settings, by_line(result, 21).settings  # SetLengthUnits("mm") at 21
+    assert before["length_unit"] == "meter" and after["length_unit"] == "millimeter"
+    assert before["end_point_tolerance"] == pytest.approx(0.4) and after["end_point_tolerance"] == pytest.approx(400)
+    assert before["speed"] == pytest.approx(0.5) and after["speed"] == pytest.approx(500)
+    assert after["position"] == pytest.approx([9000, 8000, 2000])
+    assert after["gripper"] == after["tool_changer"] == "open"
+    assert by_line(result, 3).settings["gripper"] == "closed"
+    assert by_line(result, 24).settings["relative_acceleration"] == pytest.approx(0.8)  # -110 refused
+
+
 # --- each metric on a program written for it ------------------------------------------------------
 
 def test_move_time_is_a_trapezoid_or_a_triangle() -> None:

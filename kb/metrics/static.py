@@ -55,18 +55,21 @@ _Done = tuple[bool, float, float, "str | None"]
 @dataclass(frozen=True)
 class Row:
     """The metrics after one command: ``values`` in :data:`METRICS` order (cumulative, CCE the
-    command's own time), ``notes`` what happened (errors, why it was useless)."""
+    command's own time), ``notes`` what happened (errors, why it was useless), ``settings``
+    the robot's settings after it, in the units in force (the kittingViewer's Metrics &
+    Settings window)."""
 
     index: int
     line: int | None
     command: str
     values: tuple[float, ...]
     notes: tuple[str, ...] = ()
+    settings: dict[str, Any] | None = field(default=None, compare=False)
 
     def as_dict(self) -> dict[str, Any]:
         """The row as JSON data."""
         return {"index": self.index, "line": self.line, "command": self.command,
-                **dict(zip(METRICS, self.values)), "notes": list(self.notes)}
+                **dict(zip(METRICS, self.values)), "notes": list(self.notes), "settings": self.settings}
 
 
 @dataclass(frozen=True)
@@ -106,7 +109,7 @@ def static_metrics(steps: Iterable[Step], robot: Robot | None = None, *, rows: b
     for index, step in enumerate(steps):
         notes = run.step(step, index == first, index == last)
         if kept is not None:
-            kept.append(Row(index, step[1], describe(step), run.values(), tuple(notes)))
+            kept.append(Row(index, step[1], describe(step), run.values(), tuple(notes), run.settings()))
     return StaticMetrics(source, len(steps), robot, dict(zip(METRICS, run.values())), kept)
 
 
@@ -148,6 +151,26 @@ class _Run:
         te = self.re + self.pe + self.cse
         return (self.ace, self.oce, self.ace + self.oce, self.tdm, self.cce, self.tet,
                 self.re, self.pe, self.cse, te, self.uce)
+
+    def settings(self) -> dict[str, Any]:
+        """The settings now, in the units in force (speeds per second, tolerances, the
+        controlled point's position), as the kittingViewer showed them."""
+        length, angle = _LENGTH[self.length_unit], _ANGLE[self.angle_unit]
+        tolerance = self.tolerances.get
+        end_angle = tolerance("end angle tolerance (rad)")
+        return {
+            "length_unit": self.length_unit, "angle_unit": self.angle_unit,
+            "speed": self.speed / length, "relative_speed": 100.0 * self.speed / self.robot.max_speed,
+            "acceleration": self.acceleration / length,
+            "relative_acceleration": 100.0 * self.acceleration / self.robot.max_acceleration,
+            "end_angle_tolerance": None if end_angle is None else end_angle / angle,
+            **{f"{name}_tolerance": None if value is None else value / length
+               for name, value in (("end_point", tolerance("end point tolerance (m)")),
+                                   ("intermediate_point", tolerance("intermediate point tolerance (m)")))},
+            "gripper": "open" if self.gripper_open else "closed",
+            "tool_changer": "open" if self.changer_open else "closed",
+            "position": [v / length for v in self.point], "coordinate_frame": self.frame,
+        }
 
     def step(self, step: Step, first: bool, last: bool) -> list[str]:
         """Execute one step; the notes of what happened."""
