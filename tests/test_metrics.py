@@ -88,17 +88,28 @@ def test_fig11_first_close_gripper_and_close_tool_changer_are_useless() -> None:
 def test_fig11_has_no_sequence_errors_and_its_totals() -> None:
     result = program_metrics(FIG11)
     tdm = math.sqrt(29) + 8 + 2 + 3 + 5  # from the origin through (5,0,2) (5,8,2) (7,8,2), to (4,8,2), (9,8,2)
-    # MoveThroughTo at 50 % of 1 m/s, 10 m/s²; MoveStraightTo 3 m and MoveTo 5 m too (3.8 m/s is refused)
-    tet = 0.2 + 0.2 + 1.7 + move_time(math.sqrt(29) + 10, 0.5, 10) + move_time(3, 0.5, 10) \
-        + move_time(5, 0.5, 10) + 0.2 + 0.2
+    # MoveThroughTo at 50 % of 1 m/s and 10 % of 10 m/s² (the start); MoveStraightTo 3 m and MoveTo 5 m
+    # too (3.8 m/s is refused)
+    tet = 0.2 + 0.2 + 1.7 + move_time(math.sqrt(29) + 10, 0.5, 1) + move_time(3, 0.5, 1) \
+        + move_time(5, 0.5, 1) + 0.2 + 0.2
+    assert tet == pytest.approx(0.4 + 1.7 + (math.sqrt(29) + 10) / 0.5 + 0.5 + 6.5 + 10.5 + 0.4)
     assert result.totals == pytest.approx({
         "ACE": 8, "OCE": 13, "TCE": 21, "TDM": tdm, "CCE": 0.0, "TET": tet,
         "RE": 3, "PE": 1, "CSE": 0, "TE": 4, "UCE": 3})
     # SetAbsoluteSpeed(3.8) m/s is a range error only because the default robot's maximum is 1 m/s
     faster = program_metrics(FIG11, Robot(max_speed=4.0))
     assert faster.totals["RE"] == 2 and faster.totals["TE"] == 3
-    assert faster.totals["TET"] == pytest.approx(0.2 + 0.2 + 1.7 + move_time(math.sqrt(29) + 10, 3.8, 10)
-                                                 + move_time(3, 3.8, 10) + move_time(5, 3.8, 10) + 0.4)
+    assert faster.totals["TET"] == pytest.approx(0.2 + 0.2 + 1.7 + move_time(math.sqrt(29) + 10, 3.8, 1)
+                                                 + move_time(3, 3.8, 1) + move_time(5, 3.8, 1) + 0.4)
+
+
+def test_the_robot_starts_at_ten_percent_and_closed() -> None:
+    result = run(program('SetLengthUnits("meter")', move(0, 0, 1), "SetRelativeSpeed(10)",
+                         "SetAbsoluteAcceleration(1)", "SetEndPointTolerance(0)", "CloseGripper()"),
+                 Robot(max_speed=2.0, max_acceleration=10.0))
+    assert by_line(result, 3).values[METRICS.index("CCE")] == pytest.approx(move_time(1, 0.2, 1.0))
+    assert [delta(result, n, "UCE") for n in (4, 5, 6, 7)] == [1, 1, 1, 1]
+    assert by_line(result, 1).settings["relative_speed"] == pytest.approx(10)
 
 
 def test_rows_show_the_settings_in_the_units_in_force() -> None:
@@ -176,7 +187,8 @@ def test_range_errors_one_per_bound_broken_and_the_command_is_not_executed() -> 
 def test_a_range_error_leaves_the_setting_as_it_was() -> None:
     result = run(program('SetLengthUnits("meter")', "SetRelativeSpeed(50)", "SetRelativeSpeed(500)",
                          move(1, 0, 0)), Robot(max_speed=1.0, max_acceleration=1.0))
-    assert by_line(result, 5).values[METRICS.index("CCE")] == pytest.approx(move_time(1, 0.5, 1.0))
+    # the acceleration was never set: 10 % of the maximum, the kittingViewer's start
+    assert by_line(result, 5).values[METRICS.index("CCE")] == pytest.approx(move_time(1, 0.5, 0.1))
 
 
 def test_a_move_at_zero_speed_is_refused() -> None:

@@ -45,6 +45,9 @@ UNITS = {"TDM": "m", "CCE": "s", "TET": "s"}
 _LENGTH = {"meter": 1.0, "millimeter": 0.001, "inch": 0.0254}
 _SHORT = {"meter": "m", "millimeter": "mm", "inch": "in"}
 _ANGLE = {"degree": math.pi / 180.0, "radian": 1.0}
+#: Speed and acceleration before a program sets them, in % of the robot's maxima (the
+#: kittingViewer's ``robotRelSpeed`` and ``robotRelAccel`` at the start).
+INITIAL_PERCENT = 10.0
 #: How far from 1 an axis' length, and from 0 the Z and X axes' dot product, may be.
 AXIS_TOLERANCE = 1e-4
 _DOWN = (0.0, 0.0, -1.0, 1.0, 0.0, 0.0)
@@ -128,9 +131,11 @@ class _Run:
         self.changer_open = False
         self.scanning: set[str] = set()
         self.frame = "Workstation"
-        self.speed = robot.max_speed
-        self.acceleration = robot.max_acceleration
-        self.tolerances: dict[str, float | None] = {}
+        # the kittingViewer's start: 10 % of the maxima, tolerances 0
+        self.speed = INITIAL_PERCENT / 100.0 * robot.max_speed
+        self.acceleration = INITIAL_PERCENT / 100.0 * robot.max_acceleration
+        self.tolerances: dict[str, float | None] = dict.fromkeys(
+            ("end angle tolerance (rad)", "end point tolerance (m)", "intermediate point tolerance (m)"), 0.0)
         self._defaults()
         self._axes_checked: dict[tuple[float, ...], list[str]] = {}
         self._execute: dict[str, Callable[[Any], _Done]] = {
