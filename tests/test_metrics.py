@@ -259,6 +259,20 @@ def test_text_and_xml_give_the_same_metrics(tmp_path: Path) -> None:
     assert from_text.totals["RE"] == 2 and from_text.totals["UCE"] == 1
 
 
+def test_nist_commands1_has_no_errors_and_nothing_useless(tmp_path: Path) -> None:
+    from shared_data import NIST_DIR
+    commands1 = NIST_DIR / "commands1.xml"
+    if not commands1.exists():
+        pytest.skip("NIST CRCL files not present")
+    result = program_metrics(commands1)
+    assert {m: result.totals[m] for m in ("ACE", "OCE", "TCE", "RE", "PE", "CSE", "UCE")} == {
+        "ACE": 34, "OCE": 7, "TCE": 41, "RE": 0, "PE": 0, "CSE": 0, "UCE": 0}
+    from kb.crcl import write_text
+    text = tmp_path / "commands1.crcl"
+    text.write_text(write_text(read_file(commands1)))
+    assert program_metrics(text).totals == result.totals
+
+
 TRICKY = """\ufeff# a comment
 InitCanon ( )
   SetLengthUnits("mm")
