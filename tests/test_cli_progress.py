@@ -171,6 +171,7 @@ def _cases(tmp: Path) -> dict[str, list[str]]:
         "run": ["run", str(INIT), str(GOAL), "-o", str(tmp / "out"), "--report", str(tmp / "report.json")],
         "crcl convert": ["crcl", "convert", str(_crcl(tmp)), "-o", str(tmp / "p2.crcl")],
         "predicates": ["predicates", str(INIT), "-p", "part-location-partstray"],
+        "metrics": ["metrics", str(_crcl(tmp))],
     }
 
 
@@ -220,6 +221,9 @@ def test_every_subcommand_prints_one_json_object_with_the_facts_of_its_text(tmp_
             assert data["conforms"] is True and text.out.splitlines()[-1].startswith(f"{len(data['files'])} file(s)")
         if command == "predicates":
             assert [f"{d['predicate']}({', '.join(d['args'])})" for d in data] == text.out.splitlines()
+        if command == "metrics":
+            assert data["command"] == "metrics" and "score" in data
+            assert text.out.splitlines()[-1] == f"score {data['score']['total']:.3f}"
         if command == "run":
             assert data == json.loads((json_dir / "report.json").read_text())  # the report, on stdout too
             assert data["goal_holds"] is True and data["executed"] is True
@@ -277,3 +281,16 @@ def test_sim_serve_prints_its_ports_as_one_json_line() -> None:
         if proc.poll() is None:
             proc.kill()
             proc.wait()
+
+
+def test_quiet_keeps_the_json_object_it_was_asked_for(tmp_path: Path, capsys) -> None:
+    assert main(["convert", str(INIT), "-o", str(tmp_path / "a.nt"), "--format", "json", "-q"]) == 0
+    out = capsys.readouterr()
+    assert json.loads(out.out)["statements"] > 0 and out.err == ""
+
+
+def test_a_file_name_is_shown_as_written_not_read_as_markup() -> None:
+    stream = io.StringIO()
+    with tracker(stream, force=True).task("reading [bold]x[/b].ttl", total=3) as task:
+        task.advance()
+    assert "reading [bold]x[/b].ttl" in stream.getvalue()

@@ -48,30 +48,35 @@ def run(files: list[str], output: str, faults: str | None, seed: int, db: str | 
         cell: str | None, match_names: bool, out: Output, domain: list[str] | None = None,
         replace: bool = False) -> int:
     """``kitkb run [INIT GOAL]``: the closed loop on the files, or the main job on every shipped
-    scenario; progress on standard output (with ``--quiet`` only the problems found)."""
+    scenario; a line per stage and action on standard output (with ``--quiet`` only the problems
+    found; with ``--format json`` the report instead, the problems on standard error)."""
     if files and len(files) != 2:
         raise InputError(f"kitkb run takes an initial and a goal state file, not {len(files)} file(s)")
     if db and not files:
         raise InputError("--db takes one scenario (kitkb run INIT GOAL --db URL); the main job writes "
                          "out/<scenario>/world.sqlite for each")
     options = RunOptions(faults, seed, db, cell, match_names, domain, replace)
-    show = _Show(display=out.tracker, problems=sys.stderr if out.is_json else None,
+    show = _Show(display=out.tracker, problems=_Current("stderr") if out.is_json else None,
                  on_report=(lambda data: print(json.dumps(data, indent=1), file=out.results, flush=True))
                  if out.is_json else None)
-    stream: TextIO = _Discard() if out.is_json else out.stdout or _Stdout()  # type: ignore[assignment]
+    stream: TextIO = _Discard() if out.is_json else out.stdout or _Current("stdout")  # type: ignore[assignment]
     if files:
         return run_files(stream, files[0], files[1], output, options, report, quiet=out.quiet, show=show)
     return run_main_job(stream, output, quiet=out.quiet, options=options, report_path=report, show=show)
 
 
-class _Stdout:
-    """Standard output as it is when written to (a progress display may stand in for it)."""
+class _Current:
+    """A standard stream as it is when written to (a progress display stands in for it while it
+    is shown, to print lines above itself)."""
+
+    def __init__(self, name: str) -> None:
+        self.name = name
 
     def write(self, text: str) -> int:
-        return sys.stdout.write(text)
+        return getattr(sys, self.name).write(text)
 
     def flush(self) -> None:
-        sys.stdout.flush()
+        getattr(sys, self.name).flush()
 
 
 class _Discard:
@@ -90,7 +95,7 @@ class _Show:
     lines' own), the report once made (``--format json``)."""
 
     display: Progress = SILENT
-    problems: TextIO | None = None
+    problems: Any = None  # a stream
     on_report: Callable[[Any], None] | None = None
 
 
