@@ -125,6 +125,13 @@ def test_db_load_shows_progress_on_a_terminal(scenario: Path, tmp_path: Path) ->
     assert "kitkb: loaded" in plain
 
 
+def test_db_dump_shows_the_individuals_written_on_a_terminal(scenario: Path, tmp_path: Path) -> None:
+    assert main(["db", "load", str(scenario / "init.ttl"), "--db", str(tmp_path / "w.sqlite"), "-q"]) == 0
+    code, err = _on_a_terminal(["db", "dump", "--db", str(tmp_path / "w.sqlite"), "-o", str(tmp_path / "d.ttl")])
+    assert code == 0, err
+    assert re.search(r"writing the individuals .*\d+/[\d,]+ individuals", re.sub(r"\x1b\[[0-9;?]*[A-Za-z]", "", err))
+
+
 def test_no_progress_with_quiet_on_a_terminal(scenario: Path, tmp_path: Path) -> None:
     code, err = _on_a_terminal(["db", "load", str(scenario / "init.ttl"), "--db", str(tmp_path / "w.sqlite"), "-q"])
     assert code == 0 and err == ""

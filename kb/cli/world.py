@@ -26,7 +26,7 @@ def dump(db: str, output: str, out: Output) -> int:
     """Write database ``db`` to ``output`` as Turtle."""
     start = time.perf_counter()
     with out.progress(f"writing {Path(output).name} from the database"):
-        dump_db(db, output)
+        dump_db(db, output, progress=out.tracker)
     out.done(f"wrote {output} (the content of {db})", output=output, db=db, bytes=Path(output).stat().st_size,
              seconds=round(time.perf_counter() - start, 3))
     return 0

@@ -20,6 +20,7 @@ from typing import IO, TYPE_CHECKING, Any, Callable, Iterator
 from rdflib import BNode, Graph, Literal, URIRef
 
 from kb.core.files import atomic_paths
+from kb.core.progress import SILENT, Progress
 from kb.io.parsing import new_graph, parse_text
 from kb.io.turtle import Names, TurtleWriter, string
 from kb.world.bulk import quoted
@@ -41,11 +42,12 @@ _RDF_TYPE = "http://www.w3.org/1999/02/22-rdf-syntax-ns#type"
 Spelling = tuple[str, "str | None", "str | None"]  # lexical, datatype, language
 
 
-def dump(url: str | Path, out: str | Path) -> Path:
-    """Write database ``url`` to ``out`` as Turtle (atomically: complete or not at all)."""
+def dump(url: str | Path, out: str | Path, progress: Progress = SILENT) -> Path:
+    """Write database ``url`` to ``out`` as Turtle (atomically: complete or not at all);
+    ``progress``: where the individuals written report (:mod:`kb.core.progress`)."""
     with _reading(url) as conn, atomic_paths([out]) as (tmp,):
         with open(tmp, "w", encoding="utf-8", newline="\n") as f:
-            write_turtle(conn, f)
+            write_turtle(conn, f, progress)
     return Path(out)
 
 
@@ -88,13 +90,14 @@ class _reading:
             self.engine.dispose()
 
 
-def write_turtle(conn: Connection, out: IO[str]) -> dict[str, str]:
+def write_turtle(conn: Connection, out: IO[str], progress: Progress = SILENT) -> dict[str, str]:
     """Write the database open on ``conn`` to ``out`` as Turtle; the prefixes it declares."""
     prefixes = json.loads(read_meta(conn).get("prefixes", "{}"))
     names = Names(prefixes)
     with tempfile.TemporaryFile("w+", encoding="utf-8", newline="\n") as body:
         writer = TurtleWriter(body)
         dump = _Dump(conn, names, writer)
+        dump.progress = progress
         dump.run()
         writer.flush()
         used = names.used() | dump.used
@@ -110,6 +113,8 @@ def write_turtle(conn: Connection, out: IO[str]) -> dict[str, str]:
 
 class _Dump:
     """One dump: spellings of the individuals, then the rows range by range."""
+
+    progress: Progress = SILENT
 
     def __init__(self, conn: Connection, names: Names, writer: TurtleWriter):
         self.conn, self.names, self.writer, self.m = conn, names, writer, load_plan()
@@ -134,8 +139,10 @@ class _Dump:
         columns = [(t, self._columns(t)) for t in tables if "parent" in t.info and t.name != "kitkb_thing"]
         links = [(t, self._link(t)) for t in tables if t.info.get("link")]
         top = len(kinds) - 1
-        for lo in range(1, top + 1, CHUNK):
-            self._chunk(lo, min(lo + CHUNK, top + 1), kinds, columns, links, tables)
+        with self.progress.task("writing the individuals", total=top, unit="individuals") as task:
+            for lo in range(1, top + 1, CHUNK):
+                self._chunk(lo, min(lo + CHUNK, top + 1), kinds, columns, links, tables)
+                task.advance(min(CHUNK, top + 1 - lo))
         self._triples()
 
     def _filled(self) -> list[Table]:
