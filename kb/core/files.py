@@ -14,6 +14,7 @@ Overwriting an earlier output that is not an input stays allowed, as Unix tools 
 
 from __future__ import annotations
 
+import glob
 import os
 import tempfile
 from contextlib import contextmanager
@@ -106,6 +107,20 @@ def _mode_for(path: Path) -> int:
         return 0o666 & ~_umask()
 
 
+def _sweep(folder: Path, name: str) -> None:
+    """Remove the temporary files of ``name`` whose writer is gone (killed: SIGKILL leaves them).
+    A temporary file is named ``.NAME.PID.XXXXXXXX.tmp`` by the process writing it."""
+    for stale in folder.glob(f".{glob.escape(name)}.*.tmp"):
+        pid = stale.name[len(name) + 2:].split(".", 1)[0]
+        if pid.isdigit() and int(pid) != os.getpid():
+            try:
+                os.kill(int(pid), 0)
+            except ProcessLookupError:
+                stale.unlink(missing_ok=True)
+            except OSError:
+                pass  # alive, another user's
+
+
 @contextmanager
 def atomic_paths(paths: Sequence[str | Path]) -> Iterator[list[Path]]:
     """Temporary paths to write ``paths`` through: when the block ends normally each is renamed
@@ -127,7 +142,8 @@ def atomic_paths(paths: Sequence[str | Path]) -> Iterator[list[Path]]:
                 raise InputError(f"cannot write {target}: {folder} is a file, not a folder", target)
             folder.mkdir(parents=True, exist_ok=True)
             check_output(target)  # again: "x/../i.ttl" names i.ttl only once x exists
-            fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=folder)
+            _sweep(folder, target.name)
+            fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.{os.getpid()}.", suffix=".tmp", dir=folder)
             os.close(fd)
             temps.append(Path(tmp))
         yield temps

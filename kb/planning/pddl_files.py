@@ -15,6 +15,7 @@ from typing import Any, Callable
 
 from kb.core.errors import InputError
 from kb.core.files import note_input
+from kb.io.parsing import decode
 from kb.patches.unified_planning import environment
 
 
@@ -39,7 +40,7 @@ def read_pddl(domain_path: str | Path, problem_path: str | Path,
     for path in (domain_path, problem_path):
         note_input(path)
         try:
-            texts[path] = Path(path).read_text(encoding="utf-8")
+            texts[path] = decode(Path(path).read_bytes(), Path(path)).replace("\r\n", "\n").replace("\r", "\n")
         except OSError as exc:
             raise InputError(f"cannot read: {exc.strerror or exc}", path) from None
     domain = texts[domain_path]

@@ -39,8 +39,13 @@ _IJK = (KTW.hasVector_I, KTW.hasVector_J, KTW.hasVector_K)
 
 
 def number(v: float) -> Literal:
-    """``v`` as an ``xsd:decimal`` literal (12 decimals at most, as kitkb writes numbers)."""
-    return Literal(decimal(float(v)), datatype=XSD.decimal)
+    """``v`` as an ``xsd:decimal`` literal (12 decimals at most, as kitkb writes numbers); NaN
+    and the infinities, which ``xsd:decimal`` cannot hold, as ``xsd:double``."""
+    v = float(v)
+    if not math.isfinite(v):
+        lexical = "NaN" if math.isnan(v) else "INF" if v > 0 else "-INF"
+        return Literal(lexical, datatype=XSD.double, normalize=False)
+    return Literal(decimal(v), datatype=XSD.decimal)
 
 
 def rescale(graph: Graph, kind: str, unit: str) -> Graph:
@@ -60,8 +65,12 @@ def rescale(graph: Graph, kind: str, unit: str) -> Graph:
     props = {URIRef(p) for p, k in quantity_kinds().items() if k == kind}
     for s, p, o in list(graph):
         if p in props and isinstance(o, Literal) and isinstance(o.toPython(), (int, float, Decimal)):
+            try:
+                value = float(o.toPython()) * factor
+            except OverflowError:  # an xsd:integer of hundreds of digits
+                raise InputError(f"{local_name(s)}: {local_name(p)} is too large ({len(o)} digits)") from None
             graph.remove((s, p, o))
-            graph.add((s, p, number(float(o.toPython()) * factor)))
+            graph.add((s, p, number(value)))
     for ws, u in workstations:
         graph.remove((ws, prop, u))
         graph.add((ws, prop, Literal(unit)))

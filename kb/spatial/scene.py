@@ -332,6 +332,9 @@ class _Builder:
         except (TypeError, ValueError):
             raise InputError(f"{_local(node)}: {_local(prop)} is not a number: {v}", self.path,
                              self.locate(node)) from None
+        except OverflowError:  # an xsd:integer of hundreds of digits
+            raise InputError(f"{_local(node)}: {_local(prop)} is too large ({len(str(v))} digits)", self.path,
+                             self.locate(node)) from None
 
     def place(self, names, classes, own, index, poses, parents) -> None:  # noqa: ANN001
         """Global poses of the placed objects of the state file, level by level down the tree."""

@@ -13,12 +13,14 @@ from __future__ import annotations
 import io
 import json
 import shutil
+import sqlite3
 import tempfile
 from pathlib import Path
 from typing import IO, TYPE_CHECKING, Any, Callable, Iterator
 
 from rdflib import BNode, Graph, Literal, URIRef
 
+from kb.core.errors import InputError
 from kb.core.files import atomic_paths
 from kb.core.progress import SILENT, Progress
 from kb.io.parsing import new_graph, parse_text
@@ -82,12 +84,16 @@ class _reading:
             raise
         return conn
 
-    def __exit__(self, *exc: object) -> None:
+    def __exit__(self, kind: object, exc: object, tb: object) -> None:
         try:
             self.tx.rollback()
             self.conn.close()
         finally:
             self.engine.dispose()
+        cause = getattr(exc, "orig", exc)  # SQLite's own error, or SQLAlchemy's wrapping of it
+        if type(cause) is sqlite3.DatabaseError:  # exactly: a damaged file (not locked, not a bug's SQL)
+            raise InputError(f"database {self.url} is damaged (SQLite: {cause}); restore it or load it again") \
+                from None
 
 
 def write_turtle(conn: Connection, out: IO[str], progress: Progress = SILENT) -> dict[str, str]:
