@@ -1,4 +1,4 @@
-"""Fixtures the database tests share."""
+"""Fixtures the database tests share, and how the suite splits over pytest-xdist workers."""
 
 from __future__ import annotations
 
@@ -10,6 +10,14 @@ import pytest
 from kb import world
 
 PG_URL = os.environ.get("KITKB_PG_URL")
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Under ``-n N --dist loadgroup`` (./test.sh) the tests that use the one PostgreSQL
+    database of ``KITKB_PG_URL`` (each wipes it) run on one worker, one after another."""
+    for item in items:
+        if item.get_closest_marker("postgres"):
+            item.add_marker(pytest.mark.xdist_group("postgres"))
 
 
 @pytest.fixture(params=["sqlite", pytest.param("postgresql", marks=pytest.mark.postgres)])

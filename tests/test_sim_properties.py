@@ -362,7 +362,7 @@ def test_long_random_programs_and_faults_on_the_small_kit(data: st.DataObject) -
 
 
 @pytest.mark.slow
-@SLOW
+@settings(SLOW, max_examples=60)  # each example three times the small kit's time
 @given(st.data())
 def test_long_random_programs_and_faults_on_a_generated_kit(data: st.DataObject) -> None:
     drive(data, "generated", 150)
