@@ -27,7 +27,7 @@ DESCRIPTION = ("kitkb: a knowledge base for robotic kit building (NIST / IEEE OR
                "Validate ontology files, generate PDDL, SQL and scenarios from the ontologies, "
                "plan with a real planner, and keep the world model in a database. Long work shows its progress "
                "on standard error when that is a terminal (not with --quiet); every command takes --format json "
-               "for one JSON object on standard output.")
+               "for its facts as JSON on standard output (one object; predicates: a list).")
 EXIT_CODES = ("exit codes: 0 success (validate: the files conform); 1 violations found, or no plan "
               "exists; 2 unusable input (one line naming the file and line); 3 internal error; "
               "130 interrupted")
