@@ -28,16 +28,23 @@ from kb.core.errors import InputError
 MEMORY_SHARE = 0.75
 
 # --- measurements (docs/limits.md, "How the defaults were measured") --------------------------
-#: Peak resident memory per byte of a Turtle data file that ``kitkb validate`` holds (generated
-#: scenarios of 20,000 and 100,000 parts: 24 MB / 120 MB files, 0.7 / 3.5 million statements).
-BYTES_PER_FILE_BYTE = 40
-#: Peak resident memory per statement of ``kitkb validate`` on the same files.
-BYTES_PER_STATEMENT = 1400
-#: Peak resident memory per command of ``kitkb crcl convert`` text -> XML (a million-line
-#: program, text read line by line).
-BYTES_PER_CRCL_COMMAND = 1200
-#: Peak resident memory per part of ``kitkb scenario generate`` (10,000 to 100,000 parts).
+#: Memory per byte of a file read whole before its statements are counted: the bytes, their
+#: decoded text (1 to 4 bytes a character) and the parser's buffers. What the statements then
+#: cost is :data:`BYTES_PER_STATEMENT`'s to bound.
+BYTES_PER_FILE_BYTE = 8
+#: Peak resident memory per statement of ``kitkb validate`` on generated scenarios (``init.ttl``
+#: of 20,000 and 100,000 parts: 24 MB, 0.71 million statements, 0.72 GB peak; 120 MB,
+#: 3.5 million statements, 3.3 GB peak: 1,020 and 950 bytes a statement).
+BYTES_PER_STATEMENT = 1000
+#: Peak resident memory per command of ``kitkb crcl convert`` text -> XML with CRCL.xsd (a
+#: program of a million lines: 0.74 GB peak).
+BYTES_PER_CRCL_COMMAND = 800
+#: Peak resident memory per part of ``kitkb scenario generate`` (20,000 parts: 68 MB peak;
+#: 100,000 parts: 118 MB: 640 bytes a part).
 BYTES_PER_PART = 700
+#: Bytes ``kitkb scenario generate`` writes per part (init.ttl and goal.ttl, meters: 2.8 kB a
+#: part at 1,000 parts, 2.6 kB at 100,000).
+DISK_BYTES_PER_PART = 2800
 
 
 @lru_cache(maxsize=1)

@@ -25,6 +25,7 @@ from typing import Any, Callable
 
 from lxml import etree
 
+from kb.core import limits
 from kb.core.errors import InputError
 from kb.crcl.commands import (CloseGripper, CloseToolChanger, Command, Dwell, EndCanon, InitCanon,
                               Message, MoveStraightTo, MoveThroughTo, MoveTo, OpenGripper,
@@ -98,20 +99,130 @@ def read_xml(source: bytes | str | os.PathLike[str], schema: etree.XMLSchema | N
              *, name: str | None = None) -> Program:
     """The program of a CRCL XML document: ``source`` is its bytes or a file path. With
     ``schema`` the document is first validated against it. Anything that is not a CRCL.xsd
-    program is an :class:`~kb.core.errors.InputError` at its line."""
+    program is an :class:`~kb.core.errors.InputError` at its line.
+
+    A file of :data:`STREAM_FROM` bytes or more is read element by element (and validated
+    :data:`CHUNK` commands at a time): a program of millions of commands costs its commands,
+    not an element tree of them as well. More commands than
+    :data:`kb.core.limits.CRCL_COMMANDS` is an InputError at the first one too many."""
     if isinstance(source, bytes):
         data = source
     else:
-        data, name = _read(Path(source)), name or str(source)
+        path = Path(source)
+        name = name or str(source)
+        try:
+            if path.stat().st_size >= STREAM_FROM:
+                return _read_stream(path, schema, name)
+        except OSError:
+            pass  # _read says why
+        data = _read(path)
     tree = _parse(data, name)
     if schema is not None:
         _check_schema(tree, schema, name, "does not conform to")
     root = tree.getroot()
     if root.tag != "CRCLProgram":
         raise InputError(f"the root element is <{root.tag}>, not <CRCLProgram>", name, root.sourceline)
-    commands = tuple(_command(el, name) for el in _children(root, name))
+    children = _children(root, name)
+    most = limits.CRCL_COMMANDS.value()
+    if most is not None and len(children) > most:
+        raise limits.CRCL_COMMANDS.error(None, name, children[most].sourceline, "too many commands")
+    commands = tuple(_command(el, name) for el in children)
     _check_order(commands, name)
     return Program(commands, source=name)
+
+
+#: Files at least this big are read by :func:`_read_stream`.
+STREAM_FROM = 16_000_000
+
+
+def _read_stream(path: Path, schema: etree.XMLSchema | None, name: str) -> Program:
+    """:func:`read_xml` of a big file, one command element at a time: each :data:`CHUNK` of
+    them validated as a program of its own (framed by InitCanon / EndCanon where it lacks
+    them, lines mapped back to the file), turned into commands, then dropped from the tree."""
+    _refuse_doctype(path, name)
+    most = limits.CRCL_COMMANDS.value()
+    commands: list[Command] = []
+    pending: list[Any] = []
+    root = None
+    depth = 0
+    try:
+        for event, el in etree.iterparse(str(path), events=("start", "end"), resolve_entities=False,
+                                         no_network=True, load_dtd=False, huge_tree=False):
+            if event == "start":
+                depth += 1
+                if root is None:
+                    root = el
+                    if el.getroottree().docinfo.doctype:
+                        raise InputError("a DOCTYPE is not allowed in CRCL XML (no entity is expanded or fetched)",
+                                         name, 1)
+                    if el.tag != "CRCLProgram":
+                        raise InputError(f"the root element is <{el.tag}>, not <CRCLProgram>", name, el.sourceline)
+                continue
+            depth -= 1
+            if depth != 1 or not isinstance(el.tag, str):
+                continue
+            pending.append(el)
+            if most is not None and len(commands) + len(pending) > most:
+                raise limits.CRCL_COMMANDS.error(None, name, el.sourceline, "too many commands")
+            if len(pending) > max(CHUNK, 2) + 1:  # two kept back: the last chunk is never EndCanon alone
+                _take(pending[:-2], root, schema, name, commands, first=not commands, last=False)
+                pending = pending[-2:]
+    except etree.XMLSyntaxError as exc:
+        message = ((exc.msg or str(exc)).strip().splitlines() or ["not well-formed"])[0]
+        raise InputError(f"XML syntax error: {message}", name, exc.lineno) from None
+    if root is not None and root.text and root.text.strip():
+        raise InputError(f"unexpected text {root.text.strip()[:30]!r} in <{root.tag}>", name, root.sourceline)
+    _take(pending, root, schema, name, commands, first=not commands, last=True)
+    result = tuple(commands)
+    _check_order(result, name)
+    return Program(result, source=name)
+
+
+def _take(elements: list[Any], root: Any, schema: etree.XMLSchema | None, name: str,
+          commands: list[Command], *, first: bool, last: bool) -> None:
+    """Validate ``elements`` (one chunk of the program) and append their commands; then drop
+    them from the tree."""
+    if not elements:
+        return
+    if schema is not None:
+        parts = [b"<CRCLProgram>\n", b"" if first else b"<InitCanon/>\n"]
+        starts = []  # (line in the chunk document, line in the file) of each element
+        line = 1 + parts[1].count(b"\n")
+        for el in elements:
+            text = etree.tostring(el, with_tail=False) + b"\n"
+            starts.append((line + 1, el.sourceline))
+            parts.append(text)
+            line += text.count(b"\n")
+        parts.append((b"" if last else b"<EndCanon/>\n") + b"</CRCLProgram>\n")
+        chunk = etree.fromstring(b"".join(parts), hardened_parser()).getroottree()
+        if not schema.validate(chunk):
+            errors = list(schema.error_log)
+            at = errors[0].line
+            where = next(((file_line + at - doc_line) for doc_line, file_line in reversed(starts) if at >= doc_line),
+                          root.sourceline)  # before the first element: the program itself
+            more = f" (and {len(errors) - 1} more in these {len(elements):,} commands)" if len(errors) > 1 else ""
+            raise InputError(f"does not conform to CRCL.xsd: {errors[0].message}{more}", name, where)
+    for el in elements:
+        if el.tail and el.tail.strip():
+            raise InputError(f"unexpected text {el.tail.strip()[:30]!r} in <{root.tag}>", name, root.sourceline)
+        commands.append(_command(el, name))
+    for el in elements:
+        el.clear()
+        root.remove(el)
+
+
+def _refuse_doctype(path: Path, name: str) -> None:
+    """A DOCTYPE before the root element is an InputError at its line (the head of the file
+    is read: a DOCTYPE comes before the root element)."""
+    try:
+        with open(path, "rb") as f:
+            head = f.read(1 << 16)
+    except OSError as exc:
+        raise InputError(f"cannot read: {exc.strerror or exc}", path) from None
+    at = head.find(b"<!DOCTYPE")
+    if at >= 0:
+        raise InputError("a DOCTYPE is not allowed in CRCL XML (no entity is expanded or fetched)",
+                         name, head.count(b"\n", 0, at) + 1)
 
 
 def _read(path: Path) -> bytes:

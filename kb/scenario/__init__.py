@@ -16,8 +16,10 @@ Public API: :func:`build_scenario`, :func:`write_scenario`, :func:`write_spec`,
 
 from __future__ import annotations
 
+import shutil
 from pathlib import Path
 
+from kb.core import limits
 from kb.core.errors import InputError
 from kb.core.files import atomic_paths
 from kb.core.jobs import Forked
@@ -29,10 +31,12 @@ from kb.scenario.spec import SHIPPED, ScenarioSpec, random_spec
 from kb.scenario.turtle import header, write_turtle
 
 def build_scenario(parts: int, kits: int, seed: int) -> Scenario:
-    """A generated scenario of ``parts`` parts in ``kits`` kits; deterministic for ``seed``."""
+    """A generated scenario of ``parts`` parts in ``kits`` kits; deterministic for ``seed``.
+    More parts than :data:`kb.core.limits.PARTS` is an InputError before anything is built."""
     for what, value in (("parts", parts), ("kits", kits)):
         if not isinstance(value, int) or isinstance(value, bool) or value < 1:
             raise InputError(f"--{what} must be a whole number of at least 1 (got {value!r})")
+    limits.PARTS.check(parts, what=f"--parts {parts:,}")
     if kits > parts:
         raise InputError(f"--kits ({kits}) cannot exceed --parts ({parts}): every kit needs a part")
     return layout(random_spec(parts, kits, seed))
@@ -74,11 +78,30 @@ def _write_states(sc: Scenario, paths: list[Path]) -> None:
 def write_scenario(out_dir: Path, *, parts: int, kits: int, seed: int,
                    progress: Progress = SILENT) -> tuple[Path, Path]:
     """Generate a scenario (see :func:`build_scenario`) and write it into ``out_dir``
-    (``progress``: where its two steps report, :mod:`kb.core.progress`)."""
+    (``progress``: where its two steps report, :mod:`kb.core.progress`). A folder on a disk
+    without room for the files (:data:`kb.core.limits.DISK_BYTES_PER_PART` a part) is an
+    InputError before anything is built."""
+    limits.PARTS.check(parts, what=f"--parts {parts:,}")
+    _check_room(Path(out_dir), parts)
     with progress.task(f"laying out a workstation of {parts} parts"):
         sc = build_scenario(parts, kits, seed)
     with progress.task(f"writing {Path(out_dir) / 'init.ttl'} and goal.ttl"):
         return write_spec(sc, out_dir)
+
+
+def _check_room(out_dir: Path, parts: int) -> None:
+    """Refuse to start writing files the disk under ``out_dir`` has no room for."""
+    folder = out_dir
+    while not folder.exists() and folder != folder.parent:
+        folder = folder.parent
+    try:
+        free = shutil.disk_usage(folder).free
+    except OSError:
+        return
+    needed = parts * limits.DISK_BYTES_PER_PART
+    if needed > free:
+        raise InputError(f"--parts {parts:,} needs about {limits.FILE_BYTES.show(needed)} on disk, "
+                         f"{limits.FILE_BYTES.show(free)} free", file=out_dir)
 
 
 def write_shipped(root: Path | None = None) -> list[Path]:
