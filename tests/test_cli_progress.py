@@ -132,6 +132,12 @@ def test_db_dump_shows_the_individuals_written_on_a_terminal(scenario: Path, tmp
     assert re.search(r"writing the individuals .*\d+/[\d,]+ individuals", re.sub(r"\x1b\[[0-9;?]*[A-Za-z]", "", err))
 
 
+def test_validate_says_which_step_it_is_at_on_a_terminal(scenario: Path) -> None:
+    code, err = _on_a_terminal(["validate", str(scenario / "init.ttl")])
+    assert code == 0, err
+    assert "validating init.ttl (" in err and "reading 1 file(s)" in err and "the Python rules" in err
+
+
 def test_no_progress_with_quiet_on_a_terminal(scenario: Path, tmp_path: Path) -> None:
     code, err = _on_a_terminal(["db", "load", str(scenario / "init.ttl"), "--db", str(tmp_path / "w.sqlite"), "-q"])
     assert code == 0 and err == ""

@@ -19,7 +19,7 @@ def validate(files: list[str], format: str, out: Output, ignore: list[str] | Non
     rules = {r.strip() for item in ignore or () for r in item.split(",") if r.strip()}
     files = files or default_files()
     with out.progress(f"validating {_files(files)}"):
-        report = validate_files(files, ignore=rules)
+        report = validate_files(files, ignore=rules, progress=out.tracker)
     if format == "json":
         print(json.dumps(report.as_dict(), indent=2), file=out.results)
     else:

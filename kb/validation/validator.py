@@ -25,6 +25,7 @@ from kb import shacl
 from kb.core.diagnostics import Diagnostic
 from kb.core.errors import InputError
 from kb.core.memory import gc_paused
+from kb.core.progress import SILENT, Progress, Task
 from kb.core.namespaces import KTW, SH
 from kb.core.resources import ontologies_dir, ontology_path, scenario_dirs, shapes_path
 from kb.io.loader import load, load_file
@@ -90,27 +91,29 @@ def default_files() -> list[str]:
 # --- validation -------------------------------------------------------------------------
 
 def validate(paths: Sequence[str | Path], *, shapes_files: Sequence[str | Path] | None = None,
-             ignore: Collection[str] = ()) -> ValidationReport:
+             ignore: Collection[str] = (), progress: Progress = SILENT) -> ValidationReport:
     """Validate ``paths`` (model and data files) closed-world; see the module docstring.
 
     ``shapes_files`` replaces the hand-written rule files (for tests); an empty shapes
     graph raises :class:`InputError`. ``ignore``: rule names left out of the report (the
-    geometry rules are then not even computed).
+    geometry rules are then not even computed). ``progress``: where each step says what it
+    does (:mod:`kb.core.progress`).
     """
     started = time.perf_counter()
     if not paths:
         raise InputError("nothing to validate: no files given")
     # millions of long-lived acyclic objects (terms, index dictionaries): the cyclic garbage
     # collector would walk them all again and again, for nothing
-    with gc_paused():
-        report = _validate(paths, shapes_files, started, frozenset(ignore))
+    with gc_paused(), progress.task(f"reading {len(paths)} file(s)") as step:
+        report = _validate(paths, shapes_files, started, frozenset(ignore), step)
     if ignore:
         report.diagnostics = [d for d in report.diagnostics if d.rule not in ignore]
     return report
 
 
 def _validate(paths: Sequence[str | Path], shapes_files: Sequence[str | Path] | None,
-              started: float, ignore: frozenset[str] = frozenset()) -> ValidationReport:
+              started: float, ignore: frozenset[str] = frozenset(), step: Task | None = None) -> ValidationReport:
+    step = step or SILENT.task("")
     kb = load([str(p) for p in paths])
     given = {_key(p) for p in paths}
     sources = [s for s in kb.sources if _key(s.path) in given] or list(kb.sources)
@@ -131,12 +134,14 @@ def _validate(paths: Sequence[str | Path], shapes_files: Sequence[str | Path] | 
         if todo:
             pending.append((id(todo[0]), shacl.start(checked[id(todo[0])], shapes)))
         pending += [(id(src), functools.partial(_later_shacl, checked[id(src)], shapes)) for src in todo[1:]]
+    step.update(description="the Python rules and geometry" + (", SHACL meanwhile" if pending else ""))
     ctx = rules.RuleContext(model, _individuals(kb.sources), namer.name, later.locate)
     for src in sources:
         ctx.out.extend(getattr(src, "warnings", []) or [])
         (rules.check_data_source if src in data else rules.check_model_source)(ctx, src)
         if src in data:
             check_geometry(ctx, src, ignore)
+    step.update(description=f"SHACL shapes on {len(checked)} file(s)")
     for key, finish in pending:
         # while a forked child is still evaluating, the big files get ready for line look-ups
         found[key] = finish(functools.partial(later.warm, sources))
@@ -145,6 +150,7 @@ def _validate(paths: Sequence[str | Path], shapes_files: Sequence[str | Path] | 
         later.want(src, (r.focus for r in found.get(id(src), ())))
         later.want(src, (s for r in found.get(id(src), ()) if r.path is not None and not isinstance(r.path, URIRef)
                          for s in checked[id(src)].subjects(None, r.focus)))
+    step.update(description="finding the lines of the results")
     later.prepare()
     ctx.out = [later.resolve(d) for d in ctx.out]
     ctx.locate = line_of
