@@ -532,8 +532,15 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--json", default=str(ROOT / "benchmarks" / "results" / "bad_input.json"),
                         help="where the counts go")
     parser.add_argument("--no-doc", action="store_true", help="do not write docs/benchmarks.md")
+    parser.add_argument("--render", action="store_true",
+                        help="only rewrite the docs/benchmarks.md section from the --json results")
     args = parser.parse_args(argv)
     from common import write_doc
+
+    if args.render:
+        saved = json.loads(Path(args.json).read_text())
+        write_doc("Bad-input campaign", render(saved, saved["seed"], saved["subprocess"], saved["wall"]))
+        return 0
 
     start = time.perf_counter()
     with tempfile.TemporaryDirectory(prefix="kitkb-bad-input-") as tmp:
@@ -551,7 +558,8 @@ def main(argv: list[str] | None = None) -> int:
     result = summary(outcomes)
     wall = time.perf_counter() - start
     Path(args.json).parent.mkdir(parents=True, exist_ok=True)
-    Path(args.json).write_text(json.dumps({"seed": args.seed, "wall": round(wall, 1), **result}, indent=1) + "\n")
+    Path(args.json).write_text(json.dumps({"seed": args.seed, "subprocess": args.subprocess, "wall": round(wall, 1),
+                                           **result}, indent=1) + "\n")
     if not args.no_doc:
         write_doc("Bad-input campaign", render(result, args.seed, args.subprocess, wall))
     print(json.dumps({k: result[k] for k in ("inputs", "by_exit", "tracebacks")}))

@@ -197,6 +197,8 @@ def _value(tokens: list[tuple[str, str]], pos: int) -> tuple[Any, int]:
     kind, text = tokens[pos]
     if kind == "number":
         is_int = re.fullmatch(r"[+-]?\d+", text)
+        if is_int and len(text) > 4000:  # int() refuses more than sys.get_int_max_str_digits() (4300)
+            raise _Bad(f"a number of {len(text):,} digits")
         return (int(text) if is_int else float(text)), pos + 1
     if kind == "string":
         return _Str(_UNESCAPE.sub(lambda m: _ESCAPES.get(m.group(1), m.group(0)), text)), pos + 1
