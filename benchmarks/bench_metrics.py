@@ -101,13 +101,15 @@ def _process(args: list[str], repeat: int) -> dict[str, float]:
     return {"wall": statistics.median(walls), "cpu": statistics.median(cpus), "runs": repeat}
 
 
-def _timed(fn: Callable[[], Any], repeat: int) -> tuple[float, Any]:
-    times, value = [], None
+def _timed(fn: Callable[[], Any], repeat: int) -> tuple[dict[str, float], Any]:
+    """Medians of wall and CPU seconds of ``fn()`` in this process, and its value."""
+    walls, cpus, value = [], [], None
     for _ in range(repeat):
-        start = time.perf_counter()
+        start, cpu = time.perf_counter(), time.process_time()
         value = fn()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times), value
+        walls.append(time.perf_counter() - start)
+        cpus.append(time.process_time() - cpu)
+    return {"wall": statistics.median(walls), "cpu": statistics.median(cpus)}, value
 
 
 def measure(commands: int, repeat: int, seed: int) -> dict[str, Any]:
@@ -130,7 +132,8 @@ def measure(commands: int, repeat: int, seed: int) -> dict[str, Any]:
             "process_per_command": _process(["metrics", str(text_path), "--format", "json", "--per-command"],
                                             repeat),
             "process_xml": _process(["metrics", str(xml_path), "--format", "json"], repeat),
-            "read_fast": read_fast, "read_kb_crcl": read_crcl + convert, "evaluate": evaluate,
+            "read_fast": read_fast, "evaluate": evaluate,
+            "read_kb_crcl": {k: read_crcl[k] + convert[k] for k in ("wall", "cpu")},
             "evaluate_rows": rows,
         }
         return {
@@ -156,7 +159,8 @@ def render(run: dict[str, Any]) -> str:
         f"{run['seed']}, {run['bytes'] / 1e6:.1f} MB of CRCL text): about 60 % moves, gripper commands, dwells, "
         "messages, speed and acceleration settings, 1 % faults (unreadable lines, values out of range). "
         "Whole processes are `python -m kb.cli metrics PROGRAM --format json` (interpreter start, imports, "
-        "reading, evaluation, output); CPU is the child's user + system time.",
+        "reading, evaluation, output); CPU is the child's user + system time, in process the process's "
+        "CPU time. On a shared machine the CPU column is the steadier figure.",
         "",
         f"Machine: {m['cpu']}, {m['cores']} cores, {m['system']}, Python {m['python']}; load average "
         f"{run['load'][0]:.1f} at the start and {run['load'][1]:.1f} at the end (other jobs share the "
@@ -169,10 +173,11 @@ def render(run: dict[str, Any]) -> str:
         f"{f['process_per_command']['cpu']:.2f} s |",
         f"| the same program as CRCL XML (no faults: XML cannot hold them) | {f['process_xml']['wall']:.2f} s | "
         f"{f['process_xml']['cpu']:.2f} s |",
-        f"| in process: reading, kb.metrics' fast text path | {f['read_fast']:.2f} s | |",
-        f"| in process: reading with `kb.crcl.read_file` + `steps_of` | {f['read_kb_crcl']:.2f} s | |",
-        f"| in process: evaluating the metrics (`static_metrics`) | {f['evaluate']:.2f} s | |",
-        f"| in process: evaluating with a row per command | {f['evaluate_rows']:.2f} s | |",
+        *(f"| in process: {what} | {f[key]['wall']:.2f} s | {f[key]['cpu']:.2f} s |" for key, what in (
+            ("read_fast", "reading, kb.metrics' fast text path"),
+            ("read_kb_crcl", "reading with `kb.crcl.read_file` + `steps_of`"),
+            ("evaluate", "evaluating the metrics (`static_metrics`)"),
+            ("evaluate_rows", "evaluating with a row per command"))),
         "",
         "Without the fast path (every line through `kb.crcl.read_text`'s tokenizer and a "
         "`Command` per line) reading alone takes longer than the whole budget; the fast path reads a plainly "
@@ -195,7 +200,7 @@ def main() -> None:
     for name in ("process", "process_per_command", "process_xml"):
         print(f"{name:>22}: median wall {f[name]['wall']:.3f} s, CPU {f[name]['cpu']:.3f} s")
     for name in ("read_fast", "read_kb_crcl", "evaluate", "evaluate_rows"):
-        print(f"{name:>22}: median {f[name]:.3f} s")
+        print(f"{name:>22}: median wall {f[name]['wall']:.3f} s, CPU {f[name]['cpu']:.3f} s")
     history = json.loads(RESULTS.read_text()) if RESULTS.exists() else []
     history.append(run)
     RESULTS.write_text(json.dumps(history, indent=1) + "\n")

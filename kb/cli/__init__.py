@@ -226,7 +226,7 @@ def _add_crcl(sub: Any) -> None:
 def _add_metrics(sub: Any) -> None:
     p = _sub(sub, "metrics", "metrics", "the static metrics of a CRCL program (the kittingViewer's ACE ... UCE)",
              format_help="text: a table of the metrics and the score; json: one object with metrics, names, "
-                         "units, robot, score and (with --per-command) rows (default text)",
+                         "units, robot, score and (with --per-command) rows, then on one line (default text)",
              description="Evaluate a CRCL program (.crcl text or .xml CRCL XML) command by command on a "
                          "simulated robot and print the first paper's static metrics with cumulative values: "
                          "ACE, OCE, TCE, TDM, CCE, TET, RE, PE, CSE, TE, UCE (docs/metrics.md defines them), "

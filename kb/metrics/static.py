@@ -55,7 +55,7 @@ _DOWN = (0.0, 0.0, -1.0, 1.0, 0.0, 0.0)
 _Done = tuple[bool, float, float, "str | None"]
 
 
-@dataclass(frozen=True)
+@dataclass(slots=True)
 class Row:
     """The metrics after one command: ``values`` in :data:`METRICS` order (cumulative, CCE the
     command's own time), ``notes`` what happened (errors, why it was useless), ``settings``
@@ -134,7 +134,7 @@ class _Run:
         # the kittingViewer's start: 10 % of the maxima, tolerances 0
         self.speed = INITIAL_PERCENT / 100.0 * robot.max_speed
         self.acceleration = INITIAL_PERCENT / 100.0 * robot.max_acceleration
-        self.tolerances: dict[str, float | None] = dict.fromkeys(
+        self.tolerances = dict.fromkeys(
             ("end angle tolerance (rad)", "end point tolerance (m)", "intermediate point tolerance (m)"), 0.0)
         self._defaults()
         self._axes_checked: dict[tuple[float, ...], list[str]] = {}
@@ -161,17 +161,15 @@ class _Run:
         """The settings now, in the units in force (speeds per second, tolerances, the
         controlled point's position), as the kittingViewer showed them."""
         length, angle = _LENGTH[self.length_unit], _ANGLE[self.angle_unit]
-        tolerance = self.tolerances.get
-        end_angle = tolerance("end angle tolerance (rad)")
+        tolerance = self.tolerances
         return {
             "length_unit": self.length_unit, "angle_unit": self.angle_unit,
             "speed": self.speed / length, "relative_speed": 100.0 * self.speed / self.robot.max_speed,
             "acceleration": self.acceleration / length,
             "relative_acceleration": 100.0 * self.acceleration / self.robot.max_acceleration,
-            "end_angle_tolerance": None if end_angle is None else end_angle / angle,
-            **{f"{name}_tolerance": None if value is None else value / length
-               for name, value in (("end_point", tolerance("end point tolerance (m)")),
-                                   ("intermediate_point", tolerance("intermediate point tolerance (m)")))},
+            "end_angle_tolerance": tolerance["end angle tolerance (rad)"] / angle,
+            "end_point_tolerance": tolerance["end point tolerance (m)"] / length,
+            "intermediate_point_tolerance": tolerance["intermediate point tolerance (m)"] / length,
             "gripper": "open" if self.gripper_open else "closed",
             "tool_changer": "open" if self.changer_open else "closed",
             "position": [v / length for v in self.point], "coordinate_frame": self.frame,
@@ -300,7 +298,7 @@ class _Run:
 
     def _setting(self, attribute: str, new: Any, what: str) -> _Done:
         old = getattr(self, attribute)
-        same = old == new if isinstance(new, str) or old is None else math.isclose(old, new, rel_tol=1e-9)
+        same = old == new if isinstance(new, str) else math.isclose(old, new, rel_tol=1e-9)
         setattr(self, attribute, new)
         return False, 0.0, 0.0, f"the {what} is already {_show(new)}" if same else None
 
@@ -326,9 +324,8 @@ class _Run:
         return self._setting("acceleration", percent / 100.0 * self.robot.max_acceleration, "acceleration (m/s²)")
 
     def _tolerance(self, name: str, value: float) -> _Done:
-        old = self.tolerances.get(name)
+        same = math.isclose(self.tolerances[name], value, rel_tol=1e-9)
         self.tolerances[name] = value
-        same = old is not None and math.isclose(old, value, rel_tol=1e-9)
         return False, 0.0, 0.0, f"the {name} is already {_show(value)}" if same else None
 
     def _SetEndAngleTolerance(self, tolerance: float) -> _Done:
