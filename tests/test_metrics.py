@@ -326,6 +326,16 @@ def test_fast_reader_on_a_generated_program(tmp_path: Path) -> None:
     assert read_steps(path) == steps_of(read_file(path))
 
 
+def test_more_commands_than_kb_crcl_allows_is_an_input_error(tmp_path: Path,
+                                                              monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("KITKB_MAX_CRCL_COMMANDS", "3")
+    path = tmp_path / "long.crcl"
+    path.write_text(program("Dwell(1)", "oops") + "\n")
+    with pytest.raises(InputError, match="too many commands") as info:
+        read_steps(path)
+    assert info.value.line == 4
+
+
 def test_not_utf8_is_an_input_error_at_its_line(tmp_path: Path) -> None:
     path = tmp_path / "bad.crcl"
     path.write_bytes(b"InitCanon()\nDwell(\xff1)\nEndCanon()\n")

@@ -21,6 +21,7 @@ import re
 from pathlib import Path
 from typing import Any, Iterable, Iterator
 
+from kb.core import limits
 from kb.core.errors import InputError
 from kb.core.files import note_input
 from kb.crcl import read_text, read_xml
@@ -131,7 +132,18 @@ def _lines(f: Any, path: Path) -> Iterator[str]:
 
 def text_steps(lines: Iterable[str], name: str | None = None) -> Iterator[Step]:
     """The steps of CRCL text given as lines (with or without their ``\\n``): fast lines
-    directly, runs of the other lines through :func:`kb.crcl.read_text`."""
+    directly, runs of the other lines through :func:`kb.crcl.read_text`. More commands than
+    :data:`kb.core.limits.CRCL_COMMANDS` (kb.crcl's bound) is an InputError at its line."""
+    most = limits.CRCL_COMMANDS.value()
+    count = 0
+    for step in _text_steps(lines, name):
+        count += 1
+        if most is not None and count > most:
+            raise limits.CRCL_COMMANDS.error(None, name, step[1], "too many commands")
+        yield step
+
+
+def _text_steps(lines: Iterable[str], name: str | None) -> Iterator[Step]:
     slow: list[str] = []
     first = 0
     for number, line in enumerate(lines, 1):
