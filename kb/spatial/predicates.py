@@ -5,11 +5,12 @@ once, as a Boolean array with one axis per term in scope: the reference candidat
 its reference class), the target candidates, then one axis per enclosing quantifier. An array
 has size 1 on an axis its value does not depend on, so numpy broadcasting does the joins:
 
-* a relation atom computes the 30-bit RCC8/cardinal masks of its subject and object
-  candidates in one :func:`kb.spatial.rcc8.relate` call on the world boxes (cached per
-  candidate pair of sets), the pairs that meet there and whose object is turned decided again
-  in the object's frame (:func:`kb.spatial.rcc8.reframe`; docs/soap.md, "Orientation"), and
-  tests them with the relation's ``owl:equivalentClass`` expression, compiled to bit tests;
+* a relation atom reads the 30-bit RCC8/cardinal masks of its subject and object candidates
+  (:class:`kb.spatial.relations.PairRelations`: one :func:`kb.spatial.rcc8.relate` call on the
+  world boxes, for every pair at once in a small scene such as an action's neighbourhood, the
+  pairs that meet there and whose object is turned decided again in the object's frame;
+  docs/soap.md, "Orientation"), tested with the relation's ``owl:equivalentClass`` expression
+  compiled to bit tests;
 * ``Exists`` adds the variable's candidates (objects of its class that are placed or not,
   never the objects already bound on another axis) as a new axis and reduces it with ``any``;
   ``Count`` sums it and compares; ``And`` evaluates its operands left to right, each only on
@@ -25,7 +26,7 @@ from __future__ import annotations
 
 import operator
 from dataclasses import dataclass
-from typing import Callable, Iterable
+from typing import Iterable
 
 import numpy as np
 
@@ -46,64 +47,17 @@ from kb.model.definitions import (
     Or,
     PredicateLeaf,
     Relation,
-    RelationExpr,
     Sensor,
     Sku,
     Variable,
 )
-from kb.spatial.rcc8 import BIT, DEFAULT_TOLERANCE, heading_groups, headings, reframe, relate
+from kb.spatial.rcc8 import DEFAULT_TOLERANCE
+from kb.spatial.relations import WHOLE_SCENE, PairRelations, compile_relation, compiled, object_frames
+
+__all__ = ["Axis", "Evaluator", "compile_relation"]  # compile_relation: kb.spatial.relations', importable here too
 from kb.spatial.scene import Scene
 
-Mask = Callable[[np.ndarray], np.ndarray]
-#: A scene of at most this many objects (an action's neighbourhood) has the masks of all its
-#: pairs computed in one kernel call on first use, and each relation's truth over all of them
-#: once; a larger scene computes the masks of each atom's candidate sets as it needs them.
-WHOLE_SCENE = 160
 _OPS = {"<": operator.lt, "<=": operator.le, "=": operator.eq, ">=": operator.ge, ">": operator.gt}
-
-
-def compile_relation(expr: RelationExpr) -> Mask:
-    """A function of a uint32 relation-mask array -> Boolean array, from a relation expression."""
-    if expr.op == "prim":
-        bit = np.uint32(BIT[expr.name])
-        return lambda m: (m & bit) != 0
-    if expr.op == "true":
-        return lambda m: np.ones(m.shape, bool)
-    if expr.op == "not":
-        inner = compile_relation(expr.args[0])
-        return lambda m: ~inner(m)
-    if expr.op == "any" and all(a.op == "prim" for a in expr.args):
-        bits = np.uint32(sum(BIT[a.name] for a in expr.args))
-        return lambda m: (m & bits) != 0
-    parts = [compile_relation(a) for a in expr.args]
-    if expr.op == "any":
-        def any_of(m: np.ndarray) -> np.ndarray:
-            out = parts[0](m)
-            for p in parts[1:]:
-                out |= p(m)
-            return out
-        return any_of
-
-    def all_of(m: np.ndarray) -> np.ndarray:
-        out = parts[0](m)
-        for p in parts[1:]:
-            out &= p(m)
-        return out
-    return all_of
-
-
-#: id(expression) -> (expression, its compiled test): each relation compiled once per process
-#: (by identity: hashing a frozen expression tree walks the whole tree every time)
-_COMPILED: dict[int, tuple[RelationExpr, Mask]] = {}
-
-
-def _compiled(expr: RelationExpr) -> Mask:
-    entry = _COMPILED.get(id(expr))
-    if entry is None or entry[0] is not expr:
-        if len(_COMPILED) > 4096:
-            _COMPILED.clear()
-        entry = _COMPILED[id(expr)] = (expr, compile_relation(expr))
-    return entry[1]
 
 
 @dataclass(frozen=True)
@@ -119,15 +73,8 @@ class Evaluator:
 
     def __init__(self, defs: Definitions, scene: Scene, tolerance: float = DEFAULT_TOLERANCE):
         self.defs, self.scene, self.tol = defs, scene, tolerance
-        self._masks: dict[tuple, np.ndarray] = {}
         self._model: dict[str, np.ndarray] = {}
-        self._truth: dict[str, np.ndarray] = {}  # relation -> (K, K) truth (scenes up to WHOLE_SCENE)
-        self._all: np.ndarray | None = None  # (K, K) masks of every pair (scenes up to WHOLE_SCENE)
-        # unplaced objects get a far-away point box (DC from everything; masked out anyway)
-        self._lo = np.where(np.isnan(scene.lo), 1e30, scene.lo)
-        self._hi = np.where(np.isnan(scene.hi), 1e30, scene.hi)
-        # each object's frame (docs/soap.md, "Orientation"): label 0 the world's, others turned
-        self._yaw: np.ndarray | None = None  # each object's frame, on first use (_masks_of)
+        self._pair_relations: PairRelations | None = None  # on the first relation atom
 
     # --- public ---------------------------------------------------------------------
     def candidates(self, cls: str | None) -> np.ndarray:
@@ -313,59 +260,15 @@ class Evaluator:
 
     # --- atoms over pairs -------------------------------------------------------------
     def _relation(self, f: Relation, axes: list[Axis]) -> np.ndarray:
-        if len(self.scene.names) <= WHOLE_SCENE:
-            truth = self._truth_of(f.relation)
-            return self._pairs(lambda s, o: truth[s[:, None], o], f.subject, f.object, axes,
-                               lambda c: truth[c, c])
-        test = self._test(f.relation)
-        return self._pairs(lambda s, o: test(self._masks_of(s, o)) & self.scene.placed[s][:, None]
-                           & self.scene.placed[o][None, :], f.subject, f.object, axes)
+        rel = self._pair_relations
+        if rel is None:
+            rel = self._pair_relations = PairRelations(self.scene, self.tol, self._frames)
+        test = compiled(self.defs.relation(f.relation))
+        return self._pairs(lambda s, o: rel.truth(test, s, o), f.subject, f.object, axes,
+                           lambda c: rel.diagonal(test, c))
 
-    def _test(self, relation: str) -> Mask:
-        return _compiled(self.defs.relation(relation))
-
-    def _truth_of(self, relation: str) -> np.ndarray:
-        """(K, K) whether ``relation`` holds of subject i and object j (both placed), from the
-        masks of every pair (one kernel call per scene)."""
-        truth = self._truth.get(relation)
-        if truth is None:
-            if self._all is None:
-                every = np.arange(len(self.scene.names))
-                self._all = self._masks_of(every, every, keep=False)
-            placed = self.scene.placed
-            truth = self._truth[relation] = self._test(relation)(self._all) & placed[:, None] & placed[None, :]
-        return truth
-
-    def _masks_of(self, s: np.ndarray, o: np.ndarray, keep: bool = True) -> np.ndarray:
-        """Relation masks of subjects ``s`` x objects ``o``, each pair in its object's frame
-        (:func:`kb.spatial.rcc8.reframe`; the world boxes alone when no object is turned)."""
-        key = (s.tobytes(), o.tobytes())
-        m = self._masks.get(key) if keep else None
-        if m is None:
-            m = relate(self._lo[s], self._hi[s], self._lo[o], self._hi[o], self.tol)
-            if self._yaw is None:
-                self._yaw = self._frames(self.scene)
-            yaw = self._yaw[o]
-            if yaw.any():
-                sc = self.scene
-                boxes = (sc.poses, sc.local_lo, sc.local_hi)
-                reframe(m, boxes, boxes, yaw, self.tol, s, o)
-            if keep:
-                if len(self._masks) > 64:
-                    self._masks.clear()
-                self._masks[key] = m
-        return m
-
-    @staticmethod
-    def _frames(scene: Scene) -> np.ndarray:
-        """(K,) the yaw of each object's frame (:func:`kb.spatial.rcc8.heading_groups`; 0: the world's)."""
-        k = len(scene.names)
-        if scene.poses is None or scene.local_lo is None or not k:
-            return np.zeros(k)
-        h = headings(scene.poses)
-        h[~scene.placed] = np.nan
-        labels, yaws = heading_groups(h)
-        return yaws[labels]
+    #: each object's frame yaw (docs/soap.md, "Orientation"); a subclass may decide otherwise
+    _frames = staticmethod(object_frames)
 
     def _pairs(self, matrix, subject, obj, axes: list[Axis], diagonal=None) -> np.ndarray:  # noqa: ANN001
         """``matrix(s, o)`` (subjects x objects, Boolean) placed on the axes of ``subject`` and
@@ -381,7 +284,7 @@ class Evaluator:
         """subject -> objects of ``prop``: the scene's index, or for a small scene (whose facts are
         a whole cell's) the pairs of ``subjects`` only, found in one pass."""
         sc = self.scene
-        if len(sc.names) > WHOLE_SCENE:
+        if len(sc.names) > WHOLE_SCENE:  # a whole cell's index, built once
             return sc.related(prop)
         wanted = set(subjects)
         out: dict[str, list[str]] = {}
