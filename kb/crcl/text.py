@@ -149,20 +149,23 @@ def _depth(parts: list[str]) -> int:
     return depth
 
 
-def _tokens(text: str) -> Iterator[tuple[str, str]]:
+def _tokens(text: str) -> list[tuple[str, str]]:
+    """(kind, value) of each token of ``text``; _Bad at the first character that starts none."""
     pos, end = 0, len(text.rstrip())
-    while pos < end:
-        m = _TOKEN.match(text, pos)
-        if not m or m.end() == pos:
-            raise _Bad(f"unexpected {text[pos:].strip()[:20]!r}")
+    out = []
+    for m in _TOKEN.finditer(text, 0, end):  # each match must start where the last ended
+        if m.start() != pos:
+            break
         kind = m.lastgroup or ""
-        value = m.group(kind)
-        yield ("string", value) if kind == "curly" else (kind, value)
+        out.append(("string", m.group(kind)) if kind == "curly" else (kind, m.group(kind)))
         pos = m.end()
+    if pos < end:
+        raise _Bad(f"unexpected {text[pos:].strip()[:20]!r}")
+    return out
 
 
 def _command(statement: str, line: int) -> Command:
-    tokens = list(_tokens(statement))
+    tokens = _tokens(statement)
     if len(tokens) < 3 or tokens[0][0] != "name" or tokens[1] != ("punct", "("):
         raise _Bad("expected Name(arguments)")
     cls = COMMANDS.get(tokens[0][1])
@@ -207,6 +210,10 @@ def _value(tokens: list[tuple[str, str]], pos: int) -> tuple[Any, int]:
     raise _Bad(f"unexpected {text!r}")
 
 
+#: Command class -> the types of its fields but ``line`` (``dataclasses.fields`` is slow).
+_KINDS: dict[type, list[Any]] = {}
+
+
 class _Str(str):
     """A string argument (told apart from a bare name)."""
 
@@ -220,7 +227,7 @@ def _build(cls: type[Command], args: list[Any], line: int) -> Command:
         if args[-1] != len(poses):
             raise _Bad(f"{args[-1]} poses announced, {len(poses)} given")
         return MoveThroughTo(poses, line=line)
-    kinds = [f.type for f in fields(cls) if f.name not in ("line",)]
+    kinds = _KINDS.get(cls) or _KINDS.setdefault(cls, [f.type for f in fields(cls) if f.name != "line"])
     if cls is EndCanon and not args:
         args = [0]
     if len(args) != len(kinds):
