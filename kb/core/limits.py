@@ -5,7 +5,7 @@ long before it gave an answer; kitkb refuses it instead, up front where it can, 
 :class:`~kb.core.errors.InputError` (exit code 2) naming the file, the line where there is
 one, the limit, its value and the variable that raises it::
 
-    big.ttl: error: 3.1 GB: over the limit on a file's size (2.4 GB; set KITKB_MAX_FILE_BYTES to raise it)
+    big.ttl: error: 3.1 GB: over the limit on a file's size (2.3 GB; set KITKB_MAX_FILE_BYTES to raise it)
 
 The defaults that guard memory are sized from measurements (docs/limits.md has them) and this
 machine's memory: :func:`memory_budget` is three quarters of the physical memory (or of the
@@ -148,12 +148,6 @@ class Limit:
         limit = self.value()
         if limit is not None and amount > limit:
             raise self.error(amount, file, line, what)
-
-    def over(self, amount: int) -> bool:
-        """True if ``amount`` is past the limit in force (for hot loops: read :meth:`value`
-        once and compare instead)."""
-        limit = self.value()
-        return limit is not None and amount > limit
 
 
 def _round(n: float) -> int:
