@@ -34,7 +34,7 @@ pytestmark = [pytest.mark.usefixtures("own_directory"),
 EXAMPLES = {"plan init": 3, "plan goal": 3, "plan domain.pddl": 4, "plan problem.pddl": 4, "plan nist problem": 2,
             "run init": 2, "validate ofn": 5, "predicates ofn": 4, "generate pddl ofn": 5, "db load ofn": 5,
             "scenario transform ofn": 6, "convert ofn": 6}
-DEFAULT_EXAMPLES = 8
+DEFAULT_EXAMPLES = 6
 HEALTH = [HealthCheck.too_slow, HealthCheck.data_too_large, HealthCheck.large_base_example,
           HealthCheck.function_scoped_fixture]
 

@@ -302,6 +302,7 @@ def _exempt(st: _Structure, i: np.ndarray, j: np.ndarray) -> np.ndarray:
 
 # --- the check ------------------------------------------------------------------------------
 
+@np.errstate(over="ignore", invalid="ignore")  # NaN / infinite coordinates: no RuntimeWarning lines
 def check(scene: Scene, tol: float = DEFAULT_TOLERANCE, locations: Mapping[str, str] | None = None,
           rules: tuple[str, ...] = RULES) -> list[Finding]:
     """The implausible poses of ``scene`` (metres) beyond ``tol`` metres: interpenetrating and

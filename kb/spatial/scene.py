@@ -336,6 +336,7 @@ class _Builder:
             raise InputError(f"{_local(node)}: {_local(prop)} is too large ({len(str(v))} digits)", self.path,
                              self.locate(node)) from None
 
+    @np.errstate(over="ignore", invalid="ignore")  # NaN / infinite coordinates: no RuntimeWarning lines
     def place(self, names, classes, own, index, poses, parents) -> None:  # noqa: ANN001
         """Global poses of the placed objects of the state file, level by level down the tree."""
         rel: dict[int, tuple[int | None, np.ndarray]] = {}
