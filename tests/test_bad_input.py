@@ -168,6 +168,17 @@ def test_nan_and_infinite_coordinates(name: str, number: str, seeds, seed_data, 
     assert not outcome.problems, (outcome.code, outcome.stderr[-1000:])
 
 
+@pytest.mark.parametrize("number", ["9" * 400, '"abc"', '"NaN"^^xsd:double', '"-INF"^^xsd:double'], ids=lambda n: n[:8])
+@pytest.mark.parametrize("name", ["predicates ttl", "validate ttl", "generate pddl init"])
+def test_unusable_numbers_in_a_kit_design(name: str, number: str, seeds, seed_data, work) -> None:
+    """A slot of the kit design (a PartRefAndPose's point) whose coordinate is no usable number."""
+    text = seed_data["ttl_init"].decode()
+    mutant = re.sub(r"(:kit_design_1_prp_a_1_point a [^.]*?hasPoint_X )[-\d.eE]+", rf"\g<1>{number}", text, flags=re.S)
+    assert mutant != text
+    outcome = bench.run_case(bench.CASE_BY_NAME[name], mutant.encode(), "numbers", seeds, work)
+    assert not outcome.problems, (outcome.code, outcome.stderr[-1000:])
+
+
 @pytest.mark.parametrize("number", ["nan", "inf", "-inf", "1e309", "1e308"])
 def test_nan_and_infinite_crcl(number: str, seeds, seed_data, work) -> None:
     for name, role in (("crcl convert text", "crcl_text"), ("crcl convert xml", "crcl_xml")):

@@ -274,7 +274,13 @@ class _Builder:
 
         def num(node, prop) -> float:  # noqa: ANN001
             v = self.value(node, prop, everywhere=True)
-            return float(v.toPython()) * self.scale.get(str(prop), 1.0) if isinstance(v, Literal) else 0.0
+            if not isinstance(v, Literal):
+                return 0.0
+            try:
+                return float(v.toPython()) * self.scale.get(str(prop), 1.0)
+            except (TypeError, ValueError, OverflowError):  # not a number, or hundreds of digits
+                raise InputError(f"{_local(node)}: {_local(prop)} is not a usable number", self.path,
+                                 self.locate(node)) from None
         for n, cs in asserted.items():
             point = self.value(n, KTW.hasPartRefAndPose_Point, everywhere=True) if prp in cs else None
             if point is None:
