@@ -13,6 +13,7 @@ seeded ``random.Random`` does), so a mutation's parameters come from one ``pick(
 
     .venv/bin/python benchmarks/bench_bad_input.py                  # 3,000 inputs, writes docs/benchmarks.md
     .venv/bin/python benchmarks/bench_bad_input.py --inputs 200 --no-doc --subprocess 20
+    .venv/bin/python benchmarks/bench_bad_input.py --render     # the section again, from results/bad_input.json
 """
 
 from __future__ import annotations
@@ -335,6 +336,7 @@ class Outcome:
     stderr: str
     seconds: float
     problems: list[str] = field(default_factory=list)
+    real: bool = False  # run in a ``kitkb`` subprocess
 
 
 def _digest(path: Path) -> str | None:
@@ -415,7 +417,7 @@ def run_case(case: Case, mutant: bytes, mutation: str, seeds: dict[str, Path], w
         argv = case.argv(given, seeds, out)
         start = time.perf_counter()
         code, stdout, stderr = _subprocess(argv, folder) if real_process else _in_process(argv)
-        outcome = Outcome(case.name, mutation, code, stderr, time.perf_counter() - start)
+        outcome = Outcome(case.name, mutation, code, stderr, time.perf_counter() - start, real=real_process)
         outcome.problems = _problems(outcome, stdout, before, argv, case, folder)
         return outcome
     finally:
@@ -453,18 +455,23 @@ def _problems(o: Outcome, stdout: str, before: dict[Path, str | None], argv: lis
 # --- the campaign --------------------------------------------------------------------------
 
 def campaign(inputs: int, seed: int, work: Path, real: int = 0,
-             progress: Callable[[int, Outcome], None] | None = None) -> list[Outcome]:
-    """``inputs`` mutants over the cases (by weight), the last ``real`` of them in subprocesses."""
+             progress: Callable[[int, Outcome], None] | None = None, budget: float | None = None) -> list[Outcome]:
+    """``inputs`` mutants over the cases (by weight), every ``inputs // real``-th of them in a
+    subprocess; with ``budget`` (seconds) no new mutant is tried once it is spent."""
     seeds = make_seeds(work / "seeds")
     data = {role: path.read_bytes() for role, path in seeds.items()}
     rng = random.Random(seed)
     weighted = [c for c in CASES for _ in range(c.weight)]
     outcomes = []
+    every = max(1, inputs // real) if real else 0
+    end = time.monotonic() + budget if budget else None
     for i in range(inputs):
+        if end is not None and time.monotonic() > end:
+            break
         case = rng.choice(weighted)
         kind = rng.choice(kinds_for(case.role))
         mutant = mutate(data[case.role], kind, rng.randrange, family(case.role))
-        outcome = run_case(case, mutant, kind, seeds, work, real_process=i >= inputs - real)
+        outcome = run_case(case, mutant, kind, seeds, work, real_process=bool(every) and i % every == every - 1)
         outcomes.append(outcome)
         if progress:
             progress(i, outcome)
@@ -478,6 +485,7 @@ def summary(outcomes: list[Outcome]) -> dict:
         by_case.setdefault(o.case, Counter())[o.code] += 1
     return {
         "inputs": len(outcomes),
+        "subprocesses": sum(o.real for o in outcomes),
         "by_exit": dict(sorted(Counter(o.code for o in outcomes).items())),
         "by_case": {k: dict(sorted(v.items())) for k, v in sorted(by_case.items())},
         "by_mutation": dict(sorted(Counter(o.mutation for o in outcomes).items())),
@@ -510,7 +518,8 @@ def render(result: dict, seed: int, real: int, wall: float) -> str:
         "digits, huge literals, UTF-16/32, Latin-1 and invalid UTF-8 bytes, empty, random binary, a pose relative "
         "to its own object or below it and object properties pointed at other individuals, nesting up to "
         "200,000 deep, SQLite pages garbled) and given to every command that reads files, in process "
-        f"(`kb.cli.main`) and the last {real} in real `kitkb` subprocesses. Every outcome must be exit 0, 1 or 2 "
+        f"(`kb.cli.main`), one in {max(1, result['inputs'] // max(real, 1))} of them in a real `kitkb` subprocess "
+        f"({result.get('subprocesses', real)} in all). Every outcome must be exit 0, 1 or 2 "
         "with one error line, no traceback, every input and the pre-existing database byte-identical, no "
         "temporary file left.",
         "",
@@ -531,6 +540,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--subprocess", type=int, default=100, help="of them, run in real subprocesses (default 100)")
     parser.add_argument("--json", default=str(ROOT / "benchmarks" / "results" / "bad_input.json"),
                         help="where the counts go")
+    parser.add_argument("--budget", type=float, metavar="SECONDS",
+                        help="try no new input after this many seconds (the counts say how many were tried)")
     parser.add_argument("--no-doc", action="store_true", help="do not write docs/benchmarks.md")
     parser.add_argument("--render", action="store_true",
                         help="only rewrite the docs/benchmarks.md section from the --json results")
@@ -553,7 +564,7 @@ def main(argv: list[str] | None = None) -> int:
             elif i % 100 == 0:
                 print(f"[{i}] ...", flush=True)
 
-        outcomes = campaign(args.inputs, args.seed, work, args.subprocess, progress)
+        outcomes = campaign(args.inputs, args.seed, work, args.subprocess, progress, args.budget)
         os.chdir(ROOT)
     result = summary(outcomes)
     wall = time.perf_counter() - start

@@ -248,7 +248,7 @@ class RangeC(PerValue):
             return False
         try:
             return bool(self.test(compare_literal(v, bound)))
-        except (TypeError, NotImplementedError):
+        except (TypeError, NotImplementedError, ArithmeticError):  # "NaN"^^xsd:decimal: decimal.InvalidOperation
             return False
 
     def generic(self, value: str | None) -> str:
