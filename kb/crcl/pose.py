@@ -22,6 +22,8 @@ def _triple(name: str, values: Iterable[Any]) -> Vector:
         xyz = tuple(float(v) for v in values)
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be three numbers, not {values!r}") from None
+    except OverflowError:  # an integer of hundreds of digits
+        raise ValueError(f"{name} must be three finite numbers (one is too large for a float)") from None
     if len(xyz) != 3 or not all(math.isfinite(v) for v in xyz):
         raise ValueError(f"{name} must be three finite numbers, not {xyz!r}")
     return xyz  # type: ignore[return-value]
