@@ -243,7 +243,9 @@ def _parse(data: bytes, name: str | None) -> Any:
     try:
         tree = etree.parse(io.BytesIO(data), hardened_parser())
     except etree.XMLSyntaxError as exc:
-        raise InputError(f"XML syntax error: {exc.msg}", name, exc.lineno) from None
+        # one line: libxml2 ends some messages with "\n, line L, column C"
+        message = ((exc.msg or str(exc)).strip().splitlines() or ["not well-formed"])[0]
+        raise InputError(f"XML syntax error: {message}", name, exc.lineno) from None
     if tree.docinfo.internalDTD is not None or tree.docinfo.doctype:
         line = data.count(b"\n", 0, max(data.find(b"<!DOCTYPE"), 0)) + 1
         raise InputError("a DOCTYPE is not allowed in CRCL XML (no entity is expanded or fetched)",
@@ -319,7 +321,10 @@ def _pose(el: Any, name: str | None) -> Pose:
     point, z_axis, x_axis = _expect(el, ["Point", "ZAxis", "XAxis"], name)
     xyz = [_decimal(c, name) for c in _expect(point, ["X", "Y", "Z"], name)]
     z, x = ([_decimal(c, name) for c in _expect(v, ["I", "J", "K"], name)] for v in (z_axis, x_axis))
-    return Pose(point=xyz, x_axis=x, z_axis=z)
+    try:
+        return Pose(point=xyz, x_axis=x, z_axis=z)
+    except ValueError as exc:  # a number too large for a float (inf), axes that are no frame
+        raise InputError(str(exc), name, el.sourceline) from None
 
 
 _VALUE: dict[str, Callable[[Any, str | None], Any]] = {
