@@ -554,6 +554,7 @@ def main(argv: list[str] | None = None) -> int:
         return 0
 
     start = time.perf_counter()
+    cwd = os.getcwd()
     with tempfile.TemporaryDirectory(prefix="kitkb-bad-input-") as tmp:
         work = Path(tmp)
         os.chdir(work)  # planners write their scratch files in the working directory
@@ -564,8 +565,10 @@ def main(argv: list[str] | None = None) -> int:
             elif i % 100 == 0:
                 print(f"[{i}] ...", flush=True)
 
-        outcomes = campaign(args.inputs, args.seed, work, args.subprocess, progress, args.budget)
-        os.chdir(ROOT)
+        try:
+            outcomes = campaign(args.inputs, args.seed, work, args.subprocess, progress, args.budget)
+        finally:
+            os.chdir(cwd)
     result = summary(outcomes)
     wall = time.perf_counter() - start
     Path(args.json).parent.mkdir(parents=True, exist_ok=True)

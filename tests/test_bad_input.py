@@ -230,3 +230,18 @@ def test_in_a_real_process(name: str, kind: str, seeds, seed_data, work) -> None
     mutant = bench.mutate(seed_data[case.role], kind, random.Random(kind).randrange, bench.family(case.role))
     outcome = bench.run_case(case, mutant, kind, seeds, work, real_process=True)
     assert not outcome.problems, (outcome.code, outcome.stderr[-1000:])
+
+
+@pytest.mark.slow
+def test_the_benchmark_campaign_runs(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """benchmarks/bench_bad_input.py end to end at a small size: counts, no problem, its section."""
+    import json
+
+    monkeypatch.chdir(tmp_path)
+    out = tmp_path / "bad_input.json"
+    assert bench.main(["--inputs", "40", "--subprocess", "4", "--seed", "3", "--no-doc", "--json", str(out)]) == 0
+    result = json.loads(out.read_text())
+    assert result["inputs"] == 40 and result["subprocesses"] == 4 and result["tracebacks"] == 0
+    assert sum(result["by_exit"].values()) == 40 and set(result["by_exit"]) <= {"0", "1", "2"}
+    section = bench.render(result, 3, 4, 1.0)
+    assert section.startswith("## Bad-input campaign\n") and "**40 inputs tried**" in section
