@@ -41,7 +41,8 @@ from kb.execution.store import RunStore, prepare
 from kb.planning.geometry import check_geometry
 from kb.validation import validate
 from kb.world import WorldModel
-from kb.world.database import safe_url
+from kb.world.database import normalize_url, safe_url
+from kb.world.lock import hold
 
 
 def run(files: list[str], output: str, faults: str | None, seed: int, db: str | None, report: str | None,
@@ -198,6 +199,15 @@ def _report_data(reports: list[dict]) -> dict:
 
 def _scenario(name: str, init: Path, goal: Path, target: Path, progress: _Progress, options: RunOptions,
               reports: list[dict], model_files: bool = True) -> int:
+    """One scenario's closed loop, holding its world model's writer lock from the start (a second
+    run or a load of the same database is refused before any work, not after planning)."""
+    db_file: str | Path = options.db or target / "world.sqlite"
+    with hold(normalize_url(db_file), "a run"):
+        return _closed_loop(name, init, goal, target, progress, options, reports, db_file)
+
+
+def _closed_loop(name: str, init: Path, goal: Path, target: Path, progress: _Progress, options: RunOptions,
+                 reports: list[dict], db_file: str | Path) -> int:
     t = time.perf_counter()
     display = progress.display
     with display.task(f"{name}: validating {init.name} and {goal.name}"):
@@ -238,7 +248,6 @@ def _scenario(name: str, init: Path, goal: Path, target: Path, progress: _Progre
             progress.problem(f"    {name}: likely cause: {cause}")
         return _not_executed(name, geo.reason(), progress, reports)
     t = time.perf_counter()
-    db_file: str | Path = options.db or target / "world.sqlite"
     with display.task(f"{name}: loading the world model"):  # the job's own output is replaced (under
         # the run's lock: never removed under another run writing it)
         loaded = prepare(db_file, init, options.domain, replace=options.replace or not options.db)
