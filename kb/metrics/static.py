@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any, Callable, Iterable
+from typing import Any, Callable, Iterable, Sequence
 
 from kb.metrics.motion import Robot, move_time
 from kb.metrics.steps import Step
@@ -175,7 +175,7 @@ class _Run:
             "position": [v / length for v in self.point], "coordinate_frame": self.frame,
         }
 
-    def step(self, step: Step, first: bool, last: bool) -> list[str]:
+    def step(self, step: Step, first: bool, last: bool) -> Sequence[str]:
         """Execute one step; the notes of what happened."""
         kind, _, value = step
         self.cce = 0.0
@@ -183,20 +183,23 @@ class _Run:
             self.pe += 1
             return [f"parse error: {value[1]}" if value[1] else "parse error"]
         notes: list[str] = []
-        if kind == "InitCanon" and not first:
-            self.cse += 1
-            notes.append("sequence error: InitCanon is not the first command")
-        elif kind == "EndCanon" and not last:
-            self.cse += 1
-            notes.append("sequence error: EndCanon is not the last command")
-        elif not self.ready and kind not in ("InitCanon", "EndCanon"):
+        if kind == "InitCanon":
+            if not first:
+                self.cse += 1
+                notes.append("sequence error: InitCanon is not the first command")
+        elif kind == "EndCanon":
+            if not last:
+                self.cse += 1
+                notes.append("sequence error: EndCanon is not the last command")
+        elif not self.ready:
             self.cse += 1
             return [f"sequence error: {'after EndCanon' if self.ended else 'before InitCanon'}, not executed"]
         check = self._checks.get(kind)
-        errors = check(kind, value) if check else None
-        if errors:
-            self.re += len(errors)
-            return notes + [f"range error: {e}" for e in errors] + ["not executed"]
+        if check is not None:
+            errors = check(kind, value)
+            if errors:
+                self.re += len(errors)
+                return notes + [f"range error: {e}" for e in errors] + ["not executed"]
         action, seconds, distance, useless = self._execute[kind](value)
         if action:
             self.ace += 1
@@ -229,35 +232,35 @@ class _Run:
 
     def _check_move(self, kind: str, poses: tuple[tuple[float, ...], ...]) -> list[str]:
         errors: list[str] = []
+        checked = self._axes_checked
         for n, p in enumerate(poses, 1):
             axes = p[3:9]
-            found = self._axes_checked.get(axes)
+            found = checked.get(axes)
             if found is None:
-                found = self._axes_checked[axes] = _axis_errors(axes)
+                found = checked[axes] = _axis_errors(axes)
             if found:
                 errors.extend(f"{e} of pose {n}" if len(poses) > 1 else e for e in found)
-        if not errors and (self.speed <= 0 or self.acceleration <= 0) and self._path(poses) > 0:
+        if not errors and (self.speed <= 0 or self.acceleration <= 0) and self._path(poses)[0] > 0:
             errors.append(f"a move with {'speed' if self.speed <= 0 else 'acceleration'} 0 never ends")
         return errors
 
     # --- execution: (action?, seconds, distance, why useless) ----------------------------------
 
-    def _path(self, poses: tuple[tuple[float, ...], ...]) -> float:
-        """Length of the straight lines from the tool tip through the poses' points (m)."""
+    def _path(self, poses: tuple[tuple[float, ...], ...]) -> tuple[float, tuple[float, ...], bool]:
+        """Length (m) of the straight lines from the tool tip through the poses' points, the
+        last point (m), and whether any pose turns the tool."""
         scale = _LENGTH[self.length_unit]
-        here, total = self.point, 0.0
+        here, total, axes, turned = self.point, 0.0, self.axes, False
         for p in poses:
             there = (p[0] * scale, p[1] * scale, p[2] * scale)
             total += math.dist(here, there)
             here = there
-        return total
+            turned = turned or p[3:9] != axes
+        return total, here, turned
 
     def _move(self, poses: tuple[tuple[float, ...], ...]) -> _Done:
-        distance = self._path(poses)
-        scale = _LENGTH[self.length_unit]
-        end = poses[-1]
-        turned = any(p[3:9] != self.axes for p in poses)
-        self.point, self.axes = (end[0] * scale, end[1] * scale, end[2] * scale), end[3:9]
+        distance, self.point, turned = self._path(poses)
+        self.axes = poses[-1][3:9]
         useless = None if distance > 0 or turned else "the robot is already there"
         return True, move_time(distance, self.speed, self.acceleration), distance, useless
 
