@@ -269,7 +269,7 @@ def test_a_million_line_crcl_program_converts_in_bounded_memory(tmp_path: Path) 
         f.write("InitCanon()\n")
         for i in range(1_000_000 - 2):
             f.write(lines[i % 4] + "\n")
-        f.write("EndCanon()\n")
+        f.write("EndCanon(0)\n")
     kitkb = [sys.executable, "-c", "from kb.cli import run; run()"]
     for source, target in ((text, tmp_path / "big.xml"), (tmp_path / "big.xml", tmp_path / "back.crcl")):
         done = subprocess.run([*kitkb, "crcl", "convert", str(source), "-o", str(target)],
