@@ -598,6 +598,7 @@ def compare(args: argparse.Namespace, folder: Path) -> dict:
         sizes[n] = {"plan_actions": len(plan), "timed_actions": len(timed), "plan_s": round(time.perf_counter() - t, 2),
                     "runs": {}}
         print(f"compare: {n} parts, plan of {len(plan)} actions, timing {len(timed)}", flush=True)
+    load_start = round(os.getloadavg()[0], 2)
     repeats = {n: args.cost_repeat for n in sizes} | {
         int(a): int(b) for a, b in (x.split(":") for x in args.cost_repeat_at)}
     for r in range(max(repeats.values())):
@@ -616,6 +617,7 @@ def compare(args: argparse.Namespace, folder: Path) -> dict:
                     if p.returncode != 0:
                         raise RuntimeError(f"{which} {n} {backend}: {p.stderr[-2000:]}")
                     row = json.loads(p.stdout.strip().splitlines()[-1])
+                    row["load_average"] = round(os.getloadavg()[0], 2)
                     assert Path(row["tree"]) == trees[which], (row["tree"], trees[which])
                     entry["runs"].setdefault(f"{which} {backend}", []).append(row)
                     print(f"compare {r}: {n} parts {backend} {which}: verification "
@@ -631,7 +633,9 @@ def compare(args: argparse.Namespace, folder: Path) -> dict:
     for n, entry in sizes.items():
         entry["repeat"] = repeats[n]
     return {"baseline": _commit_of(trees["old"]), "candidate": _commit_of(trees["new"]), "repeat": args.cost_repeat,
-            "sizes": sizes,
+            "sizes": sizes, "load_average_start": load_start,
+            "load_average_median": round(statistics.median(row["load_average"] for e in sizes.values()
+                                                           for rows in e["runs"].values() for row in rows), 2),
             "load_average_end": round(os.getloadavg()[0], 2)}
 
 
@@ -647,7 +651,7 @@ def render_compare(c: dict, checkout: dict) -> list[str]:
                      for n, v in sizes.items())
     at = " ".join(f"{n}:{v['timed_actions']}" for n, v in sizes.items() if v["timed_actions"] != v["plan_actions"])
     reps = " ".join(f"{n}:{v['repeat']}" for n, v in sizes.items() if v.get("repeat", c["repeat"]) != c["repeat"])
-    lines = ["### Verification cost per action: neighbourhoods against the whole cell", "",
+    lines = ["### Verification cost per action: neighbourhoods and batched checks against the whole cell", "",
              f"Command: `git worktree add /tmp/kitkb-base {c['baseline']}`, `git worktree add /tmp/kitkb-new "
              f"{c.get('candidate', 'HEAD')}`, then `.venv/bin/python benchmarks/bench_execution.py --parts compare "
              f"--baseline /tmp/kitkb-base --candidate /tmp/kitkb-new --cost-parts {' '.join(map(str, sizes))}"
@@ -663,11 +667,14 @@ def render_compare(c: dict, checkout: dict) -> list[str]:
              "(imports and per-process caches warm, as in a long run); medians, milliseconds per action (exclusive "
              "time by part, as above). "
              "Verification = sensor + belief + predicate checks + commit + the store's pose updates and stable-state "
-             "commit. The machine was shared with other jobs (load average at the end "
-             f"{c['load_average_end']}): absolute figures are inflated and noisy, the ratios are the finding.", "",
+             "commit. The machine was shared with other jobs (1-minute load average on its 2 cores: "
+             + (f"{c['load_average_start']} at the start, median {c['load_average_median']} over the measurements, "
+                if "load_average_median" in c else "")
+             + f"{c['load_average_end']} at the end): absolute figures are inflated and noisy, the ratios are the finding.",
+             "",
              "| parts | store | verification, today | verification, now | now / today | now: sensor | belief "
-             "(focus, poses) | checks | store | total per action, today | total, now |",
-             "|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+             "(focus, poses) | checks, today | checks, now | store | total per action, today | total, now |",
+             "|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     verdicts = []
     for n, v in sizes.items():
         for backend, label in (("memory", "in memory"), ("sqlite", "SQLite")):
@@ -677,7 +684,8 @@ def render_compare(c: dict, checkout: dict) -> list[str]:
             store = new.get("store: pose updates", 0.0) + new.get("store: commit", 0.0)
             lines.append(f"| {n} | {label} | {old['verification']:.2f} | {new['verification']:.2f} | "
                          f"{new['verification'] / old['verification']:.2f} | {new.get('sensor', 0):.2f} | "
-                         f"{new.get('belief', 0):.2f} | {new.get('checks', 0):.2f} | {store:.2f} | {old['total']:.2f} | "
+                         f"{new.get('belief', 0):.2f} | {old.get('checks', 0):.2f} | {new.get('checks', 0):.2f} | "
+                         f"{store:.2f} | {old['total']:.2f} | "
                          f"{new['total']:.2f} |")
             if backend == "sqlite":
                 limit = 5.0 if int(n) <= 160 else 10.0
@@ -705,10 +713,7 @@ def render_compare(c: dict, checkout: dict) -> list[str]:
         lines += ["", f"Where the time goes, at {big} parts on SQLite: sensing and the belief (the focus of attention "
                   f"included) {sb_old:.2f} -> {sb_new:.2f} ms per action ({sb_new / sb_old:.2f}); the predicate checks "
                   f"{old.get('checks', 0):.2f} -> {new.get('checks', 0):.2f} ms ({new.get('checks', 0) / max(old.get('checks', 1e-9), 1e-9):.2f}), "
-                  f"{new.get('checks', 0) / new['verification']:.0%} of the new verification: a neighbourhood shrinks what "
-                  "each check looks at, not the number of relation kernels it runs (about nine atoms and a dozen "
-                  "`kb.spatial.rcc8.relate` calls per action, each mostly fixed cost), so the checks are now most of the "
-                  "verification."]
+                  f"{new.get('checks', 0) / new['verification']:.0%} of the new verification."]
     notes = c.get("notes")
     if notes:
         lines += ["", notes]
@@ -1068,8 +1073,11 @@ def main(argv: list[str] | None = None) -> None:
         for part in ("campaign", "cost", "kit"):
             if part not in args.parts and part in earlier:
                 run[part] = earlier[part]
-                run.setdefault("kept", {"started": earlier.get("started"), "checkout": earlier.get("checkout", {}),
-                                        "machine": earlier.get("machine", {}), "parts": []})["parts"].append(part)
+                kept = earlier.get("kept") or {}  # kept there too: the run that measured it
+                origin = kept if part in kept.get("parts", ()) else {
+                    "started": earlier.get("started"), "checkout": earlier.get("checkout", {}),
+                    "machine": earlier.get("machine", {})}
+                run.setdefault("kept", dict(origin, parts=[]))["parts"].append(part)
         if "cost" not in args.parts and "cost" in earlier:
             run["cost_repeat"] = earlier.get("cost_repeat")
     with tempfile.TemporaryDirectory(prefix="kitkb-bench-exec-") as tmp:

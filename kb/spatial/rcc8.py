@@ -197,7 +197,7 @@ _TABLES: tuple[NDArray[np.uint32], ...] = tuple(_axis_table(k) for k in range(3)
 #: The three axes' tables one after the other (axis k's entry i at 81 k + i).
 _TABLES_FLAT: NDArray[np.uint32] = np.concatenate(_TABLES)
 #: Where each axis's table starts in _TABLES_FLAT, shaped for (3, P) and (3, N, M) indexes.
-_AXIS_OFFSET = {2: np.arange(0, 243, 81, dtype=np.intp)[:, None], 3: np.arange(0, 243, 81, dtype=np.intp)[:, None, None]}
+_AXIS_OFFSET = {2: np.arange(0, 243, 81, dtype=np.uint16)[:, None], 3: np.arange(0, 243, 81, dtype=np.uint16)[:, None, None]}
 #: x and y together: index ``ix + 81 iy`` -> the bits of both axes (6561 entries, 26 KB).
 _TABLE_XY: NDArray[np.uint32] = (_TABLES[0][None, :] | _TABLES[1][:, None]).reshape(-1)
 #: Weight of each axis's code in the table index (x, y share the 6561-entry table).
