@@ -506,7 +506,7 @@ def render(result: dict, seed: int, real: int, wall: float) -> str:
     for name, counts in result["by_case"].items():
         counts = {int(k): v for k, v in counts.items()}
         rows.append(f"| `{name}` | {sum(counts.values())} | " + " | ".join(str(counts.get(c, 0)) for c in codes) + " |")
-    by_exit = ", ".join(f"exit {c}: {n}" for c, n in result["by_exit"].items())
+    by_exit = ", ".join(f"exit {c}: {n:,}" for c, n in result["by_exit"].items())
     by_mut = ", ".join(f"{k} {v}" for k, v in result["by_mutation"].items())
     return "\n".join([
         "## Bad-input campaign",
@@ -523,8 +523,12 @@ def render(result: dict, seed: int, real: int, wall: float) -> str:
         "with one error line, no traceback, every input and the pre-existing database byte-identical, no "
         "temporary file left.",
         "",
+        f"- Command: `.venv/bin/python benchmarks/bench_bad_input.py --inputs {result['inputs']} --seed {seed} "
+        f"--subprocess {result.get('subprocesses', real)}` (counts in `benchmarks/results/bad_input.json`; the "
+        "same checks run under hypothesis in `tests/test_bad_input.py`, a few mutants per command by default "
+        "and ten times as many in the slow run).",
         f"- Machine: {cpu_model()}, {os.cpu_count()} cores (shared); seed {seed}; {wall:.0f} s wall.",
-        f"- **{result['inputs']} inputs tried**: {by_exit}; **{result['tracebacks']} tracebacks**, "
+        f"- **{result['inputs']:,} inputs tried**: {by_exit}; **{result['tracebacks']} tracebacks**, "
         f"{result['hangs']} hangs (over {TIMEOUT} s), {len(result['problems'])} outcomes with a problem.",
         f"- Mutations: {by_mut}.",
         "",
