@@ -299,6 +299,21 @@ MoveTo({{1, 2
 // a comment ends the statement
 , 3}, {0,0,1}, {1,0,0}})
 initCannon()
+InitCanon(5)
+Dwell()
+StopMotion()
+Message()
+Dwell("x")
+SetLengthUnits(5)
+SetLengthUnits("inch")
+EndCanon( )
+CloseGripper ( )
+  OpenGripper()\t
+StartObjectScan("part_a")
+StopObjectScan()
+EndCanon(+3)
+SetRelativeSpeed(1e999)
+Message("a\\\\b")
 EndCanon()"""
 
 
@@ -309,6 +324,24 @@ def test_fast_reader_reads_what_kb_crcl_reads(tmp_path: Path) -> None:
     assert steps == steps_of(read_file(path))
     assert [s[1] for s in steps] == [s[1] for s in steps_of(read_file(path))]
     assert sum(1 for s in steps if s[0] == "Unreadable") >= 8
+
+
+def test_fast_reader_knows_kb_crcl_names() -> None:
+    from kb.crcl import ANGLE_UNITS, COORDINATE_FRAMES, LENGTH_UNITS
+    from kb.metrics import steps
+    assert steps.ANGLE_UNITS == ANGLE_UNITS and steps.COORDINATE_FRAMES == COORDINATE_FRAMES
+    assert steps.TEXT_LENGTH_UNITS == {*LENGTH_UNITS, "mm"}
+
+
+def test_a_plain_program_is_measured_without_importing_kb_crcl(tmp_path: Path) -> None:
+    import subprocess
+    import sys
+    path = tmp_path / "plain.crcl"
+    path.write_text(program('SetLengthUnits("meter")', move(1, 0, 0), "Dwell(1)", 'Message("m")'))
+    code = ("import sys; from kb.metrics import program_metrics; "
+            f"m = program_metrics({str(path)!r}); print(m.totals['ACE'], 'kb.crcl' in sys.modules)")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert done.stdout.split() == ["2", "False"]
 
 
 def test_fast_reader_on_a_generated_program(tmp_path: Path) -> None:

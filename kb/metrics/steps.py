@@ -19,16 +19,23 @@ from __future__ import annotations
 import math
 import re
 from pathlib import Path
-from typing import Any, Iterable, Iterator
+from typing import TYPE_CHECKING, Any, Iterable, Iterator
 
 from kb.core import limits
 from kb.core.errors import InputError
 from kb.core.files import note_input
-from kb.crcl import read_text, read_xml
-from kb.crcl.commands import (ANGLE_UNITS, COORDINATE_FRAMES, Command, EndCanon, MoveStraightTo,
-                              MoveThroughTo, MoveTo, StopMotion, Unreadable)
-from kb.crcl.files import form_of
-from kb.crcl.pose import Pose
+
+if TYPE_CHECKING:
+    from kb.crcl.commands import Command
+    from kb.crcl.pose import Pose
+
+# kb.crcl (with numpy and lxml) is imported only where a line needs it, so that a plainly
+# written program is measured without it; tests/test_metrics.py holds these names equal to its.
+#: CRCL.xsd's angle units (kb.crcl.ANGLE_UNITS) and the paper's frames (kb.crcl.COORDINATE_FRAMES).
+ANGLE_UNITS = ("degree", "radian")
+COORDINATE_FRAMES = ("Workstation", "RobotBase", "ToolTip")
+#: Length unit names the text form reads (kb.crcl.LENGTH_UNITS and the paper's "mm").
+TEXT_LENGTH_UNITS = frozenset({"meter", "millimeter", "inch", "mm"})
 
 #: ``(kind, line, value)``; see the module's docstring.
 Step = tuple[str, "int | None", Any]
@@ -44,7 +51,7 @@ NUMBER = frozenset({"Dwell", "SetAbsoluteSpeed", "SetRelativeSpeed", "SetAbsolut
                     "SetIntermediatePointTolerance"})
 #: Commands with one name, and the names each allows (None: any).
 NAMED: dict[str, frozenset[str] | None] = {
-    "SetLengthUnits": frozenset({"meter", "millimeter", "inch", "mm"}),
+    "SetLengthUnits": TEXT_LENGTH_UNITS,
     "SetAngleUnits": frozenset(ANGLE_UNITS),
     "SetCoordinateFrame": frozenset(COORDINATE_FRAMES),
     "StartObjectScan": None,
@@ -64,14 +71,15 @@ def step_of(command: Command, line_offset: int = 0) -> Step:
     """The step of one :mod:`kb.crcl` command (its line moved on by ``line_offset``)."""
     kind = type(command).__name__
     line = None if command.line is None else command.line + line_offset
-    if isinstance(command, (MoveTo, MoveStraightTo)):
-        return kind, line, (pose_tuple(command.end_position),)
-    if isinstance(command, MoveThroughTo):
-        return kind, line, tuple(pose_tuple(p) for p in command.waypoints)
-    if isinstance(command, Unreadable):
-        return kind, line, (command.text, command.reason)
-    if isinstance(command, (EndCanon, StopMotion)):
-        return kind, line, command.reason if isinstance(command, EndCanon) else command.is_emergency
+    c: Any = command
+    if kind in ("MoveTo", "MoveStraightTo"):
+        return kind, line, (pose_tuple(c.end_position),)
+    if kind == "MoveThroughTo":
+        return kind, line, tuple(pose_tuple(p) for p in c.waypoints)
+    if kind == "Unreadable":
+        return kind, line, (c.text, c.reason)
+    if kind in ("EndCanon", "StopMotion"):
+        return kind, line, c.reason if kind == "EndCanon" else c.is_emergency
     if kind in NUMBER or kind in NAMED:
         return kind, line, getattr(command, _FIELD[kind])
     return kind, line, None
@@ -95,7 +103,10 @@ def steps_of(commands: Iterable[Command], line_offset: int = 0) -> list[Step]:
 def read_steps(path: str | Path) -> list[Step]:
     """The steps of the CRCL program in ``path`` (``.crcl`` text, ``.xml`` CRCL.xsd XML); an
     unreadable file or an unknown suffix is an :class:`~kb.core.errors.InputError`."""
-    if form_of(path) == "xml":
+    if Path(path).suffix.lower() != ".crcl":
+        from kb.crcl import read_xml
+        from kb.crcl.files import form_of
+        form_of(path)  # .xml, or an InputError naming the suffixes
         note_input(path)
         return steps_of(read_xml(Path(path)))
     note_input(path)
@@ -169,6 +180,7 @@ def _skipped(line: str) -> bool:
 
 
 def _slow(lines: list[str], first: int, name: str | None) -> list[Step]:
+    from kb.crcl import read_text
     try:
         program = read_text("\n".join(lines), name=name)
     except InputError as exc:  # a limit: name the line in the whole file
@@ -184,9 +196,11 @@ _POSE = rf"\{{\s*{_TRIPLE}\s*,\s*{_TRIPLE}\s*,\s*{_TRIPLE}\s*\}}"
 _TRIPLE_ANY = rf"\{{\s*{_NUM}\s*,\s*{_NUM}\s*,\s*{_NUM}\s*\}}"
 _POSE_ANY = rf"\{{\s*{_TRIPLE_ANY}\s*,\s*{_TRIPLE_ANY}\s*,\s*{_TRIPLE_ANY}\s*\}}"
 _STATEMENT = re.compile(r"\s*([A-Za-z_]\w*)\s*\(\s*(.*?)\s*\)\s*")
-_NUMBER = re.compile(_NUM)
 _INT = re.compile(r"[+-]?\d+")
-_STRING = re.compile(r'"([^"\\\n]*)"')
+#: ``Name(number)``, ``Name("text")`` (no escapes) or ``Name()``.
+_SIMPLE = re.compile(rf'\s*([A-Za-z_]\w*)\s*\(\s*(?:({_NUM})|"([^"\\\n]*)")?\s*\)\s*')
+#: The commands without arguments, as they are usually written.
+_BARE_TEXT = {f"{kind}()": (kind, None) for kind in BARE} | {"EndCanon()": ("EndCanon", 0)}
 _ONE_POSE = re.compile(_POSE)
 _MOVE = re.compile(rf"\s*(MoveTo|MoveStraightTo)\s*\(\s*{_POSE}\s*\)\s*")
 _POSES = re.compile(rf"((?:{_POSE_ANY}\s*,\s*)+)({_INT.pattern})")
@@ -201,31 +215,37 @@ def _fast(line: str, number: int) -> Step | None:
         values = tuple(map(float, groups[1:]))
         # a sum of finite numbers can overflow: such a line only takes the slow path
         return (groups[0], number, (values,)) if math.isfinite(sum(values)) else None
+    bare = _BARE_TEXT.get(line.strip())
+    if bare is not None:  # CloseGripper() and the like, without a regular expression
+        return bare[0], number, bare[1]
+    m = _SIMPLE.fullmatch(line)
+    if m is not None:
+        return _simple(*m.groups(), number)
     m = _STATEMENT.fullmatch(line)
-    if m is None:
-        return None
-    kind, args = m.groups()
-    if kind in BARE:
-        return (kind, number, None) if not args else None
-    if kind in NUMBER:
-        if _NUMBER.fullmatch(args):
-            value = float(args)
-            return (kind, number, value) if math.isfinite(value) else None
-        return None
-    if kind in MOVES:
-        return _fast_move(kind, args, number)
-    if kind in NAMED:
-        s = _STRING.fullmatch(args)
-        allowed = NAMED[kind]
-        if s is None or (allowed is not None and s.group(1) not in allowed):
-            return None
-        value = s.group(1)
-        return kind, number, "millimeter" if value == "mm" and kind == "SetLengthUnits" else value
-    if kind in ("EndCanon", "StopMotion"):
-        if kind == "EndCanon" and not args:
-            return kind, number, 0
-        return (kind, number, int(args)) if _INT.fullmatch(args) else None
+    if m is not None and m.group(1) in MOVES:
+        return _fast_move(m.group(1), m.group(2), number)
     return None
+
+
+def _simple(kind: str, number_text: str | None, text: str | None, number: int) -> Step | None:
+    """``Name(number)``, ``Name("text")`` or ``Name()``."""
+    if number_text is not None:
+        if kind in NUMBER:
+            value = float(number_text)
+            return (kind, number, value) if math.isfinite(value) else None
+        if kind in ("EndCanon", "StopMotion") and _INT.fullmatch(number_text):
+            return kind, number, int(number_text)
+        return None
+    if text is not None:
+        if kind not in NAMED:
+            return None
+        allowed = NAMED[kind]
+        if allowed is not None and text not in allowed:
+            return None
+        return kind, number, "millimeter" if text == "mm" and kind == "SetLengthUnits" else text
+    if kind in BARE:
+        return kind, number, None
+    return (kind, number, 0) if kind == "EndCanon" else None
 
 
 def _fast_move(kind: str, args: str, number: int) -> Step | None:
