@@ -26,7 +26,7 @@ from rdflib import BNode, Graph, Literal, URIRef
 from rdflib.namespace import RDF, XSD
 
 from kb.core.errors import InputError
-from kb.core.files import write_atomic
+from kb.core.files import command_scope, write_atomic
 from kb.core.namespaces import KTW, local_name
 from kb.core.units import KINDS
 from kb.io import load_file
@@ -104,8 +104,16 @@ def turn(graph: Graph, yaw_deg: float, objects: Iterable[str] | None = None) -> 
 def write_variant(in_path: str | Path, out_path: str | Path, *, unit: str | None = None, yaw: float = 0.0,
                   objects: Iterable[str] | None = None) -> int:
     """Read a state file, turn it (``yaw`` degrees; the whole workstation or ``objects``) and
-    write it in ``unit``; the number of statements written (Turtle, atomically)."""
-    source = load_file(in_path)
+    write it in ``unit``; the number of statements written (Turtle, atomically).
+
+    ``out_path`` may be ``in_path`` itself (``scenario generate --unit`` rewrites its own
+    output): the file is then read in a scope of its own, so only a file the running command
+    was given as an input stays protected from being written over."""
+    if Path(in_path).resolve() == Path(out_path).resolve():
+        with command_scope():
+            source = load_file(in_path)
+    else:
+        source = load_file(in_path)
     graph = Graph()
     for prefix, iri in source.graph.namespaces():
         graph.bind(prefix, iri, override=False)
