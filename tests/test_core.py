@@ -56,7 +56,7 @@ def test_existing_file_keeps_its_mode_and_a_failure_keeps_its_content(tmp_path: 
 
 def test_unwritable_target_is_an_input_error(tmp_path: Path) -> None:
     (tmp_path / "file").write_text("")
-    with pytest.raises(InputError, match="output folder is a file"):
+    with pytest.raises(InputError, match="is a file, not a folder"):
         write_atomic(tmp_path / "file" / "x.txt", "x")
 
 
