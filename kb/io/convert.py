@@ -42,6 +42,8 @@ def convert(in_path: Path, out_path: Path) -> int:
             data = graph.serialize(format=fmt, encoding="utf-8")
     except RecursionError:
         raise limits.NESTING.error(None, in_path, None, "blank nodes nested too deep to write") from None
+    if fmt == "nt":  # rdflib writes a graph's statements in hash order: the same file every run
+        data = b"".join(sorted(data.splitlines(keepends=True)))
     write_atomic(out_path, data)
     return len(graph)
 
