@@ -268,7 +268,7 @@ def relate(a_lo: ArrayLike, a_hi: ArrayLike, b_lo: ArrayLike, b_hi: ArrayLike,
     a0s, a1s = _boxes(a_lo, a_hi, "subject")
     b0s, b1s = _boxes(b_lo, b_hi, "object")
     n, m = a0s.shape[1], b0s.shape[1]
-    if n * m <= _FEW_PAIRS:
+    if n < _RANK_MIN_SUBJECTS and n * m <= min(_FEW_PAIRS, _COMPARE_PAIRS):  # (the kernels' own tests shrink these)
         return _masks_all_axes(a0s[:, :, None], a1s[:, :, None], b0s[:, None, :], b1s[:, None, :], t)
     out = np.empty((n, m), dtype=np.uint32)
     kernel, chunk = _plan(n)
