@@ -12,6 +12,7 @@ from kb import world
 PG_URL = os.environ.get("KITKB_PG_URL")
 
 
+@pytest.hookimpl(tryfirst=True)  # before xdist's own hook reads the groups
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     """Under ``-n N --dist loadgroup`` (./test.sh) the tests that use the one PostgreSQL
     database of ``KITKB_PG_URL`` (each wipes it) run on one worker, one after another."""

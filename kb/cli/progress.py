@@ -80,7 +80,8 @@ class Display:
         try:
             yield task
         finally:
-            task.update()  # its last counts (shown by the refresh before the line goes)
+            task.update()  # its last counts, drawn once before the line goes (a short task
+            rich.refresh()  # may end between two of the thread's refreshes: ~3 ms a task)
             rich.remove_task(task_id)
             self._open -= 1
             if self._open == 0:

@@ -68,10 +68,20 @@ def check_file(path: Path, url: str) -> bool:
         raise InputError(f"database {url} is a folder, not a kitkb world model") from None
     except OSError as exc:
         raise InputError(f"cannot open database {url}: {exc.strerror or exc}") from None
-    if head and head != MAGIC:
+    if head and head != MAGIC and not (head.count(0) == len(head) and _hot_journal(path)):
         raise InputError(f"database {url} is not a kitkb world model (the file is not an SQLite database); "
                          f"it is left as it is: give a new file") from None
     return bool(head)
+
+
+def _hot_journal(path: Path) -> bool:
+    """A rollback journal beside ``path``: a new database whose writer was killed before its
+    first commit wrote page 1 (zeros where the header goes); SQLite rolls it back on open."""
+    try:
+        with open(f"{path}-journal", "rb") as f:
+            return f.read(8) == b"\xd9\xd5\x05\xf9\x20\xa1\x63\xd7"  # the journal's magic
+    except OSError:
+        return False
 
 
 def make_folder(path: Path) -> None:
