@@ -8,5 +8,5 @@ bash scripts/setup.sh --postgres
 source scripts/postgres.sh
 pg_start
 trap pg_stop EXIT
-# two workers (one per core of the CI machines); the PostgreSQL tests share one worker (tests/conftest.py)
-.venv/bin/python -m pytest -m "slow or not slow" -n "${KITKB_TEST_WORKERS:-2}" --dist loadgroup "$@"
+# two workers (one per core of the CI machines), each with a PostgreSQL database of its own (tests/conftest.py)
+.venv/bin/python -m pytest -m "slow or not slow" -n "${KITKB_TEST_WORKERS:-2}" "$@"

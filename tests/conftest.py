@@ -1,4 +1,4 @@
-"""Fixtures the database tests share, and how the suite splits over pytest-xdist workers."""
+"""Fixtures the database tests share, and a PostgreSQL database per pytest-xdist worker."""
 
 from __future__ import annotations
 
@@ -9,16 +9,34 @@ import pytest
 
 from kb import world
 
+
+
+def _worker_database() -> None:
+    """Under pytest-xdist (``./test.sh -n 2``) each worker gets a PostgreSQL database of its own
+    on the server of ``KITKB_PG_URL`` (``<database>_gw0`` ...: tests wipe and lock theirs), set in
+    ``KITKB_PG_URL`` before any test module reads it, so subprocesses inherit it too."""
+    worker, url = os.environ.get("PYTEST_XDIST_WORKER"), os.environ.get("KITKB_PG_URL")
+    if not worker or not url:
+        return
+    import psycopg2
+    from sqlalchemy.engine import make_url
+
+    u = make_url(url)
+    name = f"{u.database}_{worker}"
+    conn = psycopg2.connect(host=u.host, port=u.port, user=u.username, password=u.password, dbname=u.database)
+    conn.autocommit = True
+    try:
+        with conn.cursor() as cur:
+            cur.execute("SELECT 1 FROM pg_database WHERE datname = %s", (name,))
+            if cur.fetchone() is None:
+                cur.execute(f'CREATE DATABASE "{name}"')
+    finally:
+        conn.close()
+    os.environ["KITKB_PG_URL"] = u.set(database=name).render_as_string(hide_password=False)
+
+
+_worker_database()
 PG_URL = os.environ.get("KITKB_PG_URL")
-
-
-@pytest.hookimpl(tryfirst=True)  # before xdist's own hook reads the groups
-def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
-    """Under ``-n N --dist loadgroup`` (./test.sh) the tests that use the one PostgreSQL
-    database of ``KITKB_PG_URL`` (each wipes it) run on one worker, one after another."""
-    for item in items:
-        if item.get_closest_marker("postgres"):
-            item.add_marker(pytest.mark.xdist_group("postgres"))
 
 
 @pytest.fixture(params=["sqlite", pytest.param("postgresql", marks=pytest.mark.postgres)])
