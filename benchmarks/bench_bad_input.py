@@ -526,7 +526,7 @@ def render(result: dict, seed: int, real: int, wall: float) -> str:
         f"- Command: `.venv/bin/python benchmarks/bench_bad_input.py --inputs {result['inputs']} --seed {seed} "
         f"--subprocess {result.get('subprocesses', real)}` (counts in `benchmarks/results/bad_input.json`; the "
         "same checks run under hypothesis in `tests/test_bad_input.py`, a few mutants per command by default "
-        "and ten times as many in the slow run).",
+        "and four times as many in the slow run).",
         f"- Machine: {cpu_model()}, {os.cpu_count()} cores (shared); seed {seed}; {wall:.0f} s wall.",
         f"- **{result['inputs']:,} inputs tried**: {by_exit}; **{result['tracebacks']} tracebacks**, "
         f"{result['hangs']} hangs (over {TIMEOUT} s), {len(result['problems'])} outcomes with a problem.",

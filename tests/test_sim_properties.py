@@ -355,7 +355,7 @@ def test_random_programs_and_faults_keep_poses_finite_and_bodies_rigid(data: st.
 
 
 @pytest.mark.slow
-@SLOW
+@settings(SLOW, max_examples=100)
 @given(st.data())
 def test_long_random_programs_and_faults_on_the_small_kit(data: st.DataObject) -> None:
     drive(data, "small-kit", 150)
