@@ -9,6 +9,7 @@ not execute.
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -236,3 +237,16 @@ def test_the_simulated_robot_takes_crcl_in_any_length_unit() -> None:
         flange, t2 = flange_after(unit, per)
         np.testing.assert_allclose(flange, metres, atol=1e-9)
         assert t2 == pytest.approx(t)
+
+
+def test_turning_an_axis_that_is_no_number_is_one_line(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    """An ill-typed coordinate ("0x10"^^xsd:decimal) met while turning is an input error naming
+    it (the random bad-input campaign found exit 3 here)."""
+    init = scenario_dirs()[0] / "init.ttl"
+    text = init.read_text()
+    bad = tmp_path / "bad.ttl"
+    bad.write_text(re.sub(r"hasVector_I\s+[-+0-9.eE]+", 'hasVector_I "0x10"^^xsd:decimal', text))
+    assert main(["scenario", "transform", str(bad), "-o", str(tmp_path / "out.ttl"), "--yaw", "23"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "is not a number" in err[0] and "0x10" in err[0], err
+    assert not (tmp_path / "out.ttl").exists()

@@ -156,12 +156,26 @@ def _turn_location(graph: Graph, loc, r: np.ndarray, move_point: bool) -> None: 
     for node, props, rotate in nodes:
         if node is None or not rotate:
             continue
-        v = np.array([float(graph.value(node, p).toPython()) if graph.value(node, p) is not None else 0.0
-                      for p in props])
+        v = np.array([_coordinate(graph, node, p) for p in props])
         for p, x in zip(props, r @ v):
             for o in list(graph.objects(node, p)):
                 graph.remove((node, p, o))
             graph.add((node, p, number(0.0 if abs(x) < 1e-12 else x)))
+
+
+def _coordinate(graph: Graph, node, prop) -> float:  # noqa: ANN001
+    """The number ``node`` has for ``prop`` (0 where it has none); an InputError naming both
+    where it is no number ("0x10"^^xsd:decimal, a string) or too large for a float."""
+    o = graph.value(node, prop)
+    if o is None:
+        return 0.0
+    v = o.toPython() if isinstance(o, Literal) else None
+    if isinstance(v, bool) or not isinstance(v, (int, float, Decimal)):
+        raise InputError(f"{local_name(node)}: {local_name(prop)} is not a number ({str(o)[:40]!r})")
+    try:
+        return float(v)
+    except OverflowError:  # an xsd:integer of hundreds of digits
+        raise InputError(f"{local_name(node)}: {local_name(prop)} is too large ({len(o)} digits)") from None
 
 
 def _axis(graph: Graph, loc, prop, name: str, default: tuple[float, float, float]):  # noqa: ANN001, ANN202
