@@ -20,7 +20,7 @@ import tempfile
 from contextlib import contextmanager
 from contextvars import ContextVar
 from pathlib import Path
-from typing import Iterator, Sequence
+from typing import Any, Iterator, Sequence
 
 from kb.core.errors import InputError
 
@@ -84,6 +84,19 @@ def check_output(path: str | Path) -> None:
         what, original = read[key]
         raise InputError(f"refusing to write over {original}, the {what} this command reads "
                          f"(the same file); choose another output path", path)
+
+
+def utf8_lines(f: Any, path: str | Path) -> Iterator[str]:
+    """The lines of binary file ``f`` as text, without their ``\\n`` and the first without a
+    byte order mark; bytes that are not UTF-8 are an InputError at their line of ``path``."""
+    for number, raw in enumerate(f, 1):
+        try:
+            text = raw.decode("utf-8")
+        except UnicodeDecodeError:
+            raise InputError("not UTF-8 text", path, number) from None
+        if number == 1:
+            text = text.removeprefix("\ufeff")
+        yield text.removesuffix("\n")
 
 
 def _umask() -> int:

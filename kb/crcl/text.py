@@ -24,6 +24,7 @@ from typing import Any, Iterable, Iterator
 
 from kb.core import limits
 from kb.core.errors import InputError
+from kb.core.files import utf8_lines
 from kb.crcl.commands import (COMMANDS, Command, EndCanon, MoveThroughTo, Program, SetLengthUnits,
                               Unreadable)
 from kb.crcl.pose import Pose
@@ -65,22 +66,9 @@ def read_text(source: str | os.PathLike[str], *, name: str | None = None) -> Pro
     path = Path(source)
     try:
         with open(path, "rb") as f:
-            return Program(tuple(_commands(_file_lines(f, path), str(path))), source=name or str(path))
+            return Program(tuple(_commands(utf8_lines(f, path), str(path))), source=name or str(path))
     except OSError as exc:
         raise InputError(f"cannot read: {exc.strerror or exc}", path) from None
-
-
-def _file_lines(f: Any, path: Path) -> Iterator[str]:
-    """The lines of a binary file as text, without their ``\\n``; not UTF-8 is an
-    InputError at its line."""
-    for number, raw in enumerate(f, 1):
-        try:
-            text = raw.decode("utf-8")
-        except UnicodeDecodeError:
-            raise InputError("not UTF-8 text", path, number) from None
-        if number == 1:
-            text = text.removeprefix("\ufeff")
-        yield text.removesuffix("\n")
 
 
 def _commands(lines: Iterable[str], name: str | None = None) -> Iterator[Command]:

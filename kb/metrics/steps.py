@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING, Any, Iterable, Iterator
 
 from kb.core import limits
 from kb.core.errors import InputError
-from kb.core.files import note_input
+from kb.core.files import note_input, utf8_lines
 
 if TYPE_CHECKING:
     from kb.crcl.commands import Command
@@ -131,14 +131,7 @@ def _text_lines(f: Any) -> Iterator[str]:
 
 
 def _lines(f: Any, path: Path) -> Iterator[str]:
-    for number, raw in enumerate(f, 1):
-        try:
-            text = raw.decode("utf-8")
-        except UnicodeDecodeError:
-            raise InputError("not UTF-8 text", path, number) from None
-        if number == 1:
-            text = text.removeprefix("\ufeff")
-        yield text.removesuffix("\n").removesuffix("\r")
+    return (line.removesuffix("\r") for line in utf8_lines(f, path))
 
 
 def text_steps(lines: Iterable[str], name: str | None = None) -> Iterator[Step]:
