@@ -108,7 +108,7 @@ def run_plan(plan: Sequence[str], init: str | Path, goal: str | Path, *, cell: C
              replace: bool = False, store: Any = None,
              progress: Callable[[str], None] | None = None, notifier: Callable[[str, str], None] = log_notifier,
              planner: str | None = None, domain_files: Sequence[str | Path] | None = None,
-             name: str | None = None) -> Run:
+             name: str | None = None, truth: str | Path | None = None) -> Run:
     """Carry out ``plan`` (PDDL action lines) from the state ``init`` towards ``goal``.
 
     ``cell``: any :class:`~kb.crcl.cell.CellInterface` (a real cell, :class:`kb.crcl.RemoteCell`);
@@ -116,7 +116,11 @@ def run_plan(plan: Sequence[str], init: str | Path, goal: str | Path, *, cell: C
     text, ``"missed-grasp=0.2,part-missing@3"``) and ``seed``. ``db``: a database (SQLite file
     or URL) that gets the initial state and the domain (a database that already holds a world
     model or run history only with ``replace``), then the stable states and the run's records
-    (:mod:`kb.execution.store`); or pass an open ``store``.
+    (:mod:`kb.execution.store`); or pass an open ``store``. ``truth``: a state file the simulated
+    cell holds instead of ``init`` (the same objects placed and turned otherwise: the first
+    paper's "the actual location of the kit tray and parts supplies will not be known before
+    runtime"); the executor starts from ``init``, the nominal layout, and finds the objects by
+    sensing.
     """
     from kb.planning.model import read_specs
     domain, spec = read_specs([init], [goal], encoding="numeric", domain_files=domain_files,
@@ -126,8 +130,8 @@ def run_plan(plan: Sequence[str], init: str | Path, goal: str | Path, *, cell: C
     if cell is None:
         from kb.sim import FaultSpec, SimulatedCell  # imported only when no cell is given
         spec_f = FaultSpec.parse(faults, seed=seed) if isinstance(faults, str) else faults
-        sim = SimulatedCell(Scene.from_files([init], declared=[goal], match_names=match_names), faults=spec_f,
-                            seed=seed)
+        sim = SimulatedCell(Scene.from_files([truth or init], declared=[goal], match_names=match_names),
+                            faults=spec_f, seed=seed)
         cell = sim
     own_store = None
     if db is not None and store is None:
