@@ -50,6 +50,7 @@ HANDLERS = {
     "metrics": "kb.cli.metrics:metrics",
     "predicates": "kb.cli.predicates:predicates",
     "sim serve": "kb.cli.sim:serve",
+    "testmethod": "kb.cli.testmethod:testmethod",
 }
 DIALECTS = ["sqlite", "postgresql", "mysql"]
 DB_HELP = "SQLite file or SQLAlchemy URL such as postgresql://user@host/db (default kitkb.sqlite)"
@@ -290,6 +291,35 @@ def _add_sim(sub: Any) -> None:
                    help="command port (default 3990; 0: any free port)")
 
 
+def _add_testmethod(sub: Any) -> None:
+    p = _sub(sub, "testmethod", "testmethod", "run one of the first paper's test methods as a seeded campaign on Dask",
+             format_help="text: a line per trial and the summary (kits built, mean / median / p95 of each metric, "
+                         "failures by mode, recoveries); json: one object with the summary and the rows (default text)",
+             description="Run one of the first paper's four test methods (§III) as a campaign of seeded trials on "
+                         "Dask distributed: basic (one kit, kit tray and parts trays placed and turned anew each "
+                         "trial), new-variety (a design never seen, delivered as Turtle files: the time from receipt "
+                         "to the first CRCL command), multi (several designs in a seeded order, kit trays from "
+                         "storage), errors (dropped and defective parts to recover from). Each trial's report goes "
+                         "to DIR/trials/NNNNN.json and the summary to DIR/campaign.json; a campaign run again into "
+                         "the same DIR resumes. docs/testmethods.md describes the methods.")
+    p.add_argument("method", choices=["basic", "new-variety", "multi", "errors"], metavar="METHOD",
+                   help="basic, new-variety, multi or errors")
+    p.add_argument("--trials", type=int, default=10, help="number of trials (default 10)")
+    p.add_argument("--seed", type=int, default=0, help="campaign seed: the same seed gives the same trials (default 0)")
+    p.add_argument("--parts", metavar="N[,N...]", help="parts of the kit design (multi: one size per design; "
+                                                        "default 10, multi 4,6)")
+    p.add_argument("--kits", type=int, help="multi: kits built in a trial, of the designs in a seeded order (default 3)")
+    p.add_argument("--faults", metavar="KIND=RATE,...",
+                   help="errors: the faults injected (default dropped-part=0.1,defective-part=0.1,missed-grasp=0.05,"
+                        "part-moved=0.05; kinds as kitkb run --faults)")
+    where = p.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=int, metavar="N",
+                       help="Dask worker processes of a local cluster on this machine (default: one per core)")
+    where.add_argument("--scheduler", metavar="ADDR", help="a running Dask scheduler (tcp://host:8786) instead")
+    p.add_argument("--out", dest="output", metavar="DIR",
+                   help="campaign folder (default out/testmethod-METHOD); the trials already in it are not run again")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``kitkb`` command."""
     parser = argparse.ArgumentParser(prog="kitkb", description=DESCRIPTION, epilog=EXIT_CODES)
@@ -297,7 +327,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--traceback", action="store_true", help="show the Python traceback of an error")
     sub = parser.add_subparsers(dest="subcommand", required=True, metavar="COMMAND")
     for add in (_add_files, _add_scenario, _add_generate, _add_plan, _add_db, _add_run, _add_crcl, _add_metrics,
-                _add_predicates, _add_sim):
+                _add_predicates, _add_sim, _add_testmethod):
         add(sub)
     return parser
 

@@ -48,7 +48,7 @@ def state_blocks(sc: Scenario, state: str) -> Iterator[Block]:
     yield from _design_blocks(sc)
     yield from _station_blocks(sc)
     yield from _robot_blocks(sc)
-    yield from _table_blocks(sc)
+    yield from _table_blocks(sc, goal)
     yield from _parts_blocks(sc, goal)
     yield from _box_blocks(sc, goal)
 
@@ -161,12 +161,16 @@ def _robot_blocks(sc: Scenario) -> Iterator[Block]:
                [("hasPoint_X", point[0]), ("hasPoint_Y", point[1]), ("hasPoint_Z", point[2])])
 
 
-def _table_blocks(sc: Scenario) -> Iterator[Block]:
-    yield (None, "work table where kits are built (empty)", [])
+def _table_blocks(sc: Scenario, goal: bool) -> Iterator[Block]:
+    on_table = [] if goal else [k for k in sc.kits if k.on_table]
+    yield (None, "work table where kits are built" + (" (empty)" if not on_table else " with empty kit trays"), [])
     p, dims = sc.floor["work_table_1"]
-    yield from _solid("work_table_1", ("WorkTable",), [("hasNoSkuObject_InternalShape", "shape_work_table_1")],
+    yield from _solid("work_table_1", ("WorkTable",), [("hasNoSkuObject_InternalShape", "shape_work_table_1")]
+                      + [("hasWorkTable_ObjectOnTable", k.tray) for k in on_table],
                       "PoseOnlyLocation", "kitting_workstation_1", p)
     yield _shape_block("shape_work_table_1", "work table", dims, True)
+    for kit in on_table:
+        yield from _kit_tray(kit, "PoseLocationOn", "work_table_1", kit.tray_pose)
 
 
 def _parts_blocks(sc: Scenario, goal: bool) -> Iterator[Block]:
@@ -202,15 +206,16 @@ def _part(name: str, sku: str, serial: str, ref: str, p: Pose) -> Iterator[Block
 
 def _box_blocks(sc: Scenario, goal: bool) -> Iterator[Block]:
     ws = "kitting_workstation_1"
-    yield (None, "large box with empty kit trays" + (" (emptied)" if goal else ""), [])
+    stored = [k for k in sc.kits if not k.on_table]
+    yield (None, "large box with empty kit trays" + (" (emptied)" if goal or not stored else ""), [])
     p, _ = sc.floor["empty_kit_tray_supply"]
     yield from _solid("empty_kit_tray_supply", ("LargeBoxWithEmptyKitTrays",),
                       [("hasLargeBoxWithEmptyKitTrays_LargeContainer", "empty_kit_tray_box")]
-                      + ([] if goal else [("hasLargeBoxWithEmptyKitTrays_KitTray", k.tray) for k in sc.kits]),
+                      + ([] if goal else [("hasLargeBoxWithEmptyKitTrays_KitTray", k.tray) for k in stored]),
                       "PoseOnlyLocation", ws, p)
     yield from _container("empty_kit_tray_box", "sku_empty_kit_tray_box", "ektb_1", "empty_kit_tray_supply")
     if not goal:
-        for kit in sc.kits:
+        for kit in stored:
             yield from _kit_tray(kit, "PoseLocationIn", "empty_kit_tray_box", kit.tray_pose)
     prps = {prp: key for places in sc.prps for prp, key, _ in places}
     points = {prp: pt for places in sc.prps for prp, _, pt in places}

@@ -3,7 +3,8 @@
 Conventions (NIST kitting model): a BoxyShape has its origin in the middle of the bottom,
 z up into the box and x along the length (length >= width). Every solid object has a pose
 relative to its container; lengths in meters, weights in kilograms. Floor plan: robot, work
-table (where kits are built; empty in both states) and changing station in one row, the parts
+table (where kits are built; empty in both states unless the spec starts its kit trays there)
+and changing station in one row, the parts
 table with the parts trays behind it, the large boxes in front. Parts trays may have a small
 seeded yaw; parts lie on the tray floor and stick out of it (Partially-In, seed paper 004).
 """
@@ -86,6 +87,7 @@ class KitLayout:
     box: int  # index of its large box with kits
     pose: Pose  # in that box (goal)
     slots: list[tuple[str, str, str]] = field(default_factory=list)  # (slot, prp, part)
+    on_table: bool = False  # the tray starts on the work table (``tray_pose`` on it), not in the box
 
 
 @dataclass
@@ -154,18 +156,21 @@ def layout(spec: ScenarioSpec) -> Scenario:
     kits: list[KitLayout] = []
     used = [0] * n_boxes
     taken = {key: 0 for key in queues}
+    table_dims, table_cells = _work_table(spec, kt)
     for k, d in enumerate(spec.kits):
         x, y = ekt_cells[k]
         bx, by = fk_cells[used[d]]
         used[d] += 1
         kit = KitLayout(f"kit_{k + 1}", d, f"kit_tray_{k + 1}", f"kt_{k + 1}", pose(x, y, 0.0), d, pose(bx, by, 0.0))
+        if spec.kit_trays_on_table:
+            kit.tray_pose, kit.on_table = pose(*table_cells[k], TABLE_H), True
         skip = len(spec.designs[d].name) + len("_prp")
         for prp, key, _ in prps[d]:
             part = queues[key][taken[key]]
             taken[key] += 1
             kit.slots.append((f"{kit.name}_slot{prp[skip:]}", prp, part))
         kits.append(kit)
-    floor = _floor(spec, skus, trays)
+    floor = _floor(spec, skus, trays, table_dims)
     xs = [p[0] for p, _ in floor.values()]
     ys = [p[1] for p, _ in floor.values()]
     reach = max(max(d[0], d[1]) for _, d in floor.values())
@@ -255,18 +260,37 @@ def _parts_trays(spec: ScenarioSpec, cl: float, cw: float, tray_dims) -> tuple[l
     return trays, queues
 
 
-def _floor(spec: ScenarioSpec, skus: dict[str, Sku], trays: list[PartsTrayLayout]) -> dict:
+def _turnable_cell(length: float, width: float, room: float) -> tuple[float, float]:
+    """A square cell in which a ``length`` x ``width`` tray fits at any yaw, ``room`` around it."""
+    side = round(math.hypot(length, width) + 2 * room, 6)
+    return side, side
+
+
+def _work_table(spec: ScenarioSpec, kit_tray: tuple[float, float, float]) -> tuple[tuple, list]:
+    """The work table's box dims, and the centres of the kit trays that start on it (in its
+    frame; none unless ``spec.kit_trays_on_table``)."""
+    kl, kw, _ = kit_tray
+    length, width = max(1.0, round(kl + 0.3, 6)), max(0.6, round(kw + 0.3, 6))
+    if not spec.kit_trays_on_table:
+        return (length, width, TABLE_H), []
+    cx, cy = _turnable_cell(kl, kw, spec.room) if spec.room > 0 else (kl + 0.05, kw + 0.05)
+    tl, tw, centers = _cells(*_grid(len(spec.kits)), cx, cy, 0.05)
+    return (max(length, tl), max(width, tw), TABLE_H), centers
+
+
+def _floor(spec: ScenarioSpec, skus: dict[str, Sku], trays: list[PartsTrayLayout], table: tuple) -> dict:
     """Objects standing on the floor, each with its pose in the workstation and box dims."""
     pl, pw, _ = skus["sku_parts_tray"].dims
-    a = math.radians(spec.max_yaw_deg)
-    cx = pl * math.cos(a) + pw * math.sin(a) + 0.05
-    cy = pl * math.sin(a) + pw * math.cos(a) + 0.05
+    if spec.room > 0:
+        cx, cy = _turnable_cell(pl, pw, spec.room)
+    else:
+        a = math.radians(spec.max_yaw_deg)
+        cx = pl * math.cos(a) + pw * math.sin(a) + 0.05
+        cy = pl * math.sin(a) + pw * math.cos(a) + 0.05
     cols, rows = _grid(len(trays))
     length, width, centers = _cells(cols, rows, round(cx, 6), round(cy, 6), 0.05)
     for tray, (x, y) in zip(trays, centers):
         tray.pose = (x, y, TABLE_H) + tray.pose[3:]
-    kl, kw, _ = skus["sku_kit_tray"].dims
-    table = (max(1.0, round(kl + 0.3, 6)), max(0.6, round(kw + 0.3, 6)), TABLE_H)
     rows_of = [
         [("robot_1", ROBOT_BASE), ("work_table_1", table), ("changing_station_1", BASE)],
         [("parts_table_1", (length, width, TABLE_H))],

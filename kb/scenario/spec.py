@@ -50,6 +50,11 @@ class ScenarioSpec:
     tray_grid: tuple[int, int] = (4, 3)  # parts tray cells (columns, rows)
     max_yaw_deg: float = 0.0  # parts trays on the parts table get a yaw in [-max, max]
     seed: int = 0  # draws the yaws
+    #: kit trays start on the work table (the basic kit test method), not in the storage box
+    kit_trays_on_table: bool = False
+    #: > 0: the tables leave a tray this much room (m) on every side at any yaw, so that the test
+    #: methods can place and turn trays anywhere on them (:mod:`kb.scenario.placement`)
+    room: float = 0.0
 
     def needed(self) -> dict[str, int]:
         """Parts of each type the kits need together."""
@@ -164,3 +169,57 @@ def _random_design(rng: random.Random, types: list[PartType], size: int, number:
     for _ in range(size - len(counts)):
         counts[rng.choice(keys)] += 1
     return DesignSpec(f"kit_design_{number}", tuple(counts.items()))
+
+
+# --------------------------------------------------------------- test method workstations
+
+
+def random_types(count: int, seed: int) -> tuple[PartType, ...]:
+    """``count`` part types of sizes and weights drawn from ``seed`` (as :func:`random_spec` draws them)."""
+    rng = random.Random(seed)
+    types = []
+    for i in range(count):
+        length = round(rng.uniform(0.04, 0.10), 3)
+        width = round(rng.uniform(0.03, length), 3)
+        height = round(rng.uniform(0.05, 0.09), 3)
+        weight = round(rng.uniform(0.05, 0.30), 3)
+        types.append(PartType(type_key(i), length, width, height, weight))
+    return tuple(types)
+
+
+def types_for(parts: int) -> int:
+    """How many part types a test method's supply holds for designs of up to ``parts`` parts:
+    two or more (the first paper's basic kit holds "two or more different types of parts"),
+    about the square root of the size, at most six."""
+    return max(2, min(6, round(math.sqrt(parts))))
+
+
+def mixed_design(types: tuple[PartType, ...], size: int, seed: int, name: str) -> DesignSpec:
+    """A design of ``size`` parts of at least two of ``types`` (one when ``size`` is 1), the
+    counts drawn from ``seed``."""
+    rng = random.Random(seed)
+    n = min(len(types), size, max(2, rng.randint(2, len(types))))
+    chosen = sorted(rng.sample(range(len(types)), n))
+    counts = {types[i].key: 1 for i in chosen}
+    keys = list(counts)
+    for _ in range(size - n):
+        counts[rng.choice(keys)] += 1
+    return DesignSpec(name, tuple(counts.items()))
+
+
+def method_spec(name: str, types: tuple[PartType, ...], designs: tuple[DesignSpec, ...], kits: tuple[int, ...], *,
+                spare: int = 1, kit_trays_on_table: bool = False, room: float = 0.05) -> ScenarioSpec:
+    """A test method's workstation: ``designs`` built as ``kits`` (design indices, in order),
+    every tray placeable at any yaw (``room``); kit trays on the work table or in storage."""
+    used = sorted({k for d in designs for k, _ in d.counts})
+    return ScenarioSpec(
+        name=name,
+        description=f"Test method workstation: {len(kits)} kit(s) of {len(designs)} design(s).",
+        part_types=tuple(t for t in types if t.key in used),
+        designs=designs,
+        kits=kits,
+        spare=spare,
+        tray_grid=(3, 2),
+        kit_trays_on_table=kit_trays_on_table,
+        room=room,
+    )

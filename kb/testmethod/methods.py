@@ -1,0 +1,156 @@
+"""The four test methods of the first paper (seed 000 §III) as seeded trials.
+
+A campaign is a method, a seed and its options (:class:`Options`); trial ``i`` is a
+:class:`Job` — everything a worker needs, and nothing else — made by :func:`jobs` from the
+campaign alone, so the same campaign gives the same jobs wherever they run:
+
+* **basic** (§III-B): one kit of a design known before the test (drawn from the campaign's seed:
+  ``--parts`` parts of two or more types); its kit tray starts on the work table, and every trial
+  places and turns the kit tray and the parts trays anew (:mod:`kb.scenario.placement`);
+* **new-variety** (§III-C): as basic, but every trial's design is new (drawn from the trial's
+  seed over the campaign's part types) and reaches the system as Turtle files: the trial records
+  the time from their receipt to the first CRCL command sent to the cell;
+* **multi** (§III-D): ``--kits`` kits of the designs of ``--parts`` (one size per design) in an
+  order drawn from the trial's seed; kit trays come from the storage box and finished kits go to
+  their boxes; the parts trays are placed and turned anew;
+* **errors** (§III-E): basic with seeded faults (the paper's dropped and defective parts, and
+  missed grasps and moved parts; ``--faults`` sets others) and spare parts to recover with.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import random
+from dataclasses import dataclass, field
+from typing import Any
+
+from kb.core.errors import InputError
+from kb.core.limits import PARTS
+from kb.scenario.spec import DesignSpec, ScenarioSpec, method_spec, mixed_design, random_types, types_for
+
+METHODS = ("basic", "new-variety", "multi", "errors")
+#: the faults of the errors method unless ``--faults`` says otherwise (chance per take-part action)
+DEFAULT_FAULTS = "dropped-part=0.1,defective-part=0.1,missed-grasp=0.05,part-moved=0.05"
+#: parts of each type beyond what the kits need, per method (errors: enough to recover with)
+SPARE = {"basic": 1, "new-variety": 1, "multi": 1, "errors": 3}
+DEFAULT_PARTS = {"basic": (10,), "new-variety": (10,), "multi": (4, 6), "errors": (10,)}
+DEFAULT_KITS = 3
+
+
+@dataclass(frozen=True)
+class Options:
+    """A campaign: its method, seed, number of trials and what its workstations hold."""
+
+    method: str
+    trials: int = 10
+    seed: int = 0
+    parts: tuple[int, ...] = ()  # parts per design (default per method: DEFAULT_PARTS)
+    kits: int = DEFAULT_KITS  # multi: kits per trial
+    faults: str | None = None  # errors: the fault mix (default DEFAULT_FAULTS)
+
+    def __post_init__(self) -> None:
+        if self.method not in METHODS:
+            raise InputError(f"unknown test method {self.method!r} (methods: {', '.join(METHODS)})")
+        if not self.parts:
+            object.__setattr__(self, "parts", DEFAULT_PARTS[self.method])
+        if self.method == "errors" and self.faults is None:
+            object.__setattr__(self, "faults", DEFAULT_FAULTS)
+        self._check()
+
+    def _check(self) -> None:
+        if self.trials < 1:
+            raise InputError(f"--trials must be at least 1 (got {self.trials})")
+        for n in self.parts:
+            if n < 2:
+                raise InputError(f"--parts: a kit holds two or more parts (got {n})")
+            PARTS.check(n, what=f"--parts {n:,}")
+        if self.method != "multi" and len(self.parts) != 1:
+            raise InputError(f"--parts: {self.method} builds one design, give one number (got {len(self.parts)})")
+        if self.method == "multi":
+            if len(self.parts) < 2:
+                raise InputError("--parts: multi builds two or more designs, give one size each (e.g. 4,6)")
+            if self.kits < len(self.parts):
+                raise InputError(f"--kits ({self.kits}) must be at least the number of designs ({len(self.parts)})")
+            PARTS.check(self.kits * max(self.parts), what=f"--kits {self.kits} of up to {max(self.parts)} parts")
+        if self.faults is not None:
+            if self.method != "errors":
+                raise InputError(f"--faults is for the errors method, not {self.method}")
+            _check_faults(self.faults)
+
+    def as_dict(self) -> dict[str, Any]:
+        """What campaign.json keeps as ``options`` (what the trials depend on)."""
+        return {"parts": list(self.parts), "kits": self.kits if self.method == "multi" else None,
+                "faults": self.faults}
+
+
+def _check_faults(text: str) -> None:
+    from kb.sim.faults import FaultSpec  # the cell's own reader says what is wrong
+    try:
+        FaultSpec.parse(text)
+    except ValueError as e:
+        raise InputError(f"--faults: {e}") from None
+
+
+@dataclass(frozen=True)
+class Job:
+    """One trial, as a worker gets it: the nominal workstation (``spec``: what the system under
+    test is told), the seed of the real placement and of the faults, and how to run it."""
+
+    method: str
+    index: int
+    seed: int
+    spec: ScenarioSpec
+    faults: str | None = None
+    deliver: bool = False  # new-variety: the design arrives as files, planned on receipt (never cached)
+    order: tuple[str, ...] = field(default=())  # the designs of the kits, in the order asked
+
+
+def trial_seed(seed: int, index: int) -> int:
+    """The seed of trial ``index`` of a campaign of ``seed`` (32 bits, from SHA-256)."""
+    return int.from_bytes(hashlib.sha256(f"kitkb-testmethod/{seed}/{index}".encode()).digest()[:4], "big")
+
+
+def design_seed(seed: int, design: int) -> int:
+    """The seed of a campaign's design ``design`` (known before the test: not a trial's)."""
+    return trial_seed(seed, -1 - design)
+
+
+def jobs(options: Options, indices: list[int] | range | None = None) -> list[Job]:
+    """The jobs of the campaign's trials (all, or ``indices``)."""
+    indices = range(options.trials) if indices is None else indices
+    return [job(options, i) for i in indices]
+
+
+def job(options: Options, index: int) -> Job:
+    """Trial ``index`` of the campaign."""
+    seed = trial_seed(options.seed, index)
+    method = options.method
+    types = random_types(types_for(max(options.parts)), options.seed)
+    name = f"testmethod-{method}"
+    if method in ("basic", "errors"):
+        design = mixed_design(types, options.parts[0], design_seed(options.seed, 0), "kit_design_1")
+        spec = method_spec(name, types, (design,), (0,), spare=SPARE[method], kit_trays_on_table=True)
+        return Job(method, index, seed, spec, options.faults, order=(design.name,))
+    if method == "new-variety":
+        design = mixed_design(types, options.parts[0], seed, f"kit_design_new_{index + 1}")
+        spec = method_spec(f"{name}-{index + 1}", types, (design,), (0,), spare=SPARE[method],
+                           kit_trays_on_table=True)
+        return Job(method, index, seed, spec, deliver=True, order=(design.name,))
+    designs = tuple(mixed_design(types, n, design_seed(options.seed, d), f"kit_design_{d + 1}")
+                    for d, n in enumerate(options.parts))
+    kits = _order(len(designs), options.kits, seed)
+    spec = method_spec(name, types, designs, kits, spare=SPARE[method])
+    return Job(method, index, seed, spec, order=tuple(designs[d].name for d in kits))
+
+
+def _order(designs: int, kits: int, seed: int) -> tuple[int, ...]:
+    """``kits`` design indices in a pseudo-random order, every design at least once."""
+    rng = random.Random(seed)
+    order = list(range(designs)) + [rng.randrange(designs) for _ in range(kits - designs)]
+    rng.shuffle(order)
+    return tuple(order)
+
+
+def designs_of(spec: ScenarioSpec) -> list[DesignSpec]:
+    """The designs of a job's workstation, in kit order."""
+    return [spec.designs[d] for d in spec.kits]

@@ -1,0 +1,219 @@
+"""One trial of a test method, as a worker runs it: :func:`run_trial` takes a
+:class:`~kb.testmethod.methods.Job` and gives its row (the run's report and the trial's facts).
+
+The system under test is kitkb's executor given the kit design and the *nominal* layout (the
+job's workstation as laid out); the simulated cell holds the trial's *real* placement (the same
+workstation with its trays placed and turned by :func:`kb.scenario.placement.place_trays`): the
+executor finds the trays by sensing and binds its motions late, as
+``run_plan(..., truth=FILE)`` does. A trial is :func:`run_plan`'s work without its reading of
+files: what depends only on the design — the nominal files, the plan (it names objects, never
+poses), the problem, the nominal scene, and the domain's definitions and failure modes — is made
+once per design in each worker process (:func:`prepared`) and kept; per trial only the real
+placement's scene and the run itself are made.
+
+``new-variety`` trials are the exception: their design is new, so it is written as Turtle files
+("delivered"), and from their receipt the system reads them, plans and starts; the time from
+receipt to the first CRCL command the cell gets is the trial's ``receipt_to_first_command_s``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import tempfile
+import time
+from dataclasses import dataclass
+from functools import lru_cache
+from pathlib import Path
+from typing import Any, Sequence
+
+from kb import planning
+from kb.core.errors import KitkbError
+from kb.crcl.cell import CellInterface, execute_program, sense_names
+from kb.execution import Executor, Run, RunRecord
+from kb.execution.belief import Belief
+from kb.execution.records import local
+from kb.io.loader import Source
+from kb.model.definitions import Definitions, load_definitions
+from kb.model.failures import FailureModel, load_failure_model
+from kb.model.soap import DomainSpec
+from kb.planning.model import read_specs
+from kb.planning.problem import ProblemSpec
+from kb.scenario import layout, write_spec
+from kb.scenario.blocks import state_graph
+from kb.scenario.layout import Scenario
+from kb.scenario.placement import place_trays, placements
+from kb.scenario.spec import ScenarioSpec
+from kb.sim import FaultSpec, SimulatedCell
+from kb.spatial.scene import Scene
+from kb.testmethod.methods import Job
+
+#: designs whose preparation a worker keeps (a campaign has one, multi a few orders of them)
+KEEP = 32
+
+
+@dataclass
+class Prepared:
+    """What the system under test knows of a design before a trial: the nominal files, layout
+    and scene, the plan, and the problem it plans and checks against."""
+
+    scenario: Scenario
+    init: Path
+    goal: Path
+    plan: list[str]
+    plan_time: float
+    domain: DomainSpec
+    problem: ProblemSpec
+    scene: Scene
+
+
+@lru_cache(maxsize=1)
+def knowledge() -> tuple[Definitions, FailureModel]:
+    """The shipped domain's predicate definitions and failure modes (read once per process)."""
+    return load_definitions(None), load_failure_model(None)
+
+
+@lru_cache(maxsize=1)
+def _folder() -> Path:
+    """This process's folder for nominal state files (removed when the process ends)."""
+    holder = tempfile.TemporaryDirectory(prefix="kitkb-testmethod-")
+    _folder.holder = holder  # type: ignore[attr-defined]  # kept alive with the cache
+    return Path(holder.name)
+
+
+@lru_cache(maxsize=KEEP)
+def prepared(spec: ScenarioSpec) -> Prepared:
+    """:func:`prepare` once per design and process."""
+    return prepare(spec, _folder() / f"design-{len(list(_folder().iterdir()))}")
+
+
+def prepare(spec: ScenarioSpec, folder: Path) -> Prepared:
+    """Lay out ``spec`` nominally, write its files into ``folder``, plan, and read the problem."""
+    sc = layout(spec)
+    init, goal = write_spec(sc, folder)
+    return receive(sc, init, goal)
+
+
+def receive(sc: Scenario, init: Path, goal: Path) -> Prepared:
+    """What the system does with a design's files: read them, plan, read the problem."""
+    t = time.perf_counter()
+    model = planning.kitting_model([init], [goal], "strips")
+    plan = list(planning.run(model.up_problem, None, None).lines)
+    plan_time = time.perf_counter() - t
+    domain, problem = read_specs([init], [goal], encoding="numeric")
+    scene = Scene.from_files([init], declared=[goal])
+    return Prepared(sc, init, goal, plan, plan_time, domain, problem, scene)
+
+
+def truth_scene(sc: Scenario, goal: Path) -> Scene:
+    """The scene of ``sc``'s initial state (built in memory, as its file would be read)."""
+    source = Source(Path(f"{sc.name}-truth.ttl"), "turtle", graph=state_graph(sc, "init"))
+    return Scene.from_sources([source], declared=[goal])
+
+
+class WatchedCell:
+    """A cell that notes when it got its first CRCL command (``first_command``, perf_counter
+    seconds; None before)."""
+
+    def __init__(self, cell: CellInterface) -> None:
+        self.cell = cell
+        self.first_command: float | None = None
+
+    def execute(self, command):  # noqa: ANN001, ANN201
+        self._note()
+        return self.cell.execute(command)
+
+    def execute_program(self, commands: Sequence) -> list:
+        self._note()
+        return execute_program(self.cell, commands)
+
+    def sense_names(self, names: Sequence[str]) -> list:
+        return sense_names(self.cell, names)
+
+    def _note(self) -> None:
+        if self.first_command is None:
+            self.first_command = time.perf_counter()
+
+    def __getattr__(self, name: str) -> Any:  # sense, inspect, begin_action, injected, violations
+        return getattr(self.cell, name)
+
+
+def execute(prep: Prepared, cell: WatchedCell, name: str, seed: int) -> Run:
+    """Carry out the design's plan on ``cell`` from the nominal belief (what ``run_plan`` does
+    once it has read its files)."""
+    defs, failures = knowledge()
+    record = RunRecord(name, seed)
+    record.plan_time = prep.plan_time
+    executor = Executor(cell, prep.domain, prep.problem, defs, failures, Belief(prep.scene),
+                        notifier=_quiet, record=record)
+    executor.run(list(prep.plan))
+    record.injected = [{"kind": x.kind, "action_index": x.action_index, "objects": [local(o) for o in x.objects],
+                        "detail": x.detail} for x in cell.injected]
+    violations = getattr(cell.cell, "violations", None)
+    if violations is not None:
+        record.violations = [_as_data(v) for v in violations]
+    return Run(record)
+
+
+def _as_data(v: Any) -> dict[str, Any]:
+    data = dict(v) if isinstance(v, dict) else dataclasses.asdict(v)
+    if "objects" in data:
+        data["objects"] = [local(o) for o in data["objects"]]
+    return data
+
+
+def _quiet(recipient: str, message: str) -> None:
+    """A campaign's notifier: the failures are in the report."""
+
+
+def run_trial(job: Job) -> dict[str, Any]:
+    """The row of one trial: the run's report plus ``trial`` (index, seed, method, design,
+    layout, time_s, error). An input or planning error of kitkb's is the row's ``error``."""
+    t = time.perf_counter()
+    facts: dict[str, Any] = {"index": job.index, "seed": job.seed, "method": job.method,
+                             "design": " ".join(job.order), "designs": list(job.order)}
+    try:
+        report = _run(job, facts)
+    except KitkbError as e:
+        report = {"scenario": job.spec.name, "seed": job.seed, "executed": False, "goal_holds": False,
+                  "stopped": None, "reason": str(e)}
+        facts["error"] = str(e)
+    facts.setdefault("error", None)
+    facts["time_s"] = round(time.perf_counter() - t, 3)
+    return {**report, "trial": facts}
+
+
+def _run(job: Job, facts: dict[str, Any]) -> dict[str, Any]:
+    if job.deliver:
+        with tempfile.TemporaryDirectory(prefix="kitkb-new-variety-") as folder:
+            return _delivered(job, Path(folder), facts)
+    prep = prepared(job.spec)
+    cell = _cell(job, prep.scenario, prep.goal, facts)
+    return _report(execute(prep, cell, job.spec.name, job.seed))
+
+
+def _cell(job: Job, nominal: Scenario, goal: Path, facts: dict[str, Any]) -> WatchedCell:
+    """The simulated cell of the trial's real placement (and faults), its layout in ``facts``."""
+    real, placed = place_trays(nominal, job.seed)
+    facts["layout"] = {"nominal": [p.as_dict() for p in placements(nominal)], "placed": [p.as_dict() for p in placed]}
+    faults = FaultSpec.parse(job.faults, seed=job.seed) if job.faults else None
+    if job.faults:
+        facts["faults"] = job.faults
+    return WatchedCell(SimulatedCell(truth_scene(real, goal), faults=faults, seed=job.seed))
+
+
+def _delivered(job: Job, folder: Path, facts: dict[str, Any]) -> dict[str, Any]:
+    """new-variety: the design's files written (delivered), the cell set up, then the clock
+    runs from their receipt: read, plan, execute until the first CRCL command."""
+    sc = layout(job.spec)
+    init, goal = write_spec(sc, folder)
+    cell = _cell(job, sc, goal, facts)
+    received = time.perf_counter()
+    prep = receive(sc, init, goal)
+    run = execute(prep, cell, job.spec.name, job.seed)
+    facts["receipt_to_first_command_s"] = (round(cell.first_command - received, 4)
+                                           if cell.first_command is not None else None)
+    return _report(run)
+
+
+def _report(run: Run) -> dict[str, Any]:
+    return {"executed": True, **run.report()}
