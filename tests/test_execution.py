@@ -23,6 +23,7 @@ from kb.core.resources import ontology_path
 from kb.crcl import OpenGripper
 from kb.execution import Run, Stop, run_plan, run_scenario
 from kb.execution.belief import SKU_OF
+from kb.execution.records import without_timings
 from kb.model.definitions import load_definitions
 from kb.model.failures import load_failure_model
 from kb.planning.model import read_specs
@@ -666,7 +667,7 @@ def test_a_domain_without_the_mode_leaves_a_missed_grasp_unexplained(tmp_path: P
 # --- repeatability ------------------------------------------------------------------------------
 
 def _timeless(report: dict) -> dict:
-    return {k: v for k, v in report.items() if k != "time_s"}
+    return without_timings(report)
 
 
 def test_the_same_seed_and_faults_give_the_same_report() -> None:

@@ -16,6 +16,7 @@ PostgreSQL (:mod:`kb.execution.store`).
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -26,6 +27,7 @@ from kb.crcl.cell import CellInterface
 from kb.execution.belief import Belief
 from kb.execution.executor import Executor, log_notifier
 from kb.execution.records import ActionRecord, FailureRecord, RunRecord, local
+from kb.metrics.kits import KitScore
 from kb.model.definitions import load_definitions
 from kb.model.failures import load_failure_model
 from kb.spatial.scene import Scene
@@ -43,6 +45,18 @@ class Run:
     @property
     def stopped(self) -> str | None:
         return self.record.stopped
+
+    @property
+    def metrics(self) -> dict[str, Any]:
+        """The execution metrics (the first paper's §IV-B): failures, failures per kit,
+        recovered failure modes, plan time and replans, contact errors and other constraint
+        violations (a simulated cell's ground truth), the static metrics of the CRCL sent."""
+        return self.record.metrics()
+
+    @property
+    def kit_scores(self) -> list[KitScore]:
+        """Each goal kit's score, with the predicate and objects behind every point lost."""
+        return list(self.record.kits)
 
     def failures(self, *, kit: str | None = None, action: str | None = None, predicate: str | None = None,
                  mode: str | None = None, since: float | None = None, until: float | None = None) -> list[FailureRecord]:
@@ -108,7 +122,7 @@ def run_plan(plan: Sequence[str], init: str | Path, goal: str | Path, *, cell: C
              replace: bool = False, store: Any = None,
              progress: Callable[[str], None] | None = None, notifier: Callable[[str, str], None] = log_notifier,
              planner: str | None = None, domain_files: Sequence[str | Path] | None = None,
-             name: str | None = None, truth: str | Path | None = None) -> Run:
+             name: str | None = None, truth: str | Path | None = None, plan_time: float | None = None) -> Run:
     """Carry out ``plan`` (PDDL action lines) from the state ``init`` towards ``goal``.
 
     ``cell``: any :class:`~kb.crcl.cell.CellInterface` (a real cell, :class:`kb.crcl.RemoteCell`);
@@ -120,7 +134,7 @@ def run_plan(plan: Sequence[str], init: str | Path, goal: str | Path, *, cell: C
     cell holds instead of ``init`` (the same objects placed and turned otherwise: the first
     paper's "the actual location of the kit tray and parts supplies will not be known before
     runtime"); the executor starts from ``init``, the nominal layout, and finds the objects by
-    sensing.
+    sensing. ``plan_time``: the seconds the plan took to make (a metric of the run).
     """
     from kb.planning.model import read_specs
     domain, spec = read_specs([init], [goal], encoding="numeric", domain_files=domain_files,
@@ -138,7 +152,7 @@ def run_plan(plan: Sequence[str], init: str | Path, goal: str | Path, *, cell: C
         from kb.execution.store import RunStore, prepare
         prepare(db, init, domain_files, replace=replace)
         store = own_store = RunStore(db)
-    record = RunRecord(name or Path(init).parent.name, seed)
+    record = RunRecord(name or Path(init).parent.name, seed, plan_time=plan_time)
     executor = Executor(cell, domain, spec, load_definitions(domain_files), load_failure_model(domain_files),
                         Belief(scene), store=store, notifier=notifier, progress=progress, planner=planner,
                         record=record)
@@ -157,11 +171,22 @@ def run_plan(plan: Sequence[str], init: str | Path, goal: str | Path, *, cell: C
     if injected is not None:
         record.injected = [{"kind": x.kind, "action_index": x.action_index, "objects": [local(o) for o in x.objects],
                             "detail": x.detail} for x in injected]
+    violations = getattr(sim if sim is not None else cell, "violations", None)  # the same, of constraints
+    if violations is not None:
+        record.violations = [_as_data(v) for v in violations]
     if store is not None:
         store.end_run(record)
     if own_store is not None:
         own_store.close()
     return Run(record)
+
+
+def _as_data(record: Any) -> dict[str, Any]:
+    """A cell's record of a violation as JSON data (object names by local name)."""
+    data = dict(record) if isinstance(record, dict) else dataclasses.asdict(record)
+    if "objects" in data:
+        data["objects"] = [local(o) for o in data["objects"]]
+    return data
 
 
 def open_run(url: str | Path, run_id: int | None = None) -> Run:
@@ -177,6 +202,7 @@ def run_scenario(init: str | Path, goal: str | Path, **kw: Any) -> Run:
     model = planning.kitting_model([init], [goal], "strips", match_names=kw.get("match_names", False),
                                    domain_files=kw.get("domain_files"))
     plan = planning.run(model.up_problem, None, kw.get("planner")).lines
+    kw.setdefault("plan_time", time.perf_counter() - t)
     run = run_plan(plan, init, goal, **kw)
     run.record.started = min(run.record.started, t)
     return run

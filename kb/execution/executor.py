@@ -41,10 +41,12 @@ from kb.execution.belief import Belief
 from kb.execution.focus import Focus
 from kb.execution.records import ActionRecord, AtomCheck, Check, RunRecord, StoreLike, local
 from kb.execution.recovery import Recovery
+from kb.execution.scoring import crcl_lines, kit_goals, scene_data
 from kb.execution.steps import Fields, Step, Stop, parse_plan
 from kb.execution.targets import TargetError, Targets
 from kb.model.definitions import Definitions, variable_classes
 from kb.model.failures import EFF, PRE, FailureModel
+from kb.metrics.kits import score_kits
 from kb.model.soap import ActionSpec, DomainSpec
 from kb.planning.problem import ProblemSpec
 from kb.planning.state import pddl_name
@@ -95,6 +97,7 @@ class Executor(Recovery):
         self.focus = Focus(self.defs, self.actions, self.belief.classes, self.tolerance)
         self._near: np.ndarray | None = None  # the neighbourhood sensed last (None: the whole cell)
         self.targets.mounted = self._mounted()
+        self.record.tip_start = tuple(round(float(v), 6) for v in self.targets.tip[:3, 3])  # type: ignore[assignment]
 
     # --- plans ----------------------------------------------------------------------
     def parse_plan(self, lines: list[str]) -> list[Step]:
@@ -127,6 +130,11 @@ class Executor(Recovery):
             log.exception("the goal could not be checked")
             rec.goal_holds = False
         rec.ended = time.perf_counter()
+        try:  # on the cell as sensed for the goal
+            rec.kits = score_kits(kit_goals(self.belief, self.spec, self.by_name), self.evaluator())
+            rec.scene = scene_data(self.belief)
+        except Exception:  # noqa: BLE001 - a score that cannot be made is left out, the run stands
+            log.exception("the kits could not be scored")
         return rec
 
     # --- one action -----------------------------------------------------------------
@@ -141,11 +149,13 @@ class Executor(Recovery):
             act = ActionRecord(i, step.action, tuple(step.args.values()), started=time.perf_counter())
             self.record.actions.append(act)
             self.cell.begin_action(i, step.action, tuple(step.args.values()))
-            self._sense(step)
-            outcome = self._attempt(step, act, queue)
-            act.ended = time.perf_counter()
-            if self.store is not None:
-                self.store.record_action(act)
+            try:
+                self._sense(step)
+                outcome = self._attempt(step, act, queue)
+            finally:  # an action that stopped the run is recorded too
+                act.ended = time.perf_counter()
+                if self.store is not None:
+                    self.store.record_action(act)
             if outcome == "done":
                 return
             if outcome == "next":  # the queue was rewritten: its head is what to do now
@@ -160,14 +170,14 @@ class Executor(Recovery):
                 return rebound
         approach = self._program(step, act, approach=True)
         if approach:  # the transit to where the action happens; the check is made on arrival
-            execute_program(self.cell, approach)
+            self._send(approach)
             self._sense(step)
         pre = self._check(i, step, PRE)
         if not pre.ok:
             act.status = "failed"
             return self._failed(step, i, PRE, pre, queue)
         commands = self._program(step, act, approach=False)
-        statuses = execute_program(self.cell, commands)
+        statuses = self._send(commands)
         bad = [s for s in statuses if not s.done]
         self._sense(step)
         eff = self._check(i, step, EFF)
@@ -291,6 +301,13 @@ class Executor(Recovery):
         return self._recover(step, i, queue, failure, diag.mode)
 
     # --- commands -------------------------------------------------------------------
+    def _send(self, commands: list[Command]) -> list:
+        """Execute a CRCL program on the cell; its statements are kept in the current action's
+        record (the run's static metrics, its report's path)."""
+        if self.record.actions:
+            self.record.actions[-1].programs.append(crcl_lines(commands))
+        return execute_program(self.cell, commands)
+
     def _program(self, step: Step, act: ActionRecord, approach: bool) -> list[Command]:
         """The action's approach commands, or the rest, targets computed now; [] when none."""
         try:

@@ -11,6 +11,11 @@ from typing import Any, Protocol
 
 import numpy as np
 
+from kb.metrics.execution import execution_metrics
+from kb.metrics.kits import KitScore
+from kb.metrics.motion import Robot
+from kb.metrics.steps import text_steps
+
 
 def local(iri: str) -> str:
     return str(iri).rsplit("#", 1)[-1].rsplit("/", 1)[-1]
@@ -110,6 +115,8 @@ class ActionRecord:
     commands: list[str] = field(default_factory=list)
     started: float = 0.0
     ended: float = 0.0
+    #: the CRCL programs sent for the action, in order, each as its statements (CRCL text)
+    programs: list[list[str]] = field(default_factory=list)
 
 
 @dataclass
@@ -128,13 +135,55 @@ class RunRecord:
     started: float = 0.0
     ended: float = 0.0
     run_id: int | None = None
+    plan_time: float | None = None  # seconds the first plan took, where the run planned it
+    replan_time: float = 0.0  # seconds all replans took
+    #: the constraint violations the cell reported as its ground truth (a simulated cell:
+    #: contacts, overweight grasps, ...); None: a cell that reports none
+    violations: list[dict[str, Any]] | None = None
+    kits: list[KitScore] = field(default_factory=list)  # each goal kit's score at the end
+    tip_start: tuple[float, float, float] | None = None  # the tool tip at the start (m)
+    #: the objects as the report draws them: name, class, box, initial and final pose
+    scene: dict[str, Any] | None = None
 
     @property
     def succeeded(self) -> bool:
         return self.stopped is None and bool(self.goal_holds)
 
+    def metrics(self) -> dict[str, Any]:
+        """The execution metrics of the run (:func:`kb.metrics.execution.execution_metrics`)."""
+        robot = Robot(start=self.tip_start or (0.0, 0.0, 0.0), length_unit="meter")
+        return execution_metrics(self.failures, self.actions, replans=self.replans, plan_time=self.plan_time,
+                                 replan_time=self.replan_time, violations=self.violations, robot=robot)
+
+    def path(self) -> list[dict[str, Any]]:
+        """The tool tip's commanded positions (m, to the micrometre), per action, in order."""
+        out = []
+        for a in self.actions:
+            points = [[round(float(v), 6) for v in p[:3]] for program in a.programs for kind, _line, value in text_steps(program)
+                      if kind in ("MoveTo", "MoveStraightTo", "MoveThroughTo") for p in value]
+            if points:
+                out.append({"index": a.index, "points": points})
+        return out
+
+    def timeline(self) -> list[dict[str, Any]]:
+        """Actions and failures in time order (seconds since the run started)."""
+        t0 = self.started
+        events: list[tuple[float, int, dict[str, Any]]] = []
+        for a in self.actions:
+            events.append((a.started - t0, 0, {"kind": "action", "index": a.index, "action": a.action,
+                                               "args": [local(x) for x in a.args], "status": a.status,
+                                               "seconds": round(max(0.0, a.ended - a.started), 4)}))
+        for f in self.failures:
+            events.append((f.time - t0, 1, {"kind": "failure", "index": f.action_index, "action": f.action,
+                                            "mode": f.mode, "recovery": f.recovery, "outcome": f.outcome,
+                                            "objects": [local(o) for o in f.objects]}))
+        events.sort(key=lambda e: (e[0], e[1]))
+        return [dict(e[2], t=round(max(0.0, e[0]), 4)) for e in events]
+
     def report(self) -> dict[str, Any]:
-        """The JSON report: goal_holds, injected faults, failures (diagnoses), and counts."""
+        """The JSON report: goal_holds, injected faults, failures (diagnoses), counts, the
+        execution metrics, each kit's score, and what a report page draws (scene, path,
+        timeline)."""
         return {
             "scenario": self.scenario, "seed": self.seed, "goal_holds": self.goal_holds, "stopped": self.stopped,
             "actions": sum(1 for a in self.actions if a.status == "done"),
@@ -146,7 +195,26 @@ class RunRecord:
                           "violated": [a.text() for a in f.violated], "recovery": f.recovery,
                           "outcome": f.outcome} for f in self.failures],
             "time_s": round(self.ended - self.started, 3),
+            "metrics": self.metrics(),
+            "kits": [k.as_dict() for k in self.kits],
+            "violations": self.violations, "tip_start": list(self.tip_start) if self.tip_start else None,
+            "scene": self.scene, "path": self.path(), "timeline": self.timeline(),
         }
+
+
+#: where a report holds what the clock decides (seconds): top-level keys, metrics keys, timeline keys
+TIMINGS = {"report": ("time_s",), "metrics": ("plan_time_s", "replan_time_s"), "timeline": ("t", "seconds")}
+
+
+def without_timings(report: dict[str, Any]) -> dict[str, Any]:
+    """A run's report without its times (:data:`TIMINGS`): what the same seed, faults and
+    files must give again."""
+    out = {k: v for k, v in report.items() if k not in TIMINGS["report"]}
+    if isinstance(out.get("metrics"), dict):
+        out["metrics"] = {k: v for k, v in out["metrics"].items() if k not in TIMINGS["metrics"]}
+    if isinstance(out.get("timeline"), list):
+        out["timeline"] = [{k: v for k, v in e.items() if k not in TIMINGS["timeline"]} for e in out["timeline"]]
+    return out
 
 
 class StoreLike(Protocol):

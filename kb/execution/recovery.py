@@ -34,7 +34,7 @@ import numpy as np
 from kb.core.errors import NotSolvableError
 from kb.core.namespaces import KTW
 from kb.crcl import COMMANDS, EndCanon, InitCanon, Message, MoveTo, Pose
-from kb.crcl.cell import CellInterface, execute_program
+from kb.crcl.cell import CellInterface
 from kb.diagnosis import diagnose
 from kb.execution.belief import SKU_OF, Belief
 from kb.execution.records import AtomCheck, Check, FailureRecord, RunRecord, Sighting, StoreLike, local
@@ -77,6 +77,9 @@ class Recovery:
 
     # provided by the executor
     def evaluator(self) -> Evaluator:
+        raise NotImplementedError
+
+    def _send(self, commands: list) -> list:
         raise NotImplementedError
 
     def parse_plan(self, lines: list[str]) -> list[Step]:
@@ -256,7 +259,7 @@ class Recovery:
         commands = [InitCanon(), Message(f"reject {local(part)}"), MoveTo(Pose.from_matrix(raised(grasp, 0.1))),
                     MoveTo(Pose.from_matrix(grasp)), COMMANDS["OpenGripper"](),
                     MoveTo(Pose.from_matrix(raised(grasp, 0.1))), EndCanon()]
-        execute_program(self.cell, commands)
+        self._send(commands)
         self.targets.tip = raised(grasp, 0.1)
         self._say(f"  rejected {local(part)}: put back where it was taken")
 
@@ -272,6 +275,7 @@ class Recovery:
             for args, v in ev.function_values(fn).items():
                 values[(fn, *map(pddl_name, args))] = v
         excluded = {pddl_name(p) for p in self.belief.unusable}
+        started = time.perf_counter()
         try:
             result = replan(self.domain, self.spec, facts, values, excluded, self.planner)
         except Exception as e:  # no plan, or a planner that broke: the run stops, saying why
@@ -280,6 +284,8 @@ class Recovery:
                 failure.recovery, failure.outcome = "replan", f"stopped: {why}"
                 self._store_failure(failure)
             raise Stop(why) from None
+        finally:
+            self.record.replan_time += time.perf_counter() - started
         queue.clear()
         queue.extend(self.parse_plan(result.lines))
         if failure is not None:

@@ -33,12 +33,13 @@ from typing import Any, Sequence
 
 import numpy as np
 from sqlalchemy import (Boolean, Column, DateTime, Float, ForeignKey, Integer, MetaData, String, Table, Text,
-                        func, insert, select, text, update)
+                        func, insert, inspect, select, text, update)
 
 from kb.core.resources import ontology_path
 from kb.io import load_file
 from kb.core.units import SI, Units
 from kb.execution.records import ActionRecord, AtomCheck, FailureRecord, RunRecord, Sighting
+from kb.metrics.kits import KitScore, LostPoint
 from kb.world import LoadReport, load, normalize_url, open_engine
 from kb.world.lock import Held, acquire
 
@@ -72,8 +73,21 @@ ACTIONS = Table(
     Column("status", String(40), nullable=False),
     Column("commands", Text, nullable=False),
     Column("seconds", Float),
+    Column("crcl", Text),  # JSON: the CRCL programs sent, each a list of statements (CRCL text)
     comment="Each action of a run as executed (arguments after late binding, CRCL commands sent).",
 )
+KITS = Table(
+    "kitkb_run_kit", META,
+    Column("run_id", Integer, ForeignKey("kitkb_run.id"), primary_key=True),
+    Column("kit", String(400), primary_key=True),
+    Column("design", String(400)),
+    Column("score", Integer, nullable=False),
+    Column("max_score", Integer, nullable=False),
+    Column("lost", Text, nullable=False),  # JSON: [{points, reason, predicate, objects, holds}]
+    comment="Each goal kit's score at the end of a run, and why every point was lost (kb.metrics.kits).",
+)
+#: columns added to kitkb's run tables since they were first made: (table, column, SQL type)
+_ADDED = (("kitkb_run_action", "crcl", "TEXT"),)
 FAILURES = Table(
     "kitkb_run_failure", META,
     Column("id", Integer, primary_key=True, autoincrement=True),
@@ -142,6 +156,7 @@ class RunStore:
         try:
             self.engine = open_engine(self.url)
             META.create_all(self.engine, checkfirst=True)
+            _add_columns(self.engine)
             self.world = WorldModel(self.url)
         except BaseException:
             self._release()
@@ -181,6 +196,12 @@ class RunStore:
             conn.execute(update(RUNS).where(RUNS.c.id == self.run_id).values(
                 ended_at=dt.datetime.now(dt.timezone.utc), goal_holds=record.goal_holds, stopped=record.stopped,
                 replans=record.replans, report=json.dumps(record.report())))
+            conn.execute(KITS.delete().where(KITS.c.run_id == self.run_id))
+            if record.kits:
+                conn.execute(insert(KITS), [
+                    {"run_id": self.run_id, "kit": k.kit, "design": k.design, "score": k.score,
+                     "max_score": k.max_score, "lost": json.dumps([dict(x.as_dict(), objects=list(x.objects)) for x in k.lost])}
+                    for k in record.kits])
 
     # --- stable states ------------------------------------------------------------------
     def poses_changed(self, poses: dict[str, np.ndarray]) -> None:
@@ -205,7 +226,7 @@ class RunStore:
             conn.execute(insert(ACTIONS).values(
                 run_id=self.run_id, idx=action.index, action=action.action, args=json.dumps(list(action.args)),
                 status=action.status, commands=json.dumps(action.commands),
-                seconds=max(0.0, action.ended - action.started)))
+                seconds=max(0.0, action.ended - action.started), crcl=json.dumps(action.programs)))
 
     def record_failure(self, failure: FailureRecord) -> None:
         """The failure as a soap:ActionFailure row (by key) and a kitkb_run_failure row."""
@@ -263,9 +284,19 @@ def read_run(url: str | Path, run_id: int | None = None) -> RunRecord:
             rec.started, rec.ended = 0.0, (row.ended_at - row.started_at).total_seconds() if row.ended_at else 0.0
             report = json.loads(row.report) if row.report else {}
             rec.injected = report.get("injected", [])
+            metrics = report.get("metrics") or {}
+            rec.plan_time, rec.replan_time = metrics.get("plan_time_s"), metrics.get("replan_time_s") or 0.0
+            rec.violations = report.get("violations")
+            rec.tip_start = tuple(report["tip_start"]) if report.get("tip_start") else None
+            rec.scene = report.get("scene")
             for a in conn.execute(select(ACTIONS).where(ACTIONS.c.run_id == row.id).order_by(ACTIONS.c.idx)):
                 rec.actions.append(ActionRecord(a.idx, a.action, tuple(json.loads(a.args)), a.status,
-                                                json.loads(a.commands)))
+                                                json.loads(a.commands), programs=json.loads(a.crcl or "[]")))
+            has_kits = inspect(conn).has_table(KITS.name)
+            for k in conn.execute(select(KITS).where(KITS.c.run_id == row.id).order_by(KITS.c.kit)) if has_kits else ():
+                rec.kits.append(KitScore(k.kit, k.design, k.score, k.max_score, tuple(
+                    LostPoint(int(x["points"]), x["reason"], x["predicate"], tuple(x["objects"]), bool(x.get("holds")))
+                    for x in json.loads(k.lost))))
             for f in conn.execute(select(FAILURES).where(FAILURES.c.run_id == row.id).order_by(FAILURES.c.id)):
                 rec.failures.append(FailureRecord(
                     f.idx, f.action, tuple(json.loads(f.args)), f.phase,
@@ -277,6 +308,15 @@ def read_run(url: str | Path, run_id: int | None = None) -> RunRecord:
             return rec
     finally:
         engine.dispose()
+
+
+def _add_columns(engine: Any) -> None:
+    """Columns kitkb's run tables gained since a database's tables were made (:data:`_ADDED`)."""
+    with engine.begin() as conn:
+        insp = inspect(conn)
+        for table, column, kind in _ADDED:
+            if insp.has_table(table) and column not in {c["name"] for c in insp.get_columns(table)}:
+                conn.execute(text(f"ALTER TABLE {table} ADD COLUMN {column} {kind}"))
 
 
 def _units(engine: Any) -> Units:

@@ -20,14 +20,18 @@ class Robot:
     """The robot a program's metrics are computed for, in SI: ``max_speed`` (m/s) and
     ``max_acceleration`` (m/s²) of the controlled point, ``effector_seconds`` the time of a
     gripper or tool changer command, ``start`` where the controlled point is at first (m), with
-    its Z axis down and X axis along the workstation's X."""
+    its Z axis down and X axis along the workstation's X; ``length_unit`` the unit InitCanon
+    sets (the paper's millimetres; kitkb's own cell and executor speak metres)."""
 
     max_speed: float = DEFAULT_MAX_SPEED
     max_acceleration: float = DEFAULT_MAX_ACCELERATION
     effector_seconds: float = DEFAULT_EFFECTOR_SECONDS
     start: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    length_unit: str = "millimeter"
 
     def __post_init__(self) -> None:
+        if self.length_unit not in ("meter", "millimeter", "inch"):
+            raise ValueError(f"length_unit must be meter, millimeter or inch, not {self.length_unit!r}")
         for name in ("max_speed", "max_acceleration"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):

@@ -116,6 +116,25 @@ def static_metrics(steps: Iterable[Step], robot: Robot | None = None, *, rows: b
     return StaticMetrics(source, len(steps), robot, dict(zip(METRICS, run.values())), kept)
 
 
+def session_metrics(programs: Iterable[Iterable[Step]], robot: Robot | None = None, *,
+                    source: str | None = None) -> StaticMetrics:
+    """The static metrics of programs sent one after another to one robot — a run's CRCL, one
+    program per action: each program's InitCanon and EndCanon are judged by their place in
+    that program, the robot's state (where it stands, gripper, settings) carries over, and the
+    counts add up."""
+    robot = robot or Robot()
+    run = _Run(robot)
+    count = 0
+    for program in programs:
+        steps = list(program)
+        count += len(steps)
+        readable = [i for i, s in enumerate(steps) if s[0] != "Unreadable"]
+        first, last = (readable[0], readable[-1]) if readable else (-1, -1)
+        for index, step in enumerate(steps):
+            run.step(step, index == first, index == last)
+    return StaticMetrics(source, count, robot, dict(zip(METRICS, run.values())))
+
+
 class _Run:
     """The robot's state and the counters while a program runs."""
 
@@ -148,8 +167,9 @@ class _Run:
             **dict.fromkeys(("MoveTo", "MoveStraightTo", "MoveThroughTo"), self._check_move)}
 
     def _defaults(self) -> None:
-        """The units InitCanon sets (the paper: millimeters and degrees)."""
-        self.length_unit, self.angle_unit = "millimeter", "degree"
+        """The units InitCanon sets (the paper: millimeters and degrees; the robot's
+        ``length_unit``)."""
+        self.length_unit, self.angle_unit = self.robot.length_unit, "degree"
 
     def values(self) -> tuple[float, ...]:
         """The metrics now, in :data:`METRICS` order."""

@@ -1,0 +1,76 @@
+"""What a run's metrics and report need from the executor's belief: the goal's kits as
+:mod:`kb.metrics.kits` scores them, the objects as a report draws them, and the CRCL text of a
+program sent (kept per action: :attr:`kb.execution.records.ActionRecord.programs`)."""
+
+from __future__ import annotations
+
+from typing import Any, Iterable
+
+import numpy as np
+
+from kb.core.namespaces import KTW
+from kb.crcl import Command, Program, write_text
+from kb.execution.belief import SKU_OF, Belief
+from kb.execution.records import local
+from kb.metrics.kits import KitGoal, Slot
+from kb.planning.problem import ProblemSpec
+
+#: the class a report names an object by: the first of these it is of (else its first class)
+SHOWN_CLASSES = ("Kit", "KitTray", "Part", "PartsTray", "EndEffector", "EndEffectorHolder", "EndEffectorChangingStation",
+                 "Robot", "LargeBoxWithKits", "LargeBoxWithEmptyKitTrays", "LargeContainer", "WorkTable", "PartsBin")
+
+
+def crcl_lines(commands: Iterable[Command]) -> list[str]:
+    """A program's statements in kitkb's CRCL text form, one per command."""
+    return write_text(Program(list(commands))).splitlines()
+
+
+def kit_goals(belief: Belief, spec: ProblemSpec, by_name: dict[str, str]) -> list[KitGoal]:
+    """The kits the goal names (an argument of a goal atom, of class Kit), each with its design's
+    kit tray SKU and slots and the box the goal puts it in (``kit-location-lbwk``)."""
+    kits: dict[str, str | None] = {}
+    kit_class = str(KTW.Kit)
+    for atom in spec.goal:
+        for name in atom[1:]:
+            iri = by_name.get(name, name)
+            if iri in belief.index and kit_class in belief.classes[belief.index[iri]]:
+                kits.setdefault(iri, None)
+        if atom[0] == "kit-location-lbwk" and len(atom) == 3:
+            kits[by_name.get(atom[1], atom[1])] = by_name.get(atom[2], atom[2])
+    out = []
+    for kit, box in kits.items():
+        designs = belief.related(str(KTW.hasKit_Design), kit)
+        design = designs[0] if designs else None
+        slots: list[Slot] = []
+        tray_sku = None
+        if design is not None:
+            skus = belief.related(str(KTW.hasKitDesign_KitTraySku), design)
+            tray_sku = skus[0] if skus else None
+            for prp in belief.related(str(KTW.hasKitDesign_PartRefAndPose), design):
+                sku = belief.related(str(KTW.hasPartRefAndPose_Sku), prp)
+                pose = belief.slots.get(prp)
+                if sku and pose is not None:
+                    slots.append(Slot(prp, sku[0], np.asarray(pose, float)))
+        out.append(KitGoal(kit, design, tray_sku, tuple(slots), box))
+    return out
+
+
+def scene_data(belief: Belief) -> dict[str, Any]:
+    """Every object with a box: its name, class, box in its own frame, global pose at the start
+    and now (None: not placed), in metres."""
+    objects = []
+    for i, name in enumerate(belief.names):
+        lo, hi = belief.local_lo[i], belief.local_hi[i]
+        if np.isnan(lo[0]):
+            continue
+        classes = {local(c) for c in belief.classes[i]}
+        shown = next((c for c in SHOWN_CLASSES if c in classes), min(classes) if classes else "Thing")
+        initial, final = belief.initial[i], belief.poses[i]
+        objects.append({"name": local(name), "class": shown, "lo": _r(lo), "hi": _r(hi),
+                        "initial": None if np.isnan(initial[0, 0]) else [_r(row) for row in initial],
+                        "final": None if np.isnan(final[0, 0]) else [_r(row) for row in final]})
+    return {"objects": objects}
+
+
+def _r(values: Iterable[float]) -> list[float]:
+    return [round(float(v), 6) for v in values]
