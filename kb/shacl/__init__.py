@@ -37,7 +37,7 @@ from kb.io.views import TripleView, UnionView
 from kb.shacl import parallel
 from kb.shacl.compiler import Program, compile_program
 from kb.shacl.engine import Evaluation, Run, prefixes_of, run
-from kb.shacl.fallback import results_from_report, run_pyshacl
+from kb.shacl.fallback import pyshacl_results, run_pyshacl
 from kb.shacl.index import DataIndex
 from kb.shacl.result import ShaclResult
 
@@ -152,11 +152,7 @@ def _as_graph(data: Any) -> Graph:
 
 def _pyshacl(data: Graph, shapes: Graph) -> list[ShaclResult]:
     """pySHACL on the whole graph (``KITKB_SHACL_ENGINE=pyshacl``)."""
-    import pyshacl  # imported only when asked for (0.2 s of start-up)
-
-    _conforms, report, _text = pyshacl.validate(data, shacl_graph=shapes, inference="none",
-                                                advanced=True, allow_warnings=True)
-    return results_from_report(report)
+    return pyshacl_results(data, shapes, None, [], advanced=True)
 
 
 def validate_graph(

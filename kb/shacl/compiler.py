@@ -3,7 +3,9 @@
 A shape the engine cannot evaluate exactly like pySHACL (an unknown SHACL parameter, a
 complex property path, a custom constraint component, ``$shapesGraph``/``$currentShape`` in
 a SPARQL query) is recorded in :attr:`Program.unsupported` with the reason; the engine hands
-every top-level shape that reaches such a shape to pySHACL instead.
+every top-level shape that reaches such a shape to pySHACL instead. A shape that no engine
+may evaluate (SPARQL the specification forbids, a query that does not parse, in a constraint
+or in the validator of a custom component it uses) raises :class:`kb.shacl.shape.ShapeError`.
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ from rdflib.term import Node
 from kb.core.namespaces import SH
 from kb.shacl import constraints as C
 from kb.shacl.shape import Constraint, Shape
-from kb.shacl.sparql import SparqlC, compile_sparql
+from kb.shacl.sparql import SparqlC, check_validators, compile_sparql
 from kb.shacl.terms import key_of
 TARGET_PREDICATES = (SH.targetClass, SH.targetNode, SH.targetSubjectsOf, SH.targetObjectsOf)
 
@@ -52,11 +54,22 @@ def _list(g: Graph, head: Node) -> list[Node]:
         return []
 
 
-def _custom_parameters(g: Graph) -> set[Node]:
-    params: set[Node] = set()
-    for comp in g.subjects(RDF.type, SH.ConstraintComponent):
-        for p in g.objects(comp, SH.parameter):
-            params.update(g.objects(p, SH.path))
+def _custom_parameters(g: Graph) -> dict[Node, list[Node]]:
+    """Parameter (its sh:path) -> the custom constraint components declaring it; a component
+    is typed sh:ConstraintComponent or a subclass of it (rdfs:subClassOf*, in ``g``)."""
+    kinds = {SH.ConstraintComponent}
+    todo = [SH.ConstraintComponent]
+    while todo:
+        for sub in g.subjects(RDFS.subClassOf, todo.pop()):
+            if sub not in kinds:
+                kinds.add(sub)
+                todo.append(sub)
+    params: dict[Node, list[Node]] = {}
+    for kind in kinds:
+        for comp in g.subjects(RDF.type, kind):
+            for p in g.objects(comp, SH.parameter):
+                for path in g.objects(p, SH.path):
+                    params.setdefault(path, []).append(comp)
     return params
 
 
@@ -89,6 +102,8 @@ class Compiler:
         g, n = self.g, s.node
         for p in set(g.predicates(n)):
             if p in self.custom:
+                for comp in self.custom[p]:
+                    check_validators(g, self.prefixes, n, comp)
                 s.problems.append(f"custom constraint component parameter {p}")
             elif str(p).startswith(str(SH)) and p not in KNOWN:
                 s.problems.append(f"unsupported SHACL parameter {p}")

@@ -1,4 +1,8 @@
-"""Hand shapes the engine does not support to pySHACL, and read pySHACL's report graph."""
+"""Hand shapes the engine does not support to pySHACL, and read pySHACL's report graph.
+
+pySHACL refuses some shapes graphs instead of validating (a ``ValidationFailure`` report, a
+``ReportableRuntimeError``, ``NotImplementedError`` for ``$shapesGraph``): that becomes a
+:class:`kb.shacl.shape.ShapeError` naming the shape handed over, never a report."""
 
 from __future__ import annotations
 
@@ -11,6 +15,7 @@ from rdflib.term import Node
 from kb.core.namespaces import SH
 from kb.shacl.compiler import TARGET_PREDICATES
 from kb.shacl.result import ShaclResult
+from kb.shacl.shape import ShapeError
 
 log = logging.getLogger("kb.shacl")
 
@@ -37,8 +42,6 @@ def results_from_report(report: Graph) -> list[ShaclResult]:
 
 def run_pyshacl(data: Graph, shapes: Graph, ont: Graph | None, only: Iterable[Node]) -> list[ShaclResult]:
     """Validate with pySHACL, keeping the targets of the shapes in ``only`` and no others."""
-    import pyshacl  # imported only when a shape needs it (0.2 s of start-up)
-
     keep = set(only)
     reduced = Graph()
     for prefix, ns in shapes.namespaces():
@@ -53,6 +56,28 @@ def run_pyshacl(data: Graph, shapes: Graph, ont: Graph | None, only: Iterable[No
         reduced.add((s, p, o))
     log.warning("pySHACL evaluates %d shape(s) the fast engine does not support: %s",
                 len(keep), ", ".join(sorted(str(k) for k in keep)))
-    _, report, _ = pyshacl.validate(data, shacl_graph=reduced, ont_graph=ont, inference="none",
-                                    advanced=False, allow_warnings=True)
+    return pyshacl_results(data, reduced, ont, sorted(keep, key=str), advanced=False)
+
+
+def pyshacl_results(data: Graph, shapes: Graph, ont: Graph | None, shapes_named: list[Node],
+                    *, advanced: bool) -> list[ShaclResult]:
+    """``pyshacl.validate``'s results; :class:`ShapeError` (naming the first of
+    ``shapes_named``) when pySHACL refuses the shapes instead of validating."""
+    import pyshacl  # imported only when a shape needs it (0.2 s of start-up)
+    from pyshacl.errors import ReportableRuntimeError
+
+    shape = shapes_named[0] if shapes_named else None
+    try:
+        _, report, _ = pyshacl.validate(data, shacl_graph=shapes, ont_graph=ont, inference="none",
+                                        advanced=advanced, allow_warnings=True)
+    except (ReportableRuntimeError, NotImplementedError) as exc:
+        raise ShapeError(shape, f"pySHACL, which evaluates it, cannot: {_text(exc)}") from None
+    if not isinstance(report, Graph):  # pySHACL's ValidationFailure, returned instead of a report
+        raise ShapeError(shape, f"pySHACL, which evaluates it, refuses it: {_text(report)}")
     return results_from_report(report)
+
+
+def _text(exc: object) -> str:
+    """One line of a pySHACL error (its ``message``, without the spec link it appends)."""
+    text = str(getattr(exc, "message", None) or exc).strip()
+    return " ".join(text.split("For reference, see")[0].split())

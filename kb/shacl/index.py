@@ -9,9 +9,9 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 
-from rdflib import Graph
+from rdflib import Graph, Literal
 
-from kb.shacl.terms import key_of
+from kb.shacl.terms import ILL_TYPED, key_of
 
 RDF_TYPE = "<http://www.w3.org/1999/02/22-rdf-syntax-ns#type>"
 SUBCLASS_OF = "<http://www.w3.org/2000/01/rdf-schema#subClassOf>"
@@ -75,7 +75,11 @@ class DataIndex:
         def k(term: object) -> str:
             key = cache.get(term)
             if key is None:
-                key = cache[term] = key_of(term)  # type: ignore[arg-type]
+                key = key_of(term)  # type: ignore[arg-type]
+                if ILL_TYPED not in key:  # an ill-typed literal equals its well-typed twin
+                    cache[term] = key
+            elif ILL_TYPED in key or (type(term) is Literal and term.ill_typed):
+                key = key_of(term)  # type: ignore[arg-type]
             return key
 
         for s, p, o in graph.triples((None, None, None)):
@@ -89,6 +93,9 @@ class DataIndex:
         get = cache.get
         add = self.add
         for s, p, o in triples:
+            if type(o) is Literal and o.ill_typed:  # equal to its well-typed twin: spelled apart
+                add(key_of(s), key_of(p), key_of(o))  # type: ignore[arg-type]
+                continue
             ks = get(s)
             if ks is None:
                 ks = cache[s] = key_of(s)  # type: ignore[arg-type]

@@ -17,10 +17,28 @@ from typing import Protocol
 from rdflib import URIRef
 from rdflib.term import Node
 
+from kb.core.errors import InputError
 from kb.core.namespaces import SH
 from kb.shacl.index import DataIndex
 
 _EMPTY: dict[str, list[str]] = {}
+
+
+class ShapeError(InputError):
+    """A shape that cannot be evaluated as written: SPARQL the specification forbids, a query
+    that does not parse, shapes pySHACL refuses. ``shape`` is the shape, ``node`` the node to
+    point at (the shape or its sh:sparql constraint), ``what`` the problem; callers that know
+    the shapes file turn it into ``file:line`` (:mod:`kb.validation.user_shapes`)."""
+
+    def __init__(self, shape: Node | None, what: str, node: Node | None = None) -> None:
+        self.shape = shape
+        self.node = node if node is not None else shape
+        self.what = what
+        super().__init__(f"shape {_spell(shape)}: {what}" if shape is not None else what)
+
+
+def _spell(node: Node) -> str:
+    return f"<{node}>" if isinstance(node, URIRef) else f"[] ({node.n3()})"
 
 
 class SparqlRows(Protocol):

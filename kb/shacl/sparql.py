@@ -1,14 +1,19 @@
-"""SHACL-SPARQL constraints, evaluated once over the whole graph with pyoxigraph.
+"""SHACL-SPARQL constraints, evaluated with pyoxigraph: once over the whole graph where that
+gives the rows of pre-binding, else once per focus node with ``$this`` substituted.
 
 pySHACL runs a constraint's SELECT once per focus node with ``$this`` pre-bound (and parses
-the query text each time). Here the query runs once with ``$this`` unbound and the rows are
-grouped by ``?this``, for the query forms where that gives the same rows (basic graph
-patterns, FILTER, BIND, UNION, DISTINCT; ``?this`` projected). Other forms (sub-SELECT,
-aggregates, OPTIONAL, MINUS, EXISTS, VALUES, LIMIT) run once per focus node with ``?this``
-bound by a VALUES block. Simple groups get a cheap join order first (:mod:`kb.shacl.reorder`).
-The pyoxigraph store holds only the triples whose predicates the queries mention (all
-triples when one uses a variable predicate, a negated path, or a ``*``/``?`` path between
-two variables).
+the query text each time). Here a query whose ``?this`` is bound by a triple pattern before
+anything else uses it runs once with ``$this`` unbound and its rows are grouped by ``?this``
+(:func:`kb.shacl.prebind.groupable` says when that is exact). Every other query runs once
+per focus node with the focus node's term written in place of ``$this`` (pre-binding as the
+specification defines it: substitution into the whole query, :class:`kb.shacl.prebind.Template`);
+a blank focus node, which cannot be written into a query, is pre-bound by rdflib's
+evaluator instead (``initBindings``, as pySHACL does). Queries the specification forbids
+(MINUS, VALUES, SERVICE, ``AS $this``, nested SELECTs not returning ``$this``) and queries that
+do not parse are refused with a :class:`kb.shacl.shape.ShapeError`. Simple groups get a cheap
+join order first (:mod:`kb.shacl.reorder`). The pyoxigraph store holds only the triples whose
+predicates the queries mention (all triples when one uses a variable predicate, a negated
+path, or a ``*``/``?`` path between two variables).
 
 Difference from pySHACL (rdflib's evaluator): the SPARQL semantics are Oxigraph's. They agree
 on the arithmetic, comparisons and errors the generated shapes use, including xsd:decimal zeros
@@ -21,26 +26,29 @@ from __future__ import annotations
 
 import re
 import threading
-from collections.abc import Iterator
+from collections.abc import Collection, Iterator
 from typing import Any
 
 import pyoxigraph as ox
 from rdflib import Graph, Literal, URIRef, Variable
 from rdflib.paths import AlternativePath, InvPath, MulPath, SequencePath
 from rdflib.plugins.sparql import prepareQuery
+from rdflib.plugins.sparql.algebra import translateQuery
+from rdflib.plugins.sparql.parser import parseQuery
 from rdflib.plugins.sparql.parserutils import CompValue
 from rdflib.term import Node
 
 from kb.core.namespaces import SH
+from kb.shacl.prebind import CONSTRAINT_VARIABLES, Template, forbidden, groupable, mentions, nullable
 from kb.shacl.reorder import predicates_in, reorder
-from kb.shacl.shape import Constraint, Context, Hit, Pairs, Shape
+from kb.shacl.shape import Constraint, Context, Hit, Pairs, Shape, ShapeError
 from kb.shacl.terms import key_of, to_node
 
 _PATH_VAR = re.compile(r"([\s{}()])[$?]PATH")
-_UNSAFE = {
-    "Minus", "LeftJoin", "Group", "AggregateJoin", "Builtin_EXISTS", "Builtin_NOTEXISTS",
-    "ToMultiSet", "values", "Slice", "ServiceGraphPattern", "Graph",
-}
+_SHAPES_VARS = re.compile(r"[$?](shapesGraph|currentShape)\b")
+#: The name of the shapes graph in the SPARQL store (what ``$shapesGraph`` is bound to).
+SHAPES_GRAPH = "<urn:kitkb:shapes-graph>"
+_CHECK_TERM = "<urn:kitkb:prebound>"
 
 
 class SparqlC(Constraint):
@@ -56,6 +64,12 @@ class SparqlC(Constraint):
         self.predicates: set[str] | None = set()
         self.projected: set[str] = set()
         self.once = True
+        #: Can ``$this`` be written into the query text (:class:`kb.shacl.prebind.Template`)?
+        self.substitutable = True
+        #: ``$shapesGraph`` and ``$currentShape``, where the query uses them: their terms.
+        self.fixed: dict[str, str] = {}
+        #: The shapes graph, loaded into the store as :data:`SHAPES_GRAPH` when used.
+        self.shapes_graph: Graph | None = None
 
     def check(self, ctx: Context, pairs: Pairs, out: list[Hit]) -> None:
         for focus, _ in pairs:
@@ -102,21 +116,18 @@ class SparqlC(Constraint):
         return f"SPARQL constraint {self.node} reported a violation"
 
 
-def _walk(node: Any, names: list[str], triples: list[tuple[Any, Any, Any]], extends: list[Any]) -> None:
+def _walk(node: Any, triples: list[tuple[Any, Any, Any]]) -> None:
     if isinstance(node, CompValue):
-        names.append(node.name)
-        if node.name == "Extend":
-            extends.append(node.get("var"))
         for key, value in node.items():
             if key == "triples" and isinstance(value, list):
                 triples.extend(tuple(t) for t in value if isinstance(t, (tuple, list)) and len(t) == 3)
-            _walk(value, names, triples, extends)
+            _walk(value, triples)
     elif isinstance(node, dict):
         for value in node.values():
-            _walk(value, names, triples, extends)
+            _walk(value, triples)
     elif isinstance(node, (list, tuple)):
         for value in node:
-            _walk(value, names, triples, extends)
+            _walk(value, triples)
 
 
 def _path_predicates(p: Any, out: set[str]) -> bool:
@@ -133,41 +144,66 @@ def _path_predicates(p: Any, out: set[str]) -> bool:
     return False
 
 
-def _nullable(p: Any) -> bool:
-    """Can the path match zero steps (``p*``, ``p?``)?"""
-    if isinstance(p, MulPath):
-        return p.mod in ("*", "?")
-    if isinstance(p, SequencePath):
-        return all(_nullable(a) for a in p.args)
-    if isinstance(p, AlternativePath):
-        return any(_nullable(a) for a in p.args)
-    if isinstance(p, InvPath):
-        return _nullable(p.arg)
-    return False
-
-
 def _analyse(c: SparqlC) -> None:
-    query = prepareQuery(c.text)
-    names: list[str] = []
+    """Check the query (it parses, the specification allows it) and decide how it runs.
+
+    Raises :class:`ShapeError` for a query that does not parse or that SHACL forbids."""
+    query = checked_query(c.text, c.shape.node, c.node)
     triples: list[tuple[Any, Any, Any]] = []
-    extends: list[Any] = []
-    _walk(query.algebra, names, triples, extends)
+    _walk(query.algebra, triples)
     preds: set[str] = set()
     every = False
     for subj, p, obj in triples:
         if not _path_predicates(p, preds):
             every = True
-        elif _nullable(p) and isinstance(subj, Variable) and isinstance(obj, Variable):
+        elif nullable(p) and isinstance(subj, Variable) and isinstance(obj, Variable):
             every = True  # a zero-length match binds every node of the graph
     c.predicates = None if every else preds
     pv = query.algebra.get("PV") or []
     c.projected = {str(v) for v in pv}
-    c.once = (
-        "this" in c.projected
-        and names.count("Project") == 1
-        and not any(n in _UNSAFE or n.startswith("Aggregate") for n in names)
-        and Variable("this") not in extends
-    )
+    c.once = groupable(query.algebra)
+    c.substitutable = c.once or _substitutes(c.text)
+
+
+def checked_query(text: str, shape: Node, node: Node, prebound: Collection[str] = CONSTRAINT_VARIABLES,
+                  what: str = "SPARQL query") -> Any:
+    """The query ``text`` of constraint (or validator) ``node`` of ``shape``, parsed and
+    translated to rdflib's algebra; :class:`ShapeError` when it does not parse or breaks
+    SHACL's rules for the pre-bound variables ``prebound``."""
+    where = f"the {what} of {node.n3()}" if isinstance(node, URIRef) else f"its {what}"
+    try:
+        tree = parseQuery(text)
+    except Exception as exc:  # pyparsing's ParseException, with the position in the text
+        raise ShapeError(shape, f"{where} does not parse: {exc}", node) from None
+    reason = forbidden(tree, prebound)
+    if reason:
+        raise ShapeError(shape, f"{where} {reason}, which SHACL forbids where variables are pre-bound "
+                                "(SHACL 5.3.1)", node)
+    try:
+        return translateQuery(tree)
+    except Exception as exc:
+        raise ShapeError(shape, f"{where} is not valid SPARQL: {exc}", node) from None
+
+
+def _substitutes(text: str) -> bool:
+    """Does writing a term in place of ``$this`` leave a query that no longer uses ``?this``
+    (but to name it in the outer projection)? Checked once per query, on a stand-in term."""
+    try:
+        filled = parseQuery(Template(text, ("this",)).fill({"this": _CHECK_TERM}))
+    except Exception:
+        return False
+    return not mentions(_without_projected_names(filled))
+
+
+def _without_projected_names(node: Any) -> Any:
+    """The parse tree without the ``AS ?var`` names of projections (``(TERM AS ?this)``)."""
+    if isinstance(node, CompValue):
+        return {k: _without_projected_names(v) for k, v in node.items() if k != "evar"}
+    if isinstance(node, dict):
+        return {k: _without_projected_names(v) for k, v in node.items()}
+    if isinstance(node, (list, tuple)) or hasattr(node, "asList"):
+        return [_without_projected_names(v) for v in node]
+    return node
 
 
 def _prefix_block(g: Graph, prefixes: dict[str, str], cnode: Node, body: str) -> str:
@@ -200,31 +236,44 @@ def compile_sparql(g: Graph, prefixes: dict[str, str], s: Shape, cnode: Node) ->
     if len(selects) != 1:
         return None, f"SPARQL constraint {cnode} needs exactly one sh:select (sh:ask is not supported)"
     body = str(selects[0])
-    if re.search(r"[$?](shapesGraph|currentShape)\b", body):
-        return None, f"SPARQL constraint {cnode} uses $shapesGraph or $currentShape"
+    uses = set(_SHAPES_VARS.findall(body))
+    if "currentShape" in uses and not isinstance(s.node, URIRef):
+        return None, f"SPARQL constraint {cnode} uses $currentShape in a blank-node shape"
     if _PATH_VAR.search(body):
         if s.path is None or s.path[0] != "pred" or s.path_node is None:
             return None, f"SPARQL constraint {cnode} uses $PATH without a predicate path"
         body = _PATH_VAR.sub(r"\g<1>" + str(_path_text(s.path_node)), body)
     messages = sorted(str(m) for m in g.objects(cnode, SH.message))
     c = SparqlC(s, cnode, _prefix_block(g, prefixes, cnode, body) + body, messages)
-    try:
-        _analyse(c)
-    except Exception as exc:  # a query rdflib cannot parse: let pySHACL report on it
-        return None, f"SPARQL constraint {cnode} does not parse: {exc}"
+    if uses:
+        c.shapes_graph = g
+        c.fixed = {v: SHAPES_GRAPH if v == "shapesGraph" else key_of(s.node) for v in uses}
+    _analyse(c)
     return c, None
+
+
+#: Pre-bound in the validators of every custom constraint component (SHACL 6.2.3), besides
+#: the component's parameters; ASK validators also have ``$value``.
+VALIDATOR_VARIABLES = CONSTRAINT_VARIABLES
+
+
+def check_validators(g: Graph, prefixes: dict[str, str], shape: Node, component: Node) -> None:
+    """Refuse (:class:`ShapeError`) a custom constraint component used by ``shape`` whose
+    validator queries do not parse or break SHACL's rules for pre-bound variables."""
+    params = {str(path).replace("#", "/").rsplit("/", 1)[-1]
+              for p in g.objects(component, SH.parameter) for path in g.objects(p, SH.path)}
+    for pred in (SH.validator, SH.nodeValidator, SH.propertyValidator):
+        for v in g.objects(component, pred):
+            for key, extra in ((SH.select, set()), (SH.ask, {"value"})):
+                for body in g.objects(v, key):
+                    text = _PATH_VAR.sub(r"\g<1><urn:kitkb:path>", str(body))
+                    checked_query(_prefix_block(g, prefixes, v, text) + text, shape, v,
+                                  VALIDATOR_VARIABLES | params | extra, "validator")
 
 
 def ox_key(term: Any) -> str:
     """Key of a pyoxigraph term (its N-Triples spelling)."""
     return str(term)
-
-
-def _inject_values(text: str, focus: str) -> str:
-    """Bind ``?this`` by a VALUES block at the start of the WHERE group (pre-binding, also
-    inside FILTER NOT EXISTS, which pyoxigraph's ``substitutions`` do not reach)."""
-    brace = text.index("{")  # the PREFIX block before it has no braces
-    return f"{text[: brace + 1]} VALUES ?this {{ {focus} }} {text[brace + 1 :]}"
 
 
 class SparqlRunner:
@@ -245,6 +294,7 @@ class SparqlRunner:
         self._store: ox.Store | None = None
         self._stats: dict[str, tuple[int, int, int]] | None = None
         self._texts: dict[tuple[int, frozenset[str]], str] = {}
+        self._templates: dict[int, Template] = {}
         self._grouped: dict[int, tuple[dict[str, list[dict[str, str]]], list[dict[str, str]]]] = {}
         self._bnodes: dict[str, ox.BlankNode] = {}
         self._pending: Any = None  # the background thread of prefetch(), until joined
@@ -299,6 +349,11 @@ class SparqlRunner:
         plain, with_bnodes = self.ctx.index.ntriples_split(preds)
         # the N-Triples parser renames blank nodes: build those quads ourselves to keep labels
         quads = [ox.Quad(self.ox_term(s), self.ox_term(p), self.ox_term(o)) for s, p, o in with_bnodes]
+        shapes = {id(c.shapes_graph): c.shapes_graph for c in self.constraints if c.shapes_graph is not None}
+        if shapes:  # for $shapesGraph: the shapes graph as a named graph beside the data
+            name = self.ox_term(SHAPES_GRAPH)
+            for g in shapes.values():
+                quads += [ox.Quad(*(self.ox_term(key_of(t)) for t in triple), name) for triple in g]
         return plain.encode(), quads
 
     @staticmethod
@@ -363,14 +418,17 @@ class SparqlRunner:
         return rows
 
     def _solutions(self, c: SparqlC, focus: str | None = None) -> list[dict[str, str]]:
-        if self.engine == "rdflib":
+        """The query's rows: all of them (``focus`` None), or with ``$this`` pre-bound to
+        ``focus`` (written into the query; rdflib's pre-binding for a blank node)."""
+        if self.engine == "rdflib" or (focus is not None and (focus[0] == "_" or not c.substitutable)):
+            if c.fixed:
+                raise ShapeError(c.shape.node, "kitkb pre-binds $shapesGraph and $currentShape only with "
+                                               "pyoxigraph, for focus nodes that are IRIs or literals", c.node)
             return self._rdflib_solutions(c, focus)
         if focus is None:
             res = self.store().query(self._query_text(c, frozenset()))
-        elif focus[0] == "_":
-            res = self.store().query(c.text, substitutions={ox.Variable("this"): self.ox_term(focus)})
         else:
-            res = self.store().query(_inject_values(self._query_text(c, frozenset({"this"})), focus))
+            res = self.store().query(self._template(c).fill({"this": focus, **c.fixed}))
         names = [v.value for v in res.variables]
         rows = []
         for sol in res:
@@ -379,8 +437,19 @@ class SparqlRunner:
                 t = sol[name]
                 if t is not None:
                     row[name] = ox_key(t)
+            if focus is not None:
+                row["this"] = focus
             rows.append(row)
         return rows
+
+    def _template(self, c: SparqlC) -> Template:
+        """The query, triple patterns in a cheap join order for a bound ``?this``, ready to
+        take a focus node's term in place of ``$this``."""
+        found = self._templates.get(id(c))
+        if found is None:
+            text = self._query_text(c, frozenset({"this"}))
+            found = self._templates[id(c)] = Template(text, ("this", *c.fixed))
+        return found
 
     def _query_text(self, c: SparqlC, bound: frozenset[str]) -> str:
         """The query as pyoxigraph runs it: triple patterns in a cheap join order."""

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import logging
 import re
+import warnings
 from functools import lru_cache
 
 from rdflib import BNode, Literal, URIRef
@@ -22,6 +23,9 @@ from rdflib.term import Node
 
 XSD_NS = "http://www.w3.org/2001/XMLSchema#"
 XSD_STRING = XSD_NS + "string"
+XSD_BOOLEAN = XSD_NS + "boolean"
+#: Added to the lexical form of an ill-typed boolean in its key (see :func:`key_of`).
+ILL_TYPED = " (ill-typed)"
 
 _ESCAPES = {"\b": "\\b", "\t": "\\t", "\n": "\\n", "\f": "\\f", "\r": "\\r", '"': '\\"', "\\": "\\\\"}
 _NEEDS_ESCAPE = re.compile(r'[\x00-\x1f\x7f"\\]')
@@ -50,16 +54,23 @@ def unescape(text: str) -> str:
 
 
 def key_of(term: Node, *, rdf11_strings: bool = False) -> str:
-    """The key of an rdflib term (``rdf11_strings`` drops an explicit ``^^xsd:string``)."""
+    """The key of an rdflib term (``rdf11_strings`` drops an explicit ``^^xsd:string``).
+
+    rdflib reads an ill-typed boolean (``"none"^^xsd:boolean``) as ``"false"``, marked
+    ill-typed; its key keeps it ill-typed (``"false (ill-typed)"^^xsd:boolean``, which rdflib
+    reads back as the same term), so sh:datatype still rejects it."""
     if isinstance(term, URIRef):
         return f"<{term}>"
     if isinstance(term, BNode):
         return f"_:{term}"
     if isinstance(term, Literal):
-        body = '"' + escape_lexical(str(term)) + '"'
+        dt = term.datatype
+        lex = str(term)
+        if term.ill_typed and str(dt) == XSD_BOOLEAN and lex in ("true", "false"):
+            lex += ILL_TYPED
+        body = '"' + escape_lexical(lex) + '"'
         if term.language:
             return f"{body}@{term.language}"
-        dt = term.datatype
         if dt is None or (rdf11_strings and str(dt) == XSD_STRING):
             return body
         return f"{body}^^<{dt}>"
@@ -113,10 +124,13 @@ def _drop_record(record: logging.LogRecord) -> bool:
 
 
 def _quiet_literal(lex: str, dt: str) -> Literal:
-    """rdflib logs a traceback for every ill-typed literal; keep that out of reports."""
+    """rdflib logs a traceback for every ill-typed literal (and warns of weird booleans);
+    keep that out of reports."""
     _RDFLIB_TERM_LOG.addFilter(_drop_record)
     try:
-        return Literal(lex, datatype=URIRef(dt))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return Literal(lex, datatype=URIRef(dt))
     finally:
         _RDFLIB_TERM_LOG.removeFilter(_drop_record)
 
