@@ -230,6 +230,7 @@ def _closed_loop(name: str, init: Path, goal: Path, target: Path, progress: _Pro
             result = planning.run(model.up_problem, target / "plan.txt", progress=display)
     except NotSolvableError as e:
         return _not_executed(name, f"no plan: {e}", progress, reports)
+    plan_time = time.perf_counter() - t
     progress.stage(f"plan: {len(result.lines)} actions by {result.planner}, validated -> {target / 'plan.txt'}", t)
     t = time.perf_counter()
     with display.task(f"{name}: deciding the predicates from geometry"):
@@ -255,11 +256,11 @@ def _closed_loop(name: str, init: Path, goal: Path, target: Path, progress: _Pro
             poses = world.global_poses()
     progress.stage(f"world model: {loaded.individuals} individuals (workstation and domain), {len(poses)} global "
                    f"poses -> {safe_url(str(db_file))}", t)
-    return _execute(name, init, goal, result.lines, progress, options, reports, db_file)
+    return _execute(name, init, goal, result.lines, progress, options, reports, db_file, plan_time)
 
 
 def _execute(name: str, init: Path, goal: Path, plan: list[str], progress: _Progress, options: RunOptions,
-             reports: list[dict], db: str | Path) -> int:
+             reports: list[dict], db: str | Path, plan_time: float | None = None) -> int:
     """Carry the plan out, every action checked from geometry, stable states and records in
     the database ``db``; a line per action, a summary."""
     t = time.perf_counter()
@@ -274,7 +275,7 @@ def _execute(name: str, init: Path, goal: Path, plan: list[str], progress: _Prog
             run = run_plan(plan, init, goal, cell=cell, faults=options.faults, seed=options.seed,
                            match_names=options.match_names, domain_files=options.domain, progress=actions.line,
                            notifier=lambda who, text: progress.say(f"      notify {who}: {text}"), name=name,
-                           store=store)
+                           store=store, plan_time=plan_time)
     finally:
         store.close()
         if cell is not None:
@@ -291,7 +292,14 @@ def _execute(name: str, init: Path, goal: Path, plan: list[str], progress: _Prog
                f"{', '.join(f'{m} {n}' for m, n in sorted(recoveries.items())) or 'none'}; replans {rec.replans}")
     if rec.injected:
         summary += "; injected " + ", ".join(f"{x['kind']}@{x['action_index']}" for x in rec.injected)
+    contacts = data["metrics"]["contact_errors"]
+    if contacts:
+        summary += f"; contact errors {contacts}"
     progress.stage(summary, t)
+    for kit in rec.kits:
+        progress.say(f"  kit {local_name(kit.kit)}: {kit.score} of {kit.max_score} points" +
+                     ("" if not kit.lost else "; lost: " + "; ".join(
+                         f"{x.points} for {x.reason} ({x.predicate})" for x in kit.lost)))
     if rec.stopped:
         progress.problem(f"    {name}: stopped: {rec.stopped}")
     return 0 if run.goal_holds and rec.stopped is None else 1
