@@ -35,6 +35,7 @@ EXIT_CODES = ("exit codes: 0 success (validate: the files conform); 1 violations
 #: Subcommand -> ``module:function`` of its handler (imported when the subcommand runs).
 HANDLERS = {
     "validate": "kb.cli.validation:validate",
+    "shacl": "kb.cli.shacl:shacl",
     "convert": "kb.cli.validation:convert",
     "scenario generate": "kb.cli.scenario:generate",
     "scenario transform": "kb.cli.scenario:transform",
@@ -73,10 +74,11 @@ FORMAT_HELP = ("text: the line(s) kitkb prints; json: one JSON object on standar
 
 def _sub(sub: Any, name: str, command: str, help: str, format_help: str = FORMAT_HELP,
          **kw: Any) -> argparse.ArgumentParser:
+    formats = list(kw.pop("formats", ("text", "json")))
     p = sub.add_parser(name, help=help, description=kw.pop("description", help[:1].upper() + help[1:] + "."),
                        epilog=EXIT_CODES, parents=[_common()], **kw)
     p.set_defaults(command=command)
-    p.add_argument("--format", choices=["text", "json"], default="text", help=format_help)
+    p.add_argument("--format", choices=formats, default="text", help=format_help)
     return p
 
 
@@ -90,6 +92,23 @@ def _add_files(sub: Any) -> None:
     p.add_argument("--ignore", action="append", default=[], metavar="RULE[,RULE...]",
                    help="leave the findings of these rules (the names in brackets, e.g. floating-object) out "
                         "of the report and the exit code; may be repeated")
+    p.add_argument("--shapes", action="extend", nargs="+", default=[], metavar="SHAPES",
+                   help="SHACL shapes files applied to the data files besides the shipped shapes (their "
+                        "results at file:line like the rest; put them after the files, or repeat --shapes)")
+    p = _sub(sub, "shacl", "shacl", "plain SHACL validation: data files against shapes files, no kitting model",
+             formats=("text", "json", "turtle"),
+             format_help="text: one file:line line per result and a summary; turtle: the W3C validation "
+                         "report (sh:ValidationReport); json: one object with conforms, counts and results "
+                         "(default text)",
+             description="kitkb shacl DATA... -s SHAPES...: validate the data files (one data graph) against "
+                         "the shapes files (one shapes graph) with kitkb's SHACL engine (pySHACL for what it "
+                         "does not implement): no kitting model, no closed-world rules, no imports. Exit 0 "
+                         "when the data conforms (no result of any severity), 1 when not, 2 for unusable "
+                         "input (a broken file, shapes files without shapes, a shape SHACL forbids).")
+    p.add_argument("files", nargs="+", metavar="DATA", help="data files in any syntax kitkb reads")
+    p.add_argument("-s", "--shapes", action="extend", nargs="+", required=True, metavar="SHAPES",
+                   help="SHACL shapes files (repeatable)")
+    p.add_argument("-o", "--output", metavar="FILE", help="write the report to FILE instead of standard output")
     p = _sub(sub, "convert", "convert", "write an ontology file in another syntax")
     p.add_argument("input", metavar="IN", help="a file in any syntax kitkb reads")
     p.add_argument("-o", "--output", required=True, metavar="OUT",
@@ -341,7 +360,7 @@ def handler(command: str) -> Callable[..., int]:
 #: Options that name files a command reads (noted before it runs, so that no output replaces
 #: them even where a forked child does the reading), and the option naming its database.
 _INPUT_OPTIONS = ("files", "input", "init", "goal", "first", "second", "datafile", "state", "domain", "file",
-                  "xsd", "program", "config")
+                  "xsd", "program", "config", "shapes")
 
 
 def _guard(options: dict[str, Any]) -> Any:

@@ -2,17 +2,21 @@
 
 The data graph is indexed once (subject -> predicate -> objects, class membership with the
 rdfs:subClassOf closure), each shape's constraints run over all its focus nodes in bulk, and
-each SHACL-SPARQL constraint runs once over the whole graph in pyoxigraph instead of once per
-focus node. Shapes using something the engine does not implement go to pySHACL (logged as a
-warning on the ``kb.shacl`` logger; :func:`unsupported_shapes` lists them beforehand).
+each SHACL-SPARQL constraint runs in pyoxigraph, once over the whole graph where that gives the
+rows of pre-binding, else once per focus node with ``$this`` substituted (:mod:`.prebind`).
+Shapes using something the engine does not implement go to pySHACL (logged as a warning on
+the ``kb.shacl`` logger; :func:`unsupported_shapes` lists them beforehand). Shapes no engine
+may evaluate (SPARQL the specification forbids, pySHACL's refusals) raise
+:class:`ShapeError`; :func:`check_shapes` compiles up front.
 
 Entry points: :func:`start` (an evaluation started now and collected later, on big data in a
 forked helper process: what ``kitkb validate`` uses), :func:`validate_graph`,
 :func:`validate_files`, :func:`validate_index`. The parts: terms as N-Triples keys
 (:mod:`.terms`), the data index (:mod:`.index`), shapes, constraints and their run context
 (:mod:`.shape`), the core components (:mod:`.constraints`), SPARQL constraints
-(:mod:`.sparql`), the shape compiler (:mod:`.compiler`), the driver (:mod:`.engine`), work
-shared with a forked child (:mod:`.parallel`) and the pySHACL fallback (:mod:`.fallback`).
+(:mod:`.sparql`, pre-binding in :mod:`.prebind`), the shape compiler (:mod:`.compiler`), the
+driver (:mod:`.engine`), work shared with a forked child (:mod:`.parallel`), the pySHACL
+fallback (:mod:`.fallback`) and the W3C validation report (:mod:`.report`).
 
 ``ont`` is the model graph. As pySHACL does when given ``ont_graph``, it is merged into the
 data graph before validation: targets (sh:targetClass) and sh:class use rdfs:subClassOf
@@ -35,15 +39,19 @@ from kb.core.errors import InputError
 from kb.core.jobs import Forked
 from kb.io.views import TripleView, UnionView
 from kb.shacl import parallel
-from kb.shacl.compiler import Program, compile_program
+from kb.shacl.compiler import Program, compile_program, targeted_shapes
 from kb.shacl.engine import Evaluation, Run, prefixes_of, run
 from kb.shacl.fallback import pyshacl_results, run_pyshacl
 from kb.shacl.index import DataIndex
 from kb.shacl.result import ShaclResult
+from kb.shacl.shape import ShapeError
 
 __all__ = [
     "ShaclResult",
+    "ShapeError",
     "Finish",
+    "check_shapes",
+    "targeted_shapes",
     "start",
     "validate_graph",
     "validate_files",
@@ -93,6 +101,13 @@ def start(data: Any, shapes: Graph) -> Finish:
 
 
 _programs: dict[int, tuple[Graph, Program]] = {}
+
+
+def check_shapes(shapes: Graph) -> dict[Node, str]:
+    """Compile ``shapes`` now (once per graph object, as :func:`start` would later): raises
+    :class:`ShapeError` for a shape no engine may evaluate; returns the shapes handed to
+    pySHACL, with the reason for each."""
+    return dict(_program(shapes).unsupported)
 
 
 def _program(shapes: Graph) -> Program:

@@ -219,15 +219,22 @@ def _implicit_class_target(g: Graph, n: Node) -> bool:
     return any(t in classes for t in g.objects(n, RDF.type))
 
 
-def compile_program(g: Graph, *, rdf11_strings: bool, prefixes: dict[str, str]) -> Program:
-    """Compile every shape of ``g`` that has a target (and the shapes they reach)."""
-    comp = Compiler(g, rdf11_strings=rdf11_strings, prefixes=prefixes)
+def targeted_shapes(g: Graph) -> set[Node]:
+    """The shapes of ``g`` with a target: sh:targetClass, sh:targetNode, sh:targetSubjectsOf,
+    sh:targetObjectsOf, or a shape that is also a class (an implicit class target)."""
     heads: set[Node] = set()
     for p in TARGET_PREDICATES:
         heads.update(g.subjects(p, None))
     for n in set(g.subjects(RDF.type, None)):
         if _implicit_class_target(g, n):
             heads.add(n)
+    return heads
+
+
+def compile_program(g: Graph, *, rdf11_strings: bool, prefixes: dict[str, str]) -> Program:
+    """Compile every shape of ``g`` that has a target (and the shapes they reach)."""
+    comp = Compiler(g, rdf11_strings=rdf11_strings, prefixes=prefixes)
+    heads = targeted_shapes(g)
     top: list[tuple[Shape, dict[URIRef, list[str]]]] = []
     unsupported: dict[Node, str] = {}
     for head in sorted(heads, key=lambda h: (isinstance(h, BNode), str(h))):

@@ -38,8 +38,9 @@ _COMPONENT_RULES = {
 
 
 def diagnostics(results: Iterable[ShaclResult], src: Any, data: Graph, shapes: Graph,
-                 namer: "Namer", ctx: rules.RuleContext) -> list[Diagnostic]:
-    """The report lines of the SHACL ``results`` for ``src`` (``data``: what was validated)."""
+                 namer: "Namer", ctx: rules.RuleContext, user: Graph | None = None) -> list[Diagnostic]:
+    """The report lines of the SHACL ``results`` for ``src`` (``data``: what was validated;
+    ``user``: the users' shapes, whose results say the shape's own sh:message)."""
     out = []
     for r in _one_closed_result_each(results, data, shapes):
         comp = str(r.component).rpartition("#")[2].removesuffix("ConstraintComponent")
@@ -50,7 +51,10 @@ def diagnostics(results: Iterable[ShaclResult], src: Any, data: Graph, shapes: G
             rule = "inverse-functional"
         if _suppressed(rule, r, ctx, namer, src, data) or not _mentions(rules.graph_of(src), r.focus):
             continue
-        message = _message(rule, r, src, data, shapes, namer)
+        if user is not None and (r.source_shape, None, None) in user:
+            message = _user_message(r, src, shapes, namer)
+        else:
+            message = _message(rule, r, src, data, shapes, namer)
         severity = "warning" if r.severity in (SH.Warning, SH.Info) else "error"
         out.append(Diagnostic(str(src.path), _result_line(rule, r, src, data), severity,  # type: ignore[arg-type]
                               message, rule, namer.name(r.focus, src)))
@@ -153,6 +157,18 @@ def _message(rule: str, r: ShaclResult, src: Any, data: Graph, shapes: Graph, na
         return template.replace("{$this}", f).replace("{?this}", f).replace("{?value}", v) \
             .replace("{$value}", v)
     return f"{f}: {r.message}"
+
+
+def _user_message(r: ShaclResult, src: Any, shapes: Graph, namer: "Namer") -> str:
+    """The line of a result of a user's shape: the focus node, then the shape's sh:message
+    (the engine has filled its ``{$this}``, ``{?value}`` ...) or else the component's own
+    message with the path and value."""
+    f = namer.name(r.focus, src)
+    if shapes.value(r.source_shape, SH.message) is not None or _sparql_message(shapes, r.source_shape):
+        return f"{f}: {r.message}"
+    p = f" {namer.name(r.path, src)}" if isinstance(r.path, URIRef) else ""
+    v = f" = {namer.name(r.value, src)}" if r.value is not None and r.value != r.focus else ""
+    return f"{f}{p}{v}: {r.message}"
 
 
 def _classes_of(shapes: Graph, shape: Node) -> list[Node]:

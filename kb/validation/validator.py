@@ -11,6 +11,7 @@ raises :class:`kb.core.errors.InputError`). See docs/validation.md for the rules
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import functools
 import hashlib
@@ -26,16 +27,17 @@ from kb.core.diagnostics import Diagnostic
 from kb.core.errors import InputError
 from kb.core.memory import gc_paused
 from kb.core.progress import SILENT, Progress, Task
-from kb.core.namespaces import KTW, SH
+from kb.core.namespaces import KTW
 from kb.core.resources import ontologies_dir, ontology_path, scenario_dirs, shapes_path
 from kb.io.loader import load, load_file
 from kb.io.views import UnionView
 from kb.model.owl import OwlModel
 from kb.shacl import ShaclResult
-from kb.validation import rules
+from kb.validation import rules, user_shapes
 from kb.validation.geometry import UNCHECKED, check_geometry
 from kb.validation.report import Namer, dedupe, diagnostics, line_of
 from kb.validation.shapes import DerivedShapes
+from kb.validation.user_shapes import ShapesFiles
 
 #: Hand-written shapes applied when the model holds the kitting vocabulary.
 KITTING_RULES = "kitting-rules.ttl"
@@ -91,13 +93,16 @@ def default_files() -> list[str]:
 # --- validation -------------------------------------------------------------------------
 
 def validate(paths: Sequence[str | Path], *, shapes_files: Sequence[str | Path] | None = None,
-             ignore: Collection[str] = (), progress: Progress = SILENT) -> ValidationReport:
+             extra_shapes: Sequence[str | Path] = (), ignore: Collection[str] = (),
+             progress: Progress = SILENT) -> ValidationReport:
     """Validate ``paths`` (model and data files) closed-world; see the module docstring.
 
     ``shapes_files`` replaces the hand-written rule files (for tests); an empty shapes
-    graph raises :class:`InputError`. ``ignore``: rule names left out of the report (the
-    geometry rules are then not even computed). ``progress``: where each step says what it
-    does (:mod:`kb.core.progress`).
+    graph raises :class:`InputError`. ``extra_shapes``: users' shapes files, applied to the
+    data files besides the shipped shapes (``kitkb validate --shapes``; read and checked by
+    :mod:`kb.validation.user_shapes`, a bad one is an InputError at its ``file:line``).
+    ``ignore``: rule names left out of the report (the geometry rules are then not even
+    computed). ``progress``: where each step says what it does (:mod:`kb.core.progress`).
     """
     started = time.perf_counter()
     if not paths:
@@ -105,15 +110,18 @@ def validate(paths: Sequence[str | Path], *, shapes_files: Sequence[str | Path] 
     # millions of long-lived acyclic objects (terms, index dictionaries): the cyclic garbage
     # collector would walk them all again and again, for nothing
     with gc_paused(), progress.task(f"reading {len(paths)} file(s)") as step:
-        report = _validate(paths, shapes_files, started, frozenset(ignore), step)
+        user = ShapesFiles.read(extra_shapes) if extra_shapes else None
+        report = _validate(paths, shapes_files, started, frozenset(ignore), step, user)
     if ignore:
         report.diagnostics = [d for d in report.diagnostics if d.rule not in ignore]
     return report
 
 
 def _validate(paths: Sequence[str | Path], shapes_files: Sequence[str | Path] | None,
-              started: float, ignore: frozenset[str] = frozenset(), step: Task | None = None) -> ValidationReport:
+              started: float, ignore: frozenset[str] = frozenset(), step: Task | None = None,
+              user: ShapesFiles | None = None) -> ValidationReport:
     step = step or SILENT.task("")
+    located = user.located if user is not None else contextlib.nullcontext
     kb = load([str(p) for p in paths])
     given = {_key(p) for p in paths}
     sources = [s for s in kb.sources if _key(s.path) in given] or list(kb.sources)
@@ -126,8 +134,11 @@ def _validate(paths: Sequence[str | Path], shapes_files: Sequence[str | Path] | 
     found: dict[int, list[ShaclResult]] = {}
     shapes = None
     pending: list[tuple[int, shacl.Finish]] = []
-    if checked or shapes_files is not None:
-        shapes = _shapes(model, shapes_files)
+    if checked or shapes_files is not None or user is not None:
+        shapes = _shapes(model, shapes_files, user)
+        if user is not None:
+            with located():  # a shape SHACL forbids: refused before any work, at its line
+                shacl.check_shapes(shapes)
         # the first file's SHACL run starts now (on a big file, part of it in a forked
         # process), the Python rules run meanwhile; the other files follow one by one
         todo = [src for src in sources if id(src) in checked]
@@ -144,7 +155,8 @@ def _validate(paths: Sequence[str | Path], shapes_files: Sequence[str | Path] | 
     step.update(description=f"SHACL shapes on {len(checked)} file(s)")
     for key, finish in pending:
         # while a forked child is still evaluating, the big files get ready for line look-ups
-        found[key] = finish(functools.partial(later.warm, sources))
+        with located():  # pySHACL may refuse a user's shape it was handed
+            found[key] = finish(functools.partial(later.warm, sources))
     # every line asked for is looked up in one pass over each (big) file
     for src in sources:
         later.want(src, (r.focus for r in found.get(id(src), ())))
@@ -158,7 +170,8 @@ def _validate(paths: Sequence[str | Path], shapes_files: Sequence[str | Path] | 
     for src in sources:
         if id(src) in found:
             g = checked[id(src)]
-            shacl_diags += diagnostics(found[id(src)], src, g, shapes, namer, ctx)
+            shacl_diags += diagnostics(found[id(src)], src, g, shapes, namer, ctx,
+                                       user.graph if user is not None else None)
     diags = _follows(dedupe(ctx.out + shacl_diags), ctx.follows)
     return ValidationReport(diags, [str(s.path) for s in sources], time.perf_counter() - started)
 
@@ -284,40 +297,33 @@ def _shipped_signature() -> str:
     return _signature(OwlModel(load_file(ontology_path("kitting.ttl")).graph))
 
 
-@functools.lru_cache(maxsize=8)
-def _parse_shapes(path: str, mtime: float) -> Graph:
-    """A shapes file as an rdflib graph, read by kitkb's loader (pyoxigraph: a fifth of
-    the time of rdflib's Turtle parser; syntax errors come with their line)."""
-    try:
-        return load_file(path).graph
-    except InputError as exc:
-        raise InputError(f"cannot read shapes: {exc.message}", exc.file or path, exc.line) from None
-
-
 _generated: dict[str, Graph] = {}
 
 
-def _shapes(model: OwlModel, shapes_files: Sequence[str | Path] | None) -> Graph:
-    """Derived shapes for ``model`` plus the hand-written rule files; never empty."""
+def _shapes(model: OwlModel, shapes_files: Sequence[str | Path] | None, user: ShapesFiles | None = None) -> Graph:
+    """Derived shapes for ``model`` plus the hand-written rule files and the users' shapes;
+    never empty."""
     if not model.classes:
         raise InputError("no model to validate against: the files declare no classes and import no "
                          "model (add owl:imports <https://w3id.org/kitkb/kitting>)")
     sig = _signature(model)
     shipped = shapes_path(KITTING_SHAPES)
     if sig == _shipped_signature() and shipped.exists():
-        generated = _parse_shapes(str(shipped), shipped.stat().st_mtime)
+        generated = user_shapes.read(shipped).graph
     else:
         if sig not in _generated:
             _generated[sig] = DerivedShapes(model).graph()
         generated = _generated[sig]
-    _require_shapes(generated, str(shipped))
+    user_shapes.require_shapes(generated, str(shipped))
     extra = [Path(p) for p in shapes_files] if shapes_files is not None else (
         [shapes_path(KITTING_RULES)] if any(str(c).startswith(str(KTW)) for c in model.classes) else [])
     graphs = [generated]
     for p in extra:
-        g = _parse_shapes(str(p), p.stat().st_mtime if p.exists() else 0.0)
-        _require_shapes(g, str(p))
+        g = user_shapes.read(p).graph
+        user_shapes.require_shapes(g, str(p))
         graphs.append(g)
+    if user is not None:
+        graphs.append(user.graph)
     key = tuple(id(g) for g in graphs)
     if key not in _merged:
         _merged[key] = _merge(*graphs) if len(graphs) > 1 else generated
@@ -325,15 +331,6 @@ def _shapes(model: OwlModel, shapes_files: Sequence[str | Path] | None) -> Graph
 
 
 _merged: dict[tuple[int, ...], Graph] = {}
-
-
-def _require_shapes(g: Graph, where: str) -> None:
-    shapes = set(g.subjects(RDF.type, SH.NodeShape)) | set(g.subjects(SH.targetClass, None)) \
-        | set(g.subjects(SH.targetNode, None)) | set(g.subjects(SH.targetSubjectsOf, None)) \
-        | set(g.subjects(SH.targetObjectsOf, None))
-    if not shapes:
-        raise InputError("no SHACL shapes found (is the sh: prefix right?); refusing to validate "
-                         "against an empty shapes graph", where)
 
 
 __all__ = ["ValidationReport", "validate", "default_files"]

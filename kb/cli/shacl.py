@@ -1,0 +1,42 @@
+"""``kitkb shacl DATA... -s SHAPES...``: plain SHACL validation (kb.validation.plain)."""
+
+from __future__ import annotations
+
+import json
+
+from kb.cli.output import Output
+from kb.core.files import write_atomic
+from kb.validation.plain import ShaclReport, validate_files
+
+
+def shacl(files: list[str], shapes: list[str], format: str, out: Output, output: str | None = None) -> int:
+    """Validate the data files against the shapes files and print SHACL's report (text: a
+    ``file:line`` line per result and a summary; turtle: the W3C ``sh:ValidationReport``;
+    json: one object); with ``output`` the report goes to that file instead. 0 conforms, 1 not."""
+    with out.progress(f"validating {len(files)} data file(s) against {len(shapes)} shapes file(s)"):
+        report = validate_files(files, shapes, progress=out.tracker)
+    text = _render(report, format, out)
+    if output is None:
+        print(text, end="", file=out.results)
+    else:
+        write_atomic(output, text)
+        if format != "json":
+            out.done(f"wrote {output} ({report.summary()})", output=output, conforms=report.conforms)
+    return 0 if report.conforms else 1
+
+
+def _render(report: ShaclReport, format: str, out: Output) -> str:
+    if format == "turtle":
+        return report.turtle()
+    if format == "json":
+        head = {"command": out.command} if out.command else {}
+        return json.dumps({**head, **report.as_dict(), "warnings": out.warnings}, indent=1) + "\n"
+    lines = [d.format() for d in report.diagnostics()]
+    n_data, n_shapes = len(report.data_files), len(report.shapes_files.sources)
+    lines.append(f"{n_data} data file(s), {n_shapes} shapes file(s): {report.summary()}")
+    if report.fallback:
+        lines.append(f"(pySHACL evaluated {len(report.fallback)} shape(s) kitkb's engine does not implement)")
+    return "\n".join(lines) + "\n"
+
+
+__all__ = ["shacl"]
