@@ -52,6 +52,7 @@ HANDLERS = {
     "predicates": "kb.cli.predicates:predicates",
     "sim serve": "kb.cli.sim:serve",
     "testmethod": "kb.cli.testmethod:testmethod",
+    "report": "kb.cli.report:report",
 }
 DIALECTS = ["sqlite", "postgresql", "mysql"]
 DB_HELP = "SQLite file or SQLAlchemy URL such as postgresql://user@host/db (default kitkb.sqlite)"
@@ -339,6 +340,19 @@ def _add_testmethod(sub: Any) -> None:
                    help="campaign folder (default out/testmethod-METHOD); the trials already in it are not run again")
 
 
+def _add_report(sub: Any) -> None:
+    p = _sub(sub, "report", "report", "one HTML page of a run report or a campaign (3-D view, metrics, kit scores, "
+                                      "timeline)",
+             description="Draw a run's JSON report (kitkb run --report) or a campaign folder (kitkb testmethod "
+                         "--out DIR) as one self-contained HTML page that opens with no network: the workstation "
+                         "in 3-D with the tool tip's path and the failures, the metrics, the kit scores with every "
+                         "lost point, a timeline of actions, failures and recoveries; for a campaign the metrics "
+                         "across the trials and the failed trials, each with a page of its own in DIR/report/. "
+                         "docs/report.md shows what a page holds.")
+    p.add_argument("input", metavar="RUN.json|CAMPAIGN_DIR", help="a run report, or a campaign folder")
+    p.add_argument("-o", "--output", required=True, metavar="OUT.html", help="the HTML page to write")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``kitkb`` command."""
     parser = argparse.ArgumentParser(prog="kitkb", description=DESCRIPTION, epilog=EXIT_CODES)
@@ -346,7 +360,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--traceback", action="store_true", help="show the Python traceback of an error")
     sub = parser.add_subparsers(dest="subcommand", required=True, metavar="COMMAND")
     for add in (_add_files, _add_scenario, _add_generate, _add_plan, _add_db, _add_run, _add_crcl, _add_metrics,
-                _add_predicates, _add_sim, _add_testmethod):
+                _add_predicates, _add_sim, _add_testmethod, _add_report):
         add(sub)
     return parser
 

@@ -1,0 +1,187 @@
+"""The page of a campaign (``kitkb testmethod ... --out DIR``): what was run, the summary, the
+distribution of each metric across the trials, the failures by mode, the trials that failed
+and every trial, each linked to its own page."""
+
+from __future__ import annotations
+
+from collections import Counter
+from pathlib import Path
+from typing import Any, Callable
+
+from kb.metrics import METRICS, NAMES
+from kb.report.html import esc, figure, note, page, section, table, value_html, yes_no
+from kb.report.run import run_page
+from kb.report.scene import recovered
+from kb.report.source import Campaign, read_campaign
+from kb.report.tables import EXECUTION_NAMES, unit_of
+
+#: The file name of trial ``index``'s page (beside the others in ``DIR/report/``).
+TRIAL_PAGE = "trial-{:05d}.html"
+
+
+def trial_index(report: dict[str, Any]) -> int:
+    """The index of a trial report (its ``trial.index``)."""
+    index = (report.get("trial") or {}).get("index")
+    return index if isinstance(index, int) else -1
+
+
+def failed_because(report: dict[str, Any]) -> str | None:
+    """Why a trial failed (an error, a stop, the goal not reached), or None if it did not."""
+    trial = report.get("trial") or {}
+    if trial.get("error"):
+        return f"error: {trial['error']}"
+    if report.get("executed") is False:
+        return f"not executed: {report.get('reason')}"
+    if report.get("stopped"):
+        return f"stopped: {report['stopped']}"
+    if not report.get("goal_holds"):
+        return "the goal does not hold"
+    return None
+
+
+def kit_score(report: dict[str, Any]) -> float | None:
+    """The trial's kit score in per cent of the points possible (None without kit scores)."""
+    kits = [k for k in report.get("kits") or [] if isinstance(k, dict)]
+    total = sum(k.get("max_score") or 0 for k in kits if isinstance(k.get("max_score"), (int, float)))
+    if not total:
+        return None
+    return 100.0 * sum(k.get("score") or 0 for k in kits if isinstance(k.get("score"), (int, float))) / total
+
+
+def trial_values(report: dict[str, Any]) -> dict[str, float]:
+    """The numbers of one trial that the campaign page shows as distributions."""
+    out: dict[str, float] = {}
+    t = (report.get("trial") or {}).get("time_s", report.get("time_s"))
+    for key, value in (("time_s", t), ("actions", report.get("actions")),
+                       ("failures", len(report.get("failures") or [])), ("kit score %", kit_score(report))):
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            out[key] = value
+    metrics = report.get("metrics")
+    if isinstance(metrics, dict):
+        for key, value in metrics.items():
+            if isinstance(value, (int, float)) and not isinstance(value, bool):
+                out[key] = value
+            elif key == "violations" and isinstance(value, list):
+                out[key] = len(value)
+        static = metrics.get("static")
+        if isinstance(static, dict):
+            out.update({k: v for k, v in static.items() if isinstance(v, (int, float)) and not isinstance(v, bool)})
+    return out
+
+
+def metric_label(key: str) -> str:
+    """A metric's name with its unit, for a plot title."""
+    name = EXECUTION_NAMES.get(key) or NAMES.get(key) or key.replace("_", " ")
+    if key in METRICS:
+        name = f"{key} {name}"
+    unit = unit_of(key)
+    return f"{name} ({unit})" if unit else name
+
+
+def distribution_figures(trials: list[dict[str, Any]]) -> list[tuple[str, dict[str, Any]]]:
+    """(metric, box plot with every trial as a point) for each metric some trial has."""
+    values: dict[str, list[tuple[int, float]]] = {}
+    for report in trials:
+        for key, v in trial_values(report).items():
+            values.setdefault(key, []).append((trial_index(report), v))
+    figs = []
+    for key, pairs in values.items():
+        data = [{"type": "box", "name": "", "y": [v for _, v in pairs], "boxpoints": "all", "jitter": 0.4,
+                 "pointpos": 0, "hovertext": [f"trial {i}" for i, _ in pairs], "hoverinfo": "text+y",
+                 "marker": {"size": 4, "color": "#2e86de"}, "line": {"color": "#34495e"}}]
+        layout = {"title": {"text": esc(metric_label(key)), "font": {"size": 13}}, "height": 260,
+                  "margin": {"l": 45, "r": 10, "t": 40, "b": 20}, "showlegend": False}
+        figs.append((key, {"data": data, "layout": layout}))
+    return figs
+
+
+def modes_figure(trials: list[dict[str, Any]]) -> dict[str, Any] | None:
+    """Failures by mode across the trials, recovered and not."""
+    done: Counter[str] = Counter()
+    lost: Counter[str] = Counter()
+    for report in trials:
+        for f in report.get("failures") or []:
+            if isinstance(f, dict):
+                (done if recovered(f) else lost)[str(f.get("mode"))] += 1
+    modes = sorted(set(done) | set(lost))
+    if not modes:
+        return None
+    names = [esc(m) for m in modes]
+    data = [{"type": "bar", "name": "recovered", "x": names, "y": [done[m] for m in modes], "marker": {"color": "#e67e22"}},
+            {"type": "bar", "name": "not recovered", "x": names, "y": [lost[m] for m in modes],
+             "marker": {"color": "#c0392b"}}]
+    return {"data": data, "layout": {"barmode": "stack", "height": 320, "yaxis": {"title": {"text": "failures"}},
+                                     "margin": {"l": 50, "r": 10, "t": 20, "b": 60}}}
+
+
+def _default_href(index: int) -> str:
+    return "report/" + TRIAL_PAGE.format(index)
+
+
+def trial_rows(trials: list[dict[str, Any]], href: Callable[[int], str] | None) -> list[tuple[Any, ...]]:
+    """A row per trial: link, seed, design, goal, failures, kit score, time, why it failed."""
+    rows = []
+    for report in trials:
+        trial = report.get("trial") or {}
+        i = trial_index(report)
+        link = f'<a href="{esc(href(i))}">trial {i}</a>' if href else f"trial {i}"
+        score = kit_score(report)
+        rows.append((link, esc(trial.get("seed")), esc(trial.get("design")), yes_no(report.get("goal_holds")),
+                     esc(len(report.get("failures") or [])), "&ndash;" if score is None else f"{score:.1f}",
+                     esc(trial.get("time_s", report.get("time_s"))), esc(failed_because(report) or "")))
+    return rows
+
+
+TRIAL_HEADERS = ["trial", "seed", "design", "goal holds", "failures", "kit score %", "time (s)", "failed because"]
+
+
+def campaign_body(campaign: Campaign, href: Callable[[int], str] | None = _default_href) -> str:
+    """The body of a campaign's page; ``href(index)``: the link to trial ``index``'s page."""
+    meta = campaign.meta
+    trials = [r for _, r in campaign.trials]
+    failed = [r for r in trials if failed_because(r)]
+    facts = table(["", "value"], [("method", meta.get("method")), ("seed", meta.get("seed")),
+                                  ("trials asked", meta.get("trials")), ("trials found", len(trials)),
+                                  ("trials failed", len(failed)), ("options", meta.get("options")),
+                                  ("folder", str(campaign.directory))], tid="campaign-table")
+    summary = meta.get("summary")
+    parts = [f"<h1>Campaign: {esc(meta.get('method'))}</h1>",
+             f'<p class="facts">{len(trials)} trials, {len(failed)} failed, seed {esc(meta.get("seed"))}</p>',
+             section("Campaign", facts, "campaign"),
+             section("Summary", f'<div id="summary-table">{value_html(summary)}</div>' if summary
+                     else note("campaign.json has no summary."), "summary")]
+    figs = distribution_figures(trials)
+    grid = "".join(f'<div>{figure(fig, f"dist-{n}")}</div>' for n, (_, fig) in enumerate(figs))
+    parts.append(section("Metrics across the trials", f'<div class="grid">{grid}</div>' if figs
+                         else note("No trial has a metric to show."), "distributions"))
+    modes = modes_figure(trials)
+    parts.append(section("Failures by mode", figure(modes, "modes-plot") if modes else note("No failure was found."),
+                         "modes"))
+    rows = trial_rows(failed, href)
+    parts.append(section("Trials that failed", table(TRIAL_HEADERS, rows, raw=[True] * 8, tid="failed-table")
+                         if rows else note("No trial failed."), "failed"))
+    parts.append(section("Every trial", table(TRIAL_HEADERS, trial_rows(trials, href), raw=[True] * 8,
+                                              tid="trials-table") if trials else note("The folder has no trial yet."),
+                         "trials"))
+    return "".join(parts)
+
+
+def campaign_page(directory: str | Path | Campaign, href: Callable[[int], str] | None = _default_href) -> str:
+    """The HTML page of the campaign in folder ``directory`` (plotly.js inlined); its trial links
+    point at ``report/trial-NNNNN.html`` under the folder unless ``href`` says otherwise."""
+    campaign = directory if isinstance(directory, Campaign) else read_campaign(directory)
+    return page(f"kitkb campaign: {campaign.meta.get('method')}", campaign_body(campaign, href))
+
+
+def trial_extra(report: dict[str, Any]) -> str:
+    """A trial's own facts (seed, method, design, layout, error) for the top of its page."""
+    trial = report.get("trial")
+    if not isinstance(trial, dict):
+        return ""
+    return section("Trial", table(["", "value"], list(trial.items()), tid="trial-table"), "trial")
+
+
+def trial_page(report: dict[str, Any], *, back: str | None = None, script_src: str | None = None) -> str:
+    """The page of one trial: its run's page with the trial's facts and a link ``back`` to the campaign."""
+    links = f'<nav><a href="{esc(back)}">&larr; campaign</a></nav>' if back else ""
+    return run_page(report, script_src=script_src, links=links, extra=trial_extra(report))

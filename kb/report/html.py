@@ -1,0 +1,143 @@
+"""The page around the figures: escaping, tables, sections, the plotly figure divs and the
+page shell with plotly.js inlined once (or, for a campaign's trial pages, one shared copy).
+
+Every text that comes from a file goes through :func:`esc` before it lands in the page (names
+can hold ``<`` and ``&``); the figures' JSON is written by plotly, which escapes ``<``, ``>``
+and ``/`` inside the script.
+"""
+
+from __future__ import annotations
+
+import html
+import math
+from functools import lru_cache
+from typing import Any, Iterable, Sequence
+
+import plotly.io
+import plotly.offline
+
+#: plotly's options for every figure: no plotly logo, a picture button that saves a PNG.
+CONFIG = {"displaylogo": False, "responsive": True,
+          "toImageButtonOptions": {"format": "png", "scale": 2}}
+
+STYLE = """
+body { font: 14px/1.45 system-ui, -apple-system, "Segoe UI", sans-serif; margin: 0 auto; max-width: 1200px;
+       padding: 0 1.2em 3em; color: #1d2430; background: #fff; }
+h1 { font-size: 1.6em; margin: 0.8em 0 0.2em; } h2 { font-size: 1.25em; margin: 1.6em 0 0.4em;
+  border-bottom: 1px solid #d8dde6; padding-bottom: 0.2em; } h3 { font-size: 1.05em; margin: 1.2em 0 0.3em; }
+table { border-collapse: collapse; margin: 0.4em 0 0.8em; } caption { text-align: left; color: #555; }
+th, td { border: 1px solid #d8dde6; padding: 0.25em 0.6em; text-align: left; vertical-align: top; }
+th { background: #f2f4f8; font-weight: 600; } td.num { text-align: right; font-variant-numeric: tabular-nums; }
+table.nested td, table.nested th { border-color: #e8ebf0; padding: 0.1em 0.4em; }
+.facts { color: #444; margin: 0 0 0.6em; } .note { color: #666; font-style: italic; }
+.ok { color: #176b2c; font-weight: 600; } .bad { color: #b3261e; font-weight: 600; }
+.lost td { background: #fff6f5; } .plot { width: 100%; } .grid { display: grid; gap: 0.6em;
+  grid-template-columns: repeat(auto-fill, minmax(270px, 1fr)); }
+nav a { margin-right: 1em; } code { font-size: 0.95em; }
+"""
+
+
+def esc(value: Any) -> str:
+    """``value`` as HTML text (``<``, ``>``, ``&`` and quotes escaped)."""
+    return html.escape("" if value is None else str(value), quote=True)
+
+
+def number(value: Any) -> str:
+    """A number as a person reads it (integers plain, others to 4 significant figures)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return esc(value)
+    if isinstance(value, int) or (math.isfinite(value) and value == int(value) and abs(value) < 1e15):
+        return f"{int(value):,}"
+    return f"{value:.4g}"
+
+
+def yes_no(value: Any, yes: str = "yes", no: str = "no") -> str:
+    """A coloured yes / no (None: a dash)."""
+    if value is None:
+        return "&ndash;"
+    return f'<span class="ok">{yes}</span>' if value else f'<span class="bad">{no}</span>'
+
+
+def cell(value: Any) -> str:
+    """A table cell for any JSON value (objects and lists of objects as nested tables)."""
+    if isinstance(value, bool):
+        return f"<td>{yes_no(value)}</td>"
+    if isinstance(value, (int, float)):
+        return f'<td class="num">{number(value)}</td>'
+    return f"<td>{value_html(value)}</td>"
+
+
+def value_html(value: Any) -> str:
+    """Any JSON value as HTML: scalars as text, objects as a nested key / value table, lists of
+    scalars joined with commas, lists of objects as a nested table with a column per key."""
+    if value is None:
+        return "&ndash;"
+    if isinstance(value, bool):
+        return yes_no(value)
+    if isinstance(value, (int, float)):
+        return number(value)
+    if isinstance(value, dict):
+        if not value:
+            return "&ndash;"
+        rows = "".join(f"<tr><th>{esc(k)}</th>{cell(v)}</tr>" for k, v in value.items())
+        return f'<table class="nested">{rows}</table>'
+    if isinstance(value, list):
+        if value and all(isinstance(v, dict) for v in value):
+            keys = list(dict.fromkeys(k for v in value for k in v))
+            return table(keys, ([v.get(k) for k in keys] for v in value), css="nested")
+        return ", ".join(value_html(v) for v in value) or "&ndash;"
+    return esc(value)
+
+
+def table(headers: Sequence[str], rows: Iterable[Sequence[Any]], *, css: str = "", caption: str = "",
+          raw: Sequence[bool] | None = None, row_css: Sequence[str] | None = None, tid: str = "") -> str:
+    """An HTML table; ``raw[i]`` True: column ``i`` is HTML already (links), else a JSON value."""
+    head = "".join(f"<th>{esc(h)}</th>" for h in headers)
+    body = []
+    for n, row in enumerate(rows):
+        cells = "".join(f"<td>{v}</td>" if raw and raw[i] else cell(v) for i, v in enumerate(row))
+        cls = f' class="{row_css[n]}"' if row_css and row_css[n] else ""
+        body.append(f"<tr{cls}>{cells}</tr>")
+    attrs = (f' class="{css}"' if css else "") + (f' id="{tid}"' if tid else "")
+    cap = f"<caption>{esc(caption)}</caption>" if caption else ""
+    return f"<table{attrs}>{cap}<thead><tr>{head}</tr></thead><tbody>{''.join(body)}</tbody></table>"
+
+
+def section(title: str, body: str, sid: str = "") -> str:
+    """A titled section of the page."""
+    attr = f' id="{sid}"' if sid else ""
+    return f"<section{attr}><h2>{esc(title)}</h2>{body}</section>"
+
+
+def note(text: str) -> str:
+    """A note in place of something the report does not have (text: escaped here)."""
+    return f'<p class="note">{esc(text)}</p>'
+
+
+def figure(fig: dict[str, Any], div_id: str, height: int | None = None) -> str:
+    """The div and script of a plotly figure (a plain dict of data and layout), without plotly.js."""
+    layout = dict(fig.get("layout", {}))
+    if height is not None:
+        layout.setdefault("height", height)
+    return plotly.io.to_html({"data": fig.get("data", []), "layout": layout}, config=CONFIG, full_html=False,
+                             include_plotlyjs=False, validate=False, div_id=div_id,
+                             default_height=f"{layout.get('height', 450)}px", default_width="100%")
+
+
+@lru_cache(maxsize=1)
+def plotly_js() -> str:
+    """plotly.js, as shipped with the plotly package (about 4.7 MB)."""
+    return plotly.offline.get_plotlyjs()
+
+
+def page(title: str, body: str, *, script_src: str | None = None) -> str:
+    """A whole HTML page: plotly.js inlined once (``script_src`` None), or loaded from the
+    relative path ``script_src`` (a campaign's trial pages share one copy)."""
+    if script_src is None:
+        script = f'<script type="text/javascript">{plotly_js()}</script>'
+    else:
+        script = f'<script type="text/javascript" src="{esc(script_src)}"></script>'
+    return ("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+            f"<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
+            f"<meta name=\"generator\" content=\"kitkb report\">\n<title>{esc(title)}</title>\n"
+            f"<style>{STYLE}</style>\n{script}\n</head>\n<body>\n{body}\n</body>\n</html>\n")

@@ -1,0 +1,71 @@
+"""The page of one run (or of the main job's several runs): facts, the 3-D view of the
+workstation, metrics, kit scores, the timeline, failures and injected faults."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from kb.report.html import esc, figure, note, page, section, table, yes_no
+from kb.report.scene import scene_figure
+from kb.report.tables import failures_table, injected_table, kits_table, metrics_table, run_facts
+from kb.report.timeline import timeline_figure
+
+
+def headline(report: dict[str, Any]) -> str:
+    """One line under the title: did the run build its kits, what went wrong."""
+    failures = report.get("failures") or []
+    if report.get("executed") is False:
+        state = f'<span class="bad">not executed</span>: {esc(report.get("reason"))}'
+    else:
+        state = "goal " + yes_no(report.get("goal_holds"), "holds", "does not hold")
+        if report.get("stopped"):
+            state += f'; <span class="bad">stopped</span>: {esc(report["stopped"])}'
+    return (f'<p class="facts">{state}; {esc(report.get("actions", 0))} actions, {len(failures)} '
+            f'failure{"s" if len(failures) != 1 else ""}, {esc(report.get("time_s", "?"))} s</p>')
+
+
+def _figure_or_note(fig: dict[str, Any] | str, div_id: str) -> str:
+    return note(fig) if isinstance(fig, str) else figure(fig, div_id)
+
+
+def run_sections(report: dict[str, Any], prefix: str = "run") -> str:
+    """The sections of one run's report (``prefix`` keeps element ids apart on a page of several)."""
+    return "".join([
+        section("Run", run_facts(report), f"{prefix}-facts"),
+        section("Workstation (3-D)", _figure_or_note(scene_figure(report), f"{prefix}-scene")
+                + '<p class="note">Drag to turn, scroll to zoom, double-click to reset; the buttons switch '
+                  'between the final and the initial state, the legend turns classes on and off.</p>',
+                f"{prefix}-workstation"),
+        section("Metrics", metrics_table(report), f"{prefix}-metrics"),
+        section("Kit scores", kits_table(report), f"{prefix}-kits"),
+        section("Timeline", _figure_or_note(timeline_figure(report), f"{prefix}-timeline"), f"{prefix}-time"),
+        section("Failures and recoveries", failures_table(report), f"{prefix}-failures"),
+        section("Injected faults", injected_table(report), f"{prefix}-injected"),
+    ])
+
+
+def run_body(report: dict[str, Any], *, links: str = "", extra: str = "") -> str:
+    """The body of a run's page: title, headline, ``extra`` (a trial's facts), the sections;
+    a report of several runs gets a summary table and a part per run."""
+    runs = report.get("runs")
+    if isinstance(runs, list):
+        rows = [(f'<a href="#run{n}">{esc(r.get("scenario"))}</a>', yes_no(r.get("goal_holds")),
+                 esc(r.get("actions")), esc(len(r.get("failures") or [])), esc(r.get("time_s")))
+                for n, r in enumerate(runs)]
+        summary = table(["scenario", "goal holds", "actions", "failures", "time (s)"], rows, raw=[True] * 5,
+                        tid="runs-table")
+        parts = "".join(f'<div id="run{n}"><h1>Run {esc(r.get("scenario"))}</h1>{headline(r)}'
+                        f'{run_sections(r, f"run{n}")}</div>' for n, r in enumerate(runs))
+        return f"{links}<h1>kitkb runs</h1>{headline(report | {'actions': _sum(runs, 'actions')})}{summary}{parts}"
+    return (f"{links}<h1>Run {esc(report.get('scenario'))}</h1>{headline(report)}{extra}"
+            f"{run_sections(report)}")
+
+
+def _sum(runs: list[dict[str, Any]], key: str) -> int:
+    return sum(r.get(key) or 0 for r in runs if isinstance(r.get(key), int))
+
+
+def run_page(report: dict[str, Any], *, script_src: str | None = None, links: str = "", extra: str = "") -> str:
+    """The HTML page of a run report (plotly.js inlined unless ``script_src`` names a copy)."""
+    title = f"kitkb report: {report.get('scenario') or 'runs'}"
+    return page(title, run_body(report, links=links, extra=extra), script_src=script_src)

@@ -1,0 +1,237 @@
+"""The 3-D view of the workstation: the objects' oriented boxes (one plotly ``Mesh3d`` per
+class and state, with their edges), the robot's tool tip path, and a marker where each
+failure happened, from a run report's ``scene``, ``path`` and ``failures``.
+
+A box is the object's ``lo``/``hi`` corners in its own frame, placed by its global pose (a
+4x4 matrix, metres). The view shows the final state; buttons switch to the initial state or
+both, and the legend turns each class on and off.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Sequence
+
+import numpy as np
+
+from kb.report.html import esc
+
+#: Colours of the classes a workstation has, others from :data:`PALETTE` in order of appearance.
+CLASS_COLOURS = {
+    "Part": "#e4572e", "KitTray": "#2e86de", "PartsTray": "#17a589", "Kit": "#8e44ad",
+    "WorkTable": "#b0a48a", "LargeContainer": "#c49a6c", "LargeBoxWithKits": "#c49a6c",
+    "LargeBoxWithEmptyKitTrays": "#c49a6c", "Robot": "#34495e", "EndEffector": "#f1c40f",
+    "EndEffectorHolder": "#95a5a6", "EndEffectorChangingStation": "#7f8c8d",
+}
+PALETTE = ("#d35400", "#16a085", "#2980b9", "#8e44ad", "#c0392b", "#27ae60", "#f39c12", "#7f8c8d")
+#: The corners of a unit box (0/1 per axis) and its 12 triangles and 12 edges.
+_CORNERS = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]])
+_TRIANGLES = np.array([[0, 1, 2], [0, 2, 3], [4, 5, 6], [4, 6, 7], [0, 1, 5], [0, 5, 4],
+                       [1, 2, 6], [1, 6, 5], [2, 3, 7], [2, 7, 6], [3, 0, 4], [3, 4, 7]])
+_EDGES = np.array([[0, 1], [1, 2], [2, 3], [3, 0], [4, 5], [5, 6], [6, 7], [7, 4], [0, 4], [1, 5], [2, 6], [3, 7]])
+#: How opaque each class's boxes are (big furniture faint, so the parts show through).
+_FAINT = {"WorkTable": 0.18, "LargeContainer": 0.25, "LargeBoxWithKits": 0.25, "LargeBoxWithEmptyKitTrays": 0.25,
+          "EndEffectorChangingStation": 0.2, "MechanicalComponent": 0.2}
+
+
+def corners(lo: Sequence[float], hi: Sequence[float], pose: Any) -> np.ndarray:
+    """The 8 world corners (8 x 3) of the box ``lo``..``hi`` in the frame of the 4x4 ``pose``."""
+    lo_a, hi_a = np.asarray(lo, float), np.asarray(hi, float)
+    local = lo_a + _CORNERS * (hi_a - lo_a)
+    m = np.asarray(pose, float)
+    return local @ m[:3, :3].T + m[:3, 3]
+
+
+def _pose(value: Any) -> np.ndarray | None:
+    try:
+        m = np.asarray(value, float)
+    except (TypeError, ValueError):
+        return None
+    return m if m.shape == (4, 4) and np.isfinite(m).all() else None
+
+
+def _box(obj: dict[str, Any], state: str) -> np.ndarray | None:
+    pose = _pose(obj.get(state))
+    try:
+        lo, hi = np.asarray(obj.get("lo"), float), np.asarray(obj.get("hi"), float)
+    except (TypeError, ValueError):
+        return None
+    if pose is None or lo.shape != (3,) or hi.shape != (3,) or not (np.isfinite(lo).all() and np.isfinite(hi).all()):
+        return None
+    return corners(lo, hi, pose)
+
+
+def boxes(scene: dict[str, Any], state: str) -> dict[str, list[tuple[str, np.ndarray]]]:
+    """Class -> [(object name, its 8 corners)] of the objects placed in ``state`` (initial, final)."""
+    out: dict[str, list[tuple[str, np.ndarray]]] = {}
+    for obj in scene.get("objects") or []:
+        if not isinstance(obj, dict):
+            continue
+        box = _box(obj, state)
+        if box is not None:
+            out.setdefault(str(obj.get("class") or "object"), []).append((str(obj.get("name", "")), box))
+    return out
+
+
+def colour(cls: str, order: list[str]) -> str:
+    """The colour of class ``cls`` (``order``: the classes seen so far, for the palette)."""
+    if cls in CLASS_COLOURS:
+        return CLASS_COLOURS[cls]
+    if cls not in order:
+        order.append(cls)
+    return PALETTE[order.index(cls) % len(PALETTE)]
+
+
+def mesh_trace(cls: str, items: list[tuple[str, np.ndarray]], state: str, col: str) -> dict[str, Any]:
+    """One Mesh3d of the boxes of class ``cls`` in ``state``."""
+    pts = np.concatenate([c for _, c in items])
+    tri = np.concatenate([_TRIANGLES + 8 * n for n in range(len(items))])
+    names = [f"{esc(name)}<br>{esc(cls)} ({state})" for name, _ in items for _ in range(8)]
+    return {"type": "mesh3d", "name": f"{esc(cls)} ({len(items)})", "legendgroup": state,
+            "legendgrouptitle": {"text": f"{state} state"}, "x": _r(pts[:, 0]), "y": _r(pts[:, 1]),
+            "z": _r(pts[:, 2]), "i": tri[:, 0].tolist(), "j": tri[:, 1].tolist(), "k": tri[:, 2].tolist(),
+            "color": col, "opacity": _FAINT.get(cls, 0.75), "flatshading": True, "hovertext": names,
+            "hoverinfo": "text", "showlegend": True}
+
+
+def edge_trace(all_boxes: list[np.ndarray], state: str) -> dict[str, Any]:
+    """The boxes' edges as one line trace (None between segments)."""
+    xs: list[float | None] = []
+    ys: list[float | None] = []
+    zs: list[float | None] = []
+    for box in all_boxes:
+        for a, b in _EDGES:
+            for v, out in ((0, xs), (1, ys), (2, zs)):
+                out.extend((round(float(box[a, v]), 5), round(float(box[b, v]), 5), None))
+    return {"type": "scatter3d", "mode": "lines", "x": xs, "y": ys, "z": zs, "name": f"edges ({state})",
+            "legendgroup": state, "showlegend": False, "hoverinfo": "skip",
+            "line": {"color": "rgba(40,40,40,0.45)", "width": 1}}
+
+
+def _r(values: np.ndarray) -> list[float]:
+    return np.round(values, 5).tolist()
+
+
+def _point(p: Any) -> bool:
+    return isinstance(p, (list, tuple)) and len(p) == 3 and all(isinstance(v, (int, float)) for v in p)
+
+
+def path_trace(path: list[Any], start: Any = None) -> dict[str, Any] | None:
+    """The tool tip's commanded positions in order from ``start`` (where it stood), coloured by
+    action index."""
+    xs, ys, zs, idx = [], [], [], []
+    if _point(start):
+        xs.append(start[0]), ys.append(start[1]), zs.append(start[2]), idx.append("start")
+    for seg in path or []:
+        if not isinstance(seg, dict):
+            continue
+        for p in seg.get("points") or []:
+            if _point(p):
+                xs.append(p[0]), ys.append(p[1]), zs.append(p[2]), idx.append(seg.get("index"))
+    if not xs:
+        return None
+    colours = [i if isinstance(i, (int, float)) and not isinstance(i, bool) else 0 for i in idx]
+    return {"type": "scatter3d", "mode": "lines+markers", "name": "tool tip path", "x": xs, "y": ys, "z": zs,
+            "line": {"color": colours, "colorscale": "Viridis", "width": 4},
+            "marker": {"size": 2, "color": colours, "colorscale": "Viridis"},
+            "hovertext": [f"action {esc(i)}" if i != "start" else "start" for i in idx], "hoverinfo": "text+x+y+z"}
+
+
+def failure_trace(failures: list[Any], where: dict[str, np.ndarray]) -> dict[str, Any] | None:
+    """A marker above the first of each failure's objects that the scene places, with the
+    failure's mode, action, violated predicates and recovery as hover text."""
+    xs, ys, zs, text, colours, labels = [], [], [], [], [], []
+    stacked: dict[str, int] = {}
+    for n, f in enumerate(failures or []):
+        if not isinstance(f, dict):
+            continue
+        point = _failure_point(f, where)
+        if point is None:
+            continue
+        key = f"{point[0]:.4f},{point[1]:.4f}"
+        lift = 0.04 * stacked.get(key, 0)
+        stacked[key] = stacked.get(key, 0) + 1
+        xs.append(point[0]), ys.append(point[1]), zs.append(point[2] + 0.04 + lift)
+        text.append(failure_text(n + 1, f))
+        colours.append("#e67e22" if recovered(f) else "#c0392b")
+        labels.append(f"F{n + 1}")
+    if not xs:
+        return None
+    return {"type": "scatter3d", "mode": "markers+text", "name": "failures", "x": xs, "y": ys, "z": zs,
+            "text": labels, "textposition": "top center", "hovertext": text, "hoverinfo": "text",
+            "marker": {"size": 7, "symbol": "x", "color": colours, "line": {"width": 1}}}
+
+
+def _failure_point(f: dict[str, Any], where: dict[str, np.ndarray]) -> tuple[float, float, float] | None:
+    at = f.get("where")
+    if _point(at):
+        return (float(at[0]), float(at[1]), float(at[2]))
+    for name in f.get("objects") or []:
+        box = where.get(str(name))
+        if box is not None:
+            c = box.mean(axis=0)
+            return (float(c[0]), float(c[1]), float(box[:, 2].max()))
+    return None
+
+
+def recovered(f: dict[str, Any]) -> bool:
+    """Whether a failure's recovery worked (its outcome names no giving up or stop)."""
+    outcome = str(f.get("outcome") or "")
+    return bool(outcome) and not any(w in outcome for w in ("gave up", "stopped", "failed", "unrecovered"))
+
+
+def failure_text(number: int, f: dict[str, Any]) -> str:
+    """Hover text of failure ``number`` (escaped; ``<br>`` between lines)."""
+    lines = [f"<b>failure {number}: {esc(f.get('mode'))}</b>",
+             f"action {esc(f.get('action_index'))} {esc(f.get('action'))} ({esc(f.get('phase'))} check)",
+             "objects: " + esc(", ".join(map(str, f.get("objects") or [])))]
+    lines += ["violated: " + esc(v) for v in (f.get("violated") or [])[:6]]
+    lines.append(f"recovery: {esc(f.get('recovery'))} &rarr; {esc(f.get('outcome'))}")
+    return "<br>".join(lines)
+
+
+def scene_figure(report: dict[str, Any]) -> dict[str, Any] | str:
+    """The 3-D figure of a run report, or the reason there is none (text)."""
+    scene = report.get("scene")
+    if not isinstance(scene, dict) or not isinstance(scene.get("objects"), list):
+        return ("This report has no scene (the objects' boxes and poses): it was written before kitkb "
+                "recorded them, or by a run that did not execute.")
+    states = [s for s in ("final", "initial") if boxes(scene, s)]
+    if not states:
+        return "The report's scene places no object with a box, so there is nothing to draw."
+    traces, visible_in = [], []
+    order: list[str] = []
+    where = {}
+    for state in ("initial", "final"):
+        by_class = boxes(scene, state)
+        for cls in sorted(by_class):
+            traces.append(mesh_trace(cls, by_class[cls], state, colour(cls, order)))
+            visible_in.append(state)
+            if state == "initial":
+                where.update({name: box for name, box in by_class[cls]})
+        if by_class:
+            traces.append(edge_trace([b for items in by_class.values() for _, b in items], state))
+            visible_in.append(state)
+    if not where:
+        where = {name: box for items in boxes(scene, "final").values() for name, box in items}
+    extra = [t for t in (path_trace(report.get("path") or [], report.get("tip_start")), failure_trace(report.get("failures") or [], where))
+             if t is not None]
+    shown = states[0]
+    for t, state in zip(traces, visible_in):
+        t["visible"] = state == shown
+    data = traces + extra
+    return {"data": data, "layout": _layout(states, visible_in, len(extra))}
+
+
+def _layout(states: list[str], visible_in: list[str], extra: int) -> dict[str, Any]:
+    buttons = []
+    for label, show in (("final state", {"final"}), ("initial state", {"initial"}), ("both", {"initial", "final"})):
+        if show <= set(states):
+            buttons.append({"label": label, "method": "restyle",
+                            "args": [{"visible": [s in show for s in visible_in] + [True] * extra}]})
+    axis = {"showbackground": True, "backgroundcolor": "#f4f6f9", "gridcolor": "#d0d5dd"}
+    return {"margin": {"l": 0, "r": 0, "t": 30, "b": 0}, "height": 620, "legend": {"groupclick": "toggleitem"},
+            "scene": {"aspectmode": "data", "xaxis": {**axis, "title": {"text": "x (m)"}},
+                      "yaxis": {**axis, "title": {"text": "y (m)"}}, "zaxis": {**axis, "title": {"text": "z (m)"}},
+                      "camera": {"eye": {"x": -1.3, "y": -1.5, "z": 1.1}}},
+            "updatemenus": [{"type": "buttons", "direction": "right", "x": 0, "y": 1.06, "xanchor": "left",
+                             "yanchor": "top", "buttons": buttons, "showactive": True}] if len(buttons) > 1 else []}
