@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Idempotent set-up on a fresh clone: Java (HermiT, ENHSP), a venv with kitkb and its
+# Idempotent set-up on a fresh clone: Java (HermiT, ENHSP), Chromium (headless, for the report's
+# browser tests), a venv with kitkb and its
 # dependencies at the versions of constraints.txt. With --postgres also the PostgreSQL server
 # package (started by test.sh).
 set -euo pipefail
@@ -20,6 +21,10 @@ apt_install() {
 if ! command -v java >/dev/null 2>&1; then
     echo "setup: installing a Java runtime (HermiT, ENHSP)"
     apt_install default-jre-headless
+fi
+if ! command -v chromium >/dev/null 2>&1; then
+    echo "setup: installing Chromium (the report's browser tests, headless)"
+    apt_install chromium
 fi
 if [ "$want_pg" = 1 ] && ! ls /usr/lib/postgresql/*/bin/initdb >/dev/null 2>&1; then
     echo "setup: installing PostgreSQL"
