@@ -26,7 +26,7 @@ import math
 import random
 from dataclasses import dataclass
 
-from kb.scenario.layout import TABLE_H, Scenario, pose, yaw_axes
+from kb.scenario.layout import TABLE_H, Pose, Scenario, pose, yaw_axes
 
 #: no two trays nearer than this (m)
 GAP = 0.02
@@ -72,8 +72,8 @@ def place_trays(sc: Scenario, seed: int) -> tuple[Scenario, list[Placement]]:
         size = sc.floor[table][1][:2]
         drawn.update({p.obj: p for p in _on_table(rng, on, dims, size, sc.spec.room)})
     _check_reach(sc, drawn.values())
-    trays = [dataclasses.replace(t, pose=_pose(drawn[t.name])) for t in sc.trays]
-    kits = [dataclasses.replace(k, tray_pose=_pose(drawn[k.tray])) if k.on_table else k for k in sc.kits]
+    trays = [dataclasses.replace(t, pose=pose_of(drawn[t.name])) for t in sc.trays]
+    kits = [dataclasses.replace(k, tray_pose=pose_of(drawn[k.tray])) if k.on_table else k for k in sc.kits]
     return dataclasses.replace(sc, trays=trays, kits=kits), [drawn[p.obj] for p in nominal]
 
 
@@ -150,7 +150,8 @@ def _check_reach(sc: Scenario, drawn) -> None:  # noqa: ANN001
                 raise ValueError(f"{p.obj} placed outside the robot's work volume")
 
 
-def _pose(p: Placement):  # noqa: ANN202
+def pose_of(p: Placement) -> Pose:
+    """The pose of a placed tray on its table (the table's frame)."""
     return pose(p.x, p.y, TABLE_H, yaw_axes(p.yaw))
 
 

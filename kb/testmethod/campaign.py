@@ -110,10 +110,11 @@ def _read_row(path: Path) -> dict[str, Any] | None:
 
 
 def run_campaign(options: Options, out_dir: str | Path, *, workers: int | None = None, scheduler: str | None = None,
-                 progress: Progress = SILENT) -> Campaign:
+                 client: Any = None, progress: Progress = SILENT) -> Campaign:
     """Run the campaign's trials not yet in ``out_dir`` on Dask and write their rows; the
     campaign with every row and its summary. ``workers``: processes of the LocalCluster
-    (default one per core); ``scheduler``: the address of a running Dask scheduler instead."""
+    (default one per core); ``scheduler``: the address of a running Dask scheduler instead;
+    ``client``: a ``distributed.Client`` to use as it is (left open)."""
     out_dir = Path(out_dir)
     if workers is not None and workers < 1:
         raise InputError(f"--workers must be at least 1 (got {workers})")
@@ -125,7 +126,7 @@ def run_campaign(options: Options, out_dir: str | Path, *, workers: int | None =
     lost: list[int] = []
     n_workers = 0
     if todo:
-        with _client(workers, scheduler) as client:
+        with _client(workers, scheduler, client) as client:
             n_workers = len(client.scheduler_info().get("workers", {})) or (workers or 0)
             with progress.task(f"{options.method}: trials on {n_workers} Dask worker(s)", total=len(todo),
                                unit="trials") as task:
@@ -181,9 +182,9 @@ def _error_row(job: Job, exc: BaseException) -> dict[str, Any]:
 
 
 @contextmanager
-def _client(workers: int | None, scheduler: str | None) -> Iterator[Any]:
-    """A Dask client: of the scheduler at ``scheduler``, or of a new LocalCluster of
-    ``workers`` single-threaded worker processes (default: one per core)."""
+def _client(workers: int | None, scheduler: str | None, given: Any = None) -> Iterator[Any]:
+    """A Dask client: ``given``, or of the scheduler at ``scheduler``, or of a new LocalCluster
+    of ``workers`` single-threaded worker processes (default: one per core)."""
     import dask
     from distributed import Client, LocalCluster
 
@@ -191,6 +192,9 @@ def _client(workers: int | None, scheduler: str | None) -> Iterator[Any]:
     level = quiet.level
     quiet.setLevel(logging.CRITICAL)  # a killed worker is retried and reported, not logged at us
     try:
+        if given is not None:
+            yield given
+            return
         with dask.config.set({"distributed.scheduler.allowed-failures": ALLOWED_FAILURES}):
             if scheduler:
                 try:
@@ -201,7 +205,7 @@ def _client(workers: int | None, scheduler: str | None) -> Iterator[Any]:
                     yield client
                 return
             n = workers or os.cpu_count() or 1
-            with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+            with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address="127.0.0.1:0",
                               silence_logs=logging.CRITICAL) as cluster, Client(cluster) as client:
                 yield client
     finally:

@@ -26,6 +26,8 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Any, Sequence
 
+import numpy as np
+
 from kb import planning
 from kb.core.errors import KitkbError
 from kb.crcl.cell import CellInterface, execute_program, sense_names
@@ -41,10 +43,11 @@ from kb.planning.problem import ProblemSpec
 from kb.scenario import layout, write_spec
 from kb.scenario.blocks import state_graph
 from kb.scenario.layout import Scenario
-from kb.scenario.placement import place_trays, placements
+from kb.scenario.placement import Placement, place_trays, placements, pose_of
 from kb.scenario.spec import ScenarioSpec
 from kb.sim import FaultSpec, SimulatedCell
-from kb.spatial.scene import Scene
+from kb.spatial.scene import Scene, scene_boxes
+from kb.spatial.transforms import pose_matrix
 from kb.testmethod.methods import Job
 
 #: designs whose preparation a worker keeps (a campaign has one, multi a few orders of them)
@@ -104,10 +107,32 @@ def receive(sc: Scenario, init: Path, goal: Path) -> Prepared:
     return Prepared(sc, init, goal, plan, plan_time, domain, problem, scene)
 
 
-def truth_scene(sc: Scenario, goal: Path) -> Scene:
-    """The scene of ``sc``'s initial state (built in memory, as its file would be read)."""
-    source = Source(Path(f"{sc.name}-truth.ttl"), "turtle", graph=state_graph(sc, "init"))
+def file_scene(sc: Scenario, goal: Path) -> Scene:
+    """The scene of ``sc``'s initial state as its file would be read (built in memory)."""
+    source = Source(Path(f"{sc.name}-init.ttl"), "turtle", graph=state_graph(sc, "init"))
     return Scene.from_sources([source], declared=[goal])
+
+
+def placed_scene(nominal: Scene, namespace: str, placed: Sequence[Placement]) -> Scene:
+    """``nominal`` (a scene of the scenario of ``namespace``) with each placed tray at its new pose on its table and everything it holds
+    carried along: the scene :func:`file_scene` reads from the placed layout's file (the
+    objects, facts and boxes are the same; only poses differ), made in a millisecond."""
+    poses = nominal.poses.copy()
+    index, parents = nominal.index, nominal.parents
+    moved: dict[int, np.ndarray] = {}
+    for p in placed:
+        i, table = index[namespace + p.obj], index[namespace + p.table]
+        pose = pose_of(p)
+        local = pose_matrix(pose[:3], pose[3:6], pose[6:])
+        moved[i] = poses[table] @ local @ np.linalg.inv(nominal.poses[i])
+    for j in range(len(poses)):
+        k = j
+        while k >= 0 and k not in moved:
+            k = int(parents[k])
+        if k >= 0:
+            poses[j] = moved[k] @ nominal.poses[j]
+    lo, hi = scene_boxes(poses, nominal.local_lo, nominal.local_hi)
+    return dataclasses.replace(nominal, poses=poses, lo=lo, hi=hi)
 
 
 class WatchedCell:
@@ -187,18 +212,18 @@ def _run(job: Job, facts: dict[str, Any]) -> dict[str, Any]:
         with tempfile.TemporaryDirectory(prefix="kitkb-new-variety-") as folder:
             return _delivered(job, Path(folder), facts)
     prep = prepared(job.spec)
-    cell = _cell(job, prep.scenario, prep.goal, facts)
+    cell = _cell(job, prep.scenario, prep.scene, facts)
     return _report(execute(prep, cell, job.spec.name, job.seed))
 
 
-def _cell(job: Job, nominal: Scenario, goal: Path, facts: dict[str, Any]) -> WatchedCell:
+def _cell(job: Job, nominal: Scenario, scene: Scene, facts: dict[str, Any]) -> WatchedCell:
     """The simulated cell of the trial's real placement (and faults), its layout in ``facts``."""
-    real, placed = place_trays(nominal, job.seed)
+    _real, placed = place_trays(nominal, job.seed)
     facts["layout"] = {"nominal": [p.as_dict() for p in placements(nominal)], "placed": [p.as_dict() for p in placed]}
     faults = FaultSpec.parse(job.faults, seed=job.seed) if job.faults else None
     if job.faults:
         facts["faults"] = job.faults
-    return WatchedCell(SimulatedCell(truth_scene(real, goal), faults=faults, seed=job.seed))
+    return WatchedCell(SimulatedCell(placed_scene(scene, nominal.namespace, placed), faults=faults, seed=job.seed))
 
 
 def _delivered(job: Job, folder: Path, facts: dict[str, Any]) -> dict[str, Any]:
@@ -206,7 +231,7 @@ def _delivered(job: Job, folder: Path, facts: dict[str, Any]) -> dict[str, Any]:
     runs from their receipt: read, plan, execute until the first CRCL command."""
     sc = layout(job.spec)
     init, goal = write_spec(sc, folder)
-    cell = _cell(job, sc, goal, facts)
+    cell = _cell(job, sc, Scene.from_files([init], declared=[goal]), facts)
     received = time.perf_counter()
     prep = receive(sc, init, goal)
     run = execute(prep, cell, job.spec.name, job.seed)

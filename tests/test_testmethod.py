@@ -1,0 +1,299 @@
+"""kitkb testmethod: seeded test method campaigns on Dask (kb.testmethod, kb.scenario.placement).
+
+A handful of trials of a small kit: the same rows with 1 and 2 workers, a campaign resumed
+from its folder, a worker killed in the middle of a trial (its trial run again elsewhere), the
+real placement against the nominal one, and bad options.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import signal
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from kb.cli import main
+from kb.crcl.cell import execute_program
+from kb.execution import Executor
+from kb.execution.belief import Belief
+from kb.scenario.placement import GAP, Placement, place_trays, placements
+from kb.sim import SimulatedCell
+from kb.testmethod import Options, comparable, done_rows, jobs, run_campaign, trial_path
+from kb.testmethod.trial import WatchedCell, file_scene, knowledge, placed_scene, prepared
+
+SMALL = Options("basic", trials=4, seed=5, parts=(3,))
+
+
+def _rows(folder: Path, n: int) -> list[dict]:
+    return [json.loads(trial_path(folder, i).read_text()) for i in range(n)]
+
+
+@pytest.fixture(scope="module")
+def client():
+    """One LocalCluster of two single-threaded worker processes for the module."""
+    from distributed import Client, LocalCluster
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address="127.0.0.1:0",
+                      silence_logs=50) as cluster, Client(cluster) as c:
+        yield c
+
+
+@pytest.fixture(scope="module")
+def one_worker(tmp_path_factory) -> Path:
+    """SMALL run on a LocalCluster of one worker (the command's own cluster)."""
+    folder = tmp_path_factory.mktemp("one") / "campaign"
+    run_campaign(SMALL, folder, workers=1)
+    return folder
+
+
+@pytest.fixture(scope="module")
+def two_workers(tmp_path_factory, client) -> Path:
+    folder = tmp_path_factory.mktemp("two") / "campaign"
+    run_campaign(SMALL, folder, client=client)
+    return folder
+
+
+# ------------------------------------------------------------------ placement
+
+
+def test_placements_vary_stay_on_their_tables_and_do_not_overlap():
+    prep = prepared(jobs(SMALL, [0])[0].spec)
+    sc = prep.scenario
+    nominal = {p.obj: p for p in placements(sc)}
+    assert {p.table for p in nominal.values()} == {"parts_table_1", "work_table_1"}
+    yaws = []
+    for seed in range(20):
+        _, placed = place_trays(sc, seed)
+        assert [p.obj for p in placed] == list(nominal)
+        assert place_trays(sc, seed)[1] == placed  # the same seed, the same placement
+        for p in placed:
+            dims = sc.skus["sku_parts_tray" if p.table == "parts_table_1" else "sku_kit_tray"].dims[:2]
+            table = sc.floor[p.table][1]
+            corners = _corners(p, dims)
+            assert np.all(np.abs(corners[:, 0]) <= table[0] / 2 + 1e-9)
+            assert np.all(np.abs(corners[:, 1]) <= table[1] / 2 + 1e-9)
+            yaws.append(p.yaw)
+        parts = [p for p in placed if p.table == "parts_table_1"]
+        dims = sc.skus["sku_parts_tray"].dims[:2]
+        for i, a in enumerate(parts):
+            for b in parts[i + 1:]:
+                assert _apart(a, b, dims) >= GAP - 1e-6, (seed, a, b)
+    assert max(yaws) - min(yaws) > 300  # over the full circle
+
+
+def _corners(p: Placement, dims) -> np.ndarray:
+    a = np.radians(p.yaw)
+    r = np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
+    half = np.array([[1, 1], [-1, 1], [-1, -1], [1, -1]]) * np.array(dims) / 2
+    return half @ r.T + [p.x, p.y]
+
+
+def _apart(a: Placement, b: Placement, dims) -> float:
+    """A lower bound of the distance between two turned rectangles (separating axes)."""
+    ca, cb = _corners(a, dims), _corners(b, dims)
+    best = -np.inf
+    for poly in (ca, cb):
+        for i in range(2):
+            edge = poly[i + 1] - poly[i]
+            axis = np.array([-edge[1], edge[0]]) / np.linalg.norm(edge)
+            pa, pb = ca @ axis, cb @ axis
+            best = max(best, pb.min() - pa.max(), pa.min() - pb.max())
+    return best
+
+
+def test_placed_scene_is_the_scene_of_the_placed_file():
+    for job in jobs(SMALL, [1, 2]):
+        prep = prepared(job.spec)
+        real, placed = place_trays(prep.scenario, job.seed)
+        from_file = file_scene(real, prep.goal)
+        fast = placed_scene(prep.scene, prep.scenario.namespace, placed)
+        assert fast.names == from_file.names
+        assert np.allclose(np.nan_to_num(fast.poses, nan=7.0), np.nan_to_num(from_file.poses, nan=7.0), atol=1e-9)
+
+
+# ------------------------------------------------------------------ the system moves to the real placement
+
+
+class _Recorder(WatchedCell):
+    """A cell that keeps every action begun and every command sent, to play them again."""
+
+    def __init__(self, cell) -> None:  # noqa: ANN001
+        super().__init__(cell)
+        self.log: list = []
+
+    def begin_action(self, index, action, args):  # noqa: ANN001, ANN201
+        self.log.append(("begin", (index, action, args)))
+        return self.cell.begin_action(index, action, args)
+
+    def execute_program(self, commands):  # noqa: ANN001, ANN201
+        self.log.append(("program", list(commands)))
+        return super().execute_program(commands)
+
+
+def _run(prep, scene) -> tuple[bool, _Recorder]:  # noqa: ANN001
+    defs, failures = knowledge()
+    cell = _Recorder(SimulatedCell(scene))
+    ex = Executor(cell, prep.domain, prep.problem, defs, failures, Belief(prep.scene), notifier=lambda *a: None)
+    return bool(ex.run(prep.plan).goal_holds), cell
+
+
+def _replayed(prep, scene, log) -> bool:  # noqa: ANN001
+    """The goal after playing ``log``'s commands open loop on a cell of ``scene``."""
+    cell = SimulatedCell(scene)
+    for kind, data in log:
+        if kind == "begin":
+            cell.begin_action(*data)
+        else:
+            execute_program(cell, data)
+    defs, failures = knowledge()
+    return Executor(cell, prep.domain, prep.problem, defs, failures, Belief(prep.scene)).goal_holds()
+
+
+def test_the_real_placement_differs_from_the_nominal_one():
+    job = jobs(SMALL, [2])[0]
+    prep = prepared(job.spec)
+    nominal = prep.scene
+    _, placed = place_trays(prep.scenario, job.seed)
+    real = placed_scene(nominal, prep.scenario.namespace, placed)
+    built, nominal_run = _run(prep, nominal)  # the executor told the truth
+    assert built and _replayed(prep, nominal, nominal_run.log)  # the commands alone build the kit there
+    # a system that moved to the nominal poses (the same commands) does not build it in the real cell
+    assert not _replayed(prep, real, nominal_run.log)
+    built, real_run = _run(prep, real)  # kitkb's executor senses where the trays are and builds it
+    assert built
+    assert [d for k, d in real_run.log if k == "begin"] == [d for k, d in nominal_run.log if k == "begin"]
+
+
+# ------------------------------------------------------------------ campaigns on Dask
+
+
+def test_one_and_two_workers_give_the_same_rows(one_worker, two_workers):
+    meta = json.loads((two_workers / "campaign.json").read_text())
+    assert {"method", "seed", "trials", "options", "summary"} <= set(meta)
+    assert (meta["method"], meta["seed"], meta["trials"]) == ("basic", 5, 4)
+    assert meta["summary"]["kits_built"] == 4 and meta["summary"]["run"]["workers"] == 2
+    one, two = _rows(one_worker, 4), _rows(two_workers, 4)
+    for a, b in zip(one, two):
+        assert comparable(a) == comparable(b)
+        assert {"index", "seed", "method", "design", "layout", "time_s", "error"} <= set(a["trial"])
+        assert a["goal_holds"] and a["trial"]["error"] is None
+    layouts = [json.dumps(r["trial"]["layout"]["placed"]) for r in one]
+    assert len(set(layouts)) == 4  # every trial placed and turned the trays anew
+    assert one[0]["trial"]["layout"]["nominal"] == one[1]["trial"]["layout"]["nominal"]
+
+
+def test_an_interrupted_campaign_resumes(two_workers, tmp_path, client):
+    folder = tmp_path / "campaign"
+    shutil.copytree(two_workers, folder)
+    trial_path(folder, 1).unlink()
+    trial_path(folder, 3).write_text('{"trial": ')  # a file cut short: run again
+    assert sorted(done_rows(SMALL, folder)) == [0, 2]
+    campaign = run_campaign(SMALL, folder, client=client)
+    assert (campaign.ran, campaign.resumed) == (2, 2)
+    assert [comparable(r) for r in _rows(folder, 4)] == [comparable(r) for r in _rows(two_workers, 4)]
+    more = Options("basic", trials=5, seed=5, parts=(3,))  # more trials extend the campaign
+    assert run_campaign(more, folder, client=client).ran == 1
+
+
+def test_a_killed_worker_loses_only_its_trial(two_workers, tmp_path, client):
+    pids = client.run(os.getpid)
+    folder = tmp_path / "campaign"
+    done: dict = {}
+    runner = threading.Thread(target=lambda: done.setdefault("c", run_campaign(SMALL, folder, client=client)))
+    runner.start()
+    killed = None
+    deadline = time.monotonic() + 60
+    while killed is None and runner.is_alive() and time.monotonic() < deadline:
+        busy = [w for w, keys in client.processing().items() if any("kitkb-trial" in str(k) for k in keys)]
+        if busy:
+            killed = pids[busy[0]]
+            os.kill(killed, signal.SIGKILL)  # the worker dies in the middle of its trial
+        time.sleep(0.02)
+    runner.join(120)
+    assert killed is not None, "no trial was seen running"
+    campaign = done["c"]
+    assert campaign.lost == [] and campaign.ran == 4
+    assert [comparable(r) for r in _rows(folder, 4)] == [comparable(r) for r in _rows(two_workers, 4)]
+    assert killed not in client.run(os.getpid).values()  # that worker was replaced
+
+
+# ------------------------------------------------------------------ the command
+
+
+def _command(client, args: list[str], capsys) -> tuple[int, dict]:  # noqa: ANN001
+    """``kitkb testmethod ARGS --scheduler (the module's cluster) --format json``."""
+    code = main(["testmethod", *args, "--scheduler", client.scheduler.address, "--format", "json", "-q"])
+    return code, json.loads(capsys.readouterr().out)
+
+
+@pytest.mark.slow
+def test_new_variety_times_a_design_never_seen(tmp_path, capsys, client):
+    code, data = _command(client, ["new-variety", "--trials", "2", "--parts", "2", "--out", str(tmp_path / "c")],
+                          capsys)
+    assert code == 0, data
+    assert data["summary"]["kits_built"] == 2 and len(data["rows"]) == 2
+    rows = _rows(tmp_path / "c", 2)
+    assert rows[0]["trial"]["design"] != rows[1]["trial"]["design"]  # a design never seen, each trial
+    assert all(r["trial"]["receipt_to_first_command_s"] > 0 for r in rows)
+    assert "trial.receipt_to_first_command_s" in data["summary"]["metrics"]
+
+
+@pytest.mark.slow
+def test_multi_builds_designs_in_a_seeded_order_from_storage(tmp_path, capsys, client):
+    code, data = _command(client, ["multi", "--trials", "2", "--parts", "2,3", "--kits", "3", "--seed", "2",
+                                   "--out", str(tmp_path / "c")], capsys)
+    assert code == 0, data
+    rows = _rows(tmp_path / "c", 2)
+    orders = [r["trial"]["designs"] for r in rows]
+    assert all(sorted(set(o)) == ["kit_design_1", "kit_design_2"] and len(o) == 3 for o in orders)
+    for row in rows:
+        taken = [e["args"][1] for e in row["timeline"] if e["kind"] == "action" and e["action"] == "take-kittray"]
+        assert len(taken) == 3  # every kit tray fetched from storage
+        assert [k["design"] for k in row["kits"]] == row["trial"]["designs"]
+    assert data["summary"]["kits_built"] == 6
+
+
+@pytest.mark.slow
+def test_errors_recovers_from_a_dropped_and_a_defective_part(tmp_path, capsys, client):
+    code, data = _command(client, ["errors", "--trials", "1", "--parts", "3", "--faults",
+                                   "dropped-part@2,defective-part@4", "--out", str(tmp_path / "c")], capsys)
+    assert code == 0, data
+    s = data["summary"]
+    assert s["injected_by_kind"] == {"defective-part": 1, "dropped-part": 1}
+    assert set(s["failures_by_mode"]) and s["recoveries"]["failures"] >= 2 and s["kits_built"] == 1
+
+
+@pytest.mark.parametrize("args, message", [
+    (["basic", "--trials", "0"], "--trials must be at least 1"),
+    (["basic", "--parts", "1"], "two or more parts"),
+    (["basic", "--parts", "x"], "--parts takes whole numbers"),
+    (["basic", "--parts", "3,4"], "give one number"),
+    (["multi", "--parts", "3"], "two or more designs"),
+    (["multi", "--parts", "3,4", "--kits", "1"], "--kits (1) must be at least"),
+    (["basic", "--faults", "missed-grasp=0.1"], "--faults is for the errors method"),
+    (["errors", "--faults", "nothing=0.1"], "--faults:"),
+    (["basic", "--kits", "2"], "--kits is for the multi method"),
+    (["basic", "--workers", "0"], "--workers must be at least 1"),
+])
+def test_bad_options_exit_2_with_one_line(tmp_path, capsys, args, message):
+    code = main(["testmethod", *args, "--out", str(tmp_path / "c")])
+    err = capsys.readouterr().err
+    assert code == 2 and message in err and err.count("\n") == 1, err
+    assert not (tmp_path / "c").exists()
+
+
+def test_another_campaign_in_the_folder_is_refused(two_workers, tmp_path, capsys):
+    folder = tmp_path / "campaign"
+    shutil.copytree(two_workers, folder)
+    before = (folder / "campaign.json").read_bytes()
+    code = main(["testmethod", "basic", "--trials", "4", "--seed", "6", "--parts", "3", "--out", str(folder)])
+    err = capsys.readouterr().err
+    assert code == 2 and "give another --out" in err and err.count("\n") == 1, err
+    assert (folder / "campaign.json").read_bytes() == before
+    (tmp_path / "file").write_text("x")
+    assert main(["testmethod", "basic", "--out", str(tmp_path / "file")]) == 2
