@@ -14,6 +14,7 @@ import pytest
 
 from kb.core.resources import ontology_path
 from kb.execution import open_run, run_scenario
+from kb.execution.records import without_timings
 from kb.world import WorldModel
 
 SCENARIO = Path(ontology_path("kitting-domain.ttl")).parent / "scenarios" / "two-designs"
@@ -109,5 +110,9 @@ def test_a_run_on_postgresql_records_the_same_as_on_sqlite(tmp_path: Path) -> No
             [(f.action_index, f.mode, f.recovery) for f in pg.failures()]
         with WorldModel(url) as wm:
             assert wm.stable_state() == sum(1 for a in pg.record.actions if a.status == "done")
+        # the metrics and kit scores read back equal the run's, and SQLite's
+        assert back.kit_scores == pg.kit_scores and [k.score - k.max_score for k in pg.kit_scores] == [0, 0]
+        assert without_timings(back.report())["metrics"] == without_timings(pg.report())["metrics"] == \
+            without_timings(lite.report())["metrics"]
     finally:
         world.drop_all(url)
