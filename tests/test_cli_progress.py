@@ -182,6 +182,7 @@ def _cases(tmp: Path) -> dict[str, list[str]]:
         "db load": ["db", "load", str(INIT), "--db", str(tmp / "w.sqlite")],
         "db dump": ["db", "dump", "--db", str(tmp / "w.sqlite"), "-o", str(tmp / "d.ttl")],
         "run": ["run", str(INIT), str(GOAL), "-o", str(tmp / "out"), "--report", str(tmp / "report.json")],
+        "report": ["report", str(tmp / "report.json"), "-o", str(tmp / "report.html")],  # the run's report
         "crcl convert": ["crcl", "convert", str(_crcl(tmp)), "-o", str(tmp / "p2.crcl")],
         "predicates": ["predicates", str(INIT), "-p", "part-location-partstray"],
         "metrics": ["metrics", str(_crcl(tmp))],
@@ -201,6 +202,7 @@ FACTS = {
     "db load": {"datafile", "db", "statements", "individuals", "tables", "outside_model", "replaced", "seconds"},
     "db dump": {"output", "db", "bytes", "seconds"},
     "crcl convert": {"output", "input", "form", "commands", "unreadable", "xsd", "xml_not_validated"},
+    "report": {"kind", "output", "bytes", "runs", "scene", "failures"},
 }
 
 
