@@ -171,6 +171,7 @@ def _cases(tmp: Path) -> dict[str, list[str]]:
     """A cheap command line of every subcommand (``sim serve`` is tested apart)."""
     return {
         "validate": ["validate", str(INIT)],
+        "shacl": ["shacl", str(INIT), "-s", str(REPO / "shapes" / "kitting-rules.ttl")],
         "convert": ["convert", str(INIT), "-o", str(tmp / "a.nt")],
         "scenario generate": ["scenario", "generate", "--parts", "3", "-o", str(tmp / "sc")],
         "scenario transform": ["scenario", "transform", str(INIT), "-o", str(tmp / "mm.ttl"), "--unit", "millimeter"],
