@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Literal, Sequence
+from typing import Any, Literal, Sequence
 
 import numpy as np
 
@@ -11,10 +12,32 @@ from kb.core.namespaces import KTW, local_name
 from kb.crcl import Command, EndCanon
 from kb.crcl.cell import Observation, Status
 from kb.sim.faults import FaultSpec, Injected, Injector
-from kb.sim.robot import Robot
+from kb.sim.robot import VIOLATION_KINDS, Robot
 from kb.sim.sensor import _rpy_many, most_specific, observe
 from kb.sim.world import KIT_TRAY, SKU, World
 from kb.spatial.scene import Scene, class_ancestors
+
+
+@dataclass(frozen=True)
+class Violation:
+    """A constraint the robot broke (ground truth, like :class:`~kb.sim.faults.Injected`):
+    ``kind`` (one of :data:`~kb.sim.robot.VIOLATION_KINDS`: overweight, work-volume,
+    wrong-effector, contact), ``command`` the index of the command among all the cell executed
+    (from 0), ``action`` the plan action announced by ``begin_action`` (None before any),
+    ``objects`` (IRIs: overweight the object and the effector, work-volume the robot,
+    wrong-effector the effector and the object, contact the moving object and the one it
+    passed through) and ``detail``."""
+
+    kind: str
+    command: int
+    action: int | None
+    objects: tuple[str, ...]
+    detail: str
+
+    def as_dict(self) -> dict[str, Any]:
+        """The violation as JSON data (objects by local name)."""
+        return {"kind": self.kind, "command": self.command, "action": self.action,
+                "objects": [local_name(o) for o in self.objects], "detail": self.detail}
 
 
 class SimulatedCell:
@@ -24,6 +47,11 @@ class SimulatedCell:
     ``faults``: what goes wrong (:class:`FaultSpec`); ``noise``: (position sigma in metres,
     orientation sigma in radians) of the sensor; ``seed``: of the sensor noise generator (the
     faults have their own seed in their spec).
+
+    ``violations`` lists the constraints the robot broke (:class:`Violation`: an overweight
+    grasp, a move out of the work volume, a grasp with an effector the object's SKU does not
+    list, a contact along a move; what the robot then does is in :mod:`kb.sim.robot`), as
+    ``injected`` lists the faults: ground truth, for scoring, never for the executor.
 
     Besides faults, ``begin_action`` carries out the one plan action that moves nothing:
     ``create-kit(kit, kittray, worktable)`` makes the kit exist where its tray is (the tray then
@@ -35,7 +63,9 @@ class SimulatedCell:
                  declared: Sequence[str | Path] = ()) -> None:
         scene = init if isinstance(init, Scene) else Scene.from_files([init], declared)
         self.world = World.from_scene(scene)
-        self.robot = Robot(self.world)
+        self.robot = Robot(self.world, on_violation=self._violated)
+        self.violations: list[Violation] = []
+        self.commands = 0  # commands executed so far
         self.noise = (float(noise[0]), float(noise[1]))
         if min(self.noise) < 0:
             raise ValueError(f"noise sigmas must be >= 0, not {noise}")
@@ -53,12 +83,18 @@ class SimulatedCell:
     def execute(self, command: Command) -> Status:
         """Carry out one CRCL command (:mod:`kb.sim.robot`); the EndCanon of a create-kit action
         is when the kit comes into being at its tray."""
+        self.commands += 1
         status = self.robot.execute(command)
         if isinstance(command, EndCanon) and self._pending_kit is not None:
             kit, tray = self._pending_kit
             self._pending_kit = None
             self._create_kit(kit, tray)
         return status
+
+    def _violated(self, kind: str, objects: tuple[str, ...], detail: str) -> None:
+        assert kind in VIOLATION_KINDS, kind
+        action = self.action[0] if self.action is not None else None
+        self.violations.append(Violation(kind, self.commands - 1, action, tuple(objects), detail))
 
     def sense(self, query: str, *, by: Literal["class", "name"] = "class") -> list[Observation]:
         """Placed objects of a class (local name or IRI) or of a name, with the cell's sensor noise."""

@@ -44,7 +44,8 @@ import numpy as np
 from kb import crcl
 from kb.core.units import ANGLE, LENGTH
 from kb.crcl.cell import Status
-from kb.sim.world import TOLERANCE, World, translate
+from kb.sim.world import EFFECTOR_LOAD, EFFECTOR_WEIGHT, ROBOT_LOAD, TOLERANCE, World, translate
+from kb.spatial.sweep import Pieces, recessed, solid_pieces, sweep_contacts
 
 GRASP_TOLERANCE = 2 * TOLERANCE
 #: A held part armed to drop falls in the first move that carries its tip this far sideways (m).
@@ -55,12 +56,17 @@ REACH = 1000.0
 
 #: fault kind, objects, detail -> None: how the robot reports an armed fault taking effect.
 FaultHook = Callable[[str, tuple[str, ...], str], None]
+#: The constraint violations the robot notices (module docstring), in the order it checks them.
+VIOLATION_KINDS: tuple[str, ...] = ("overweight", "work-volume", "wrong-effector", "contact")
+#: violation kind, objects, detail -> None: how the robot reports a constraint violation.
+ViolationHook = Callable[[str, tuple[str, ...], str], None]
 
 
 class Robot:
     """The robot of a :class:`World`: its flange, mounted effector, held object and the clock."""
 
-    def __init__(self, world: World, on_fault: FaultHook | None = None) -> None:
+    def __init__(self, world: World, on_fault: FaultHook | None = None,
+                 on_violation: ViolationHook | None = None) -> None:
         self.world = world
         robots = [i for i in range(len(world)) if world.is_a(i, "Robot") and world.placed(i)]
         if not robots:
@@ -70,6 +76,11 @@ class Robot:
         self.speed = 1.0  # m/s
         self.metres = 1.0  # metres per length unit of the commands (CRCL SetLengthUnits; metre by default)
         self.on_fault = on_fault or (lambda kind, objects, detail: None)
+        self.on_violation = on_violation or (lambda kind, objects, detail: None)
+        self._holes: dict | None = None  # open containers recessed in closed objects (on the first move)
+        self._piece_key: tuple | None = None
+        self._all_pieces: Pieces | None = None
+        self._contacts: dict[tuple[str, str], str] | None = None  # contacts of the move under way
         self.miss_grasp = False  # armed faults (kb.sim.faults)
         self.drop_in_transit = False
         mounted = [j for j in world.children(self.index) if world.is_a(j, "EndEffector")]
@@ -105,23 +116,51 @@ class Robot:
             return Status.error(f"unreadable command: {command.text!r}")
         return Status.ok()
 
-    def move(self, waypoints: tuple[crcl.Pose, ...]) -> Status:
-        """Move the tip through ``waypoints`` to the last one; a waypoint that is no rigid pose,
-        or out of :data:`REACH`, or a path the clock cannot time, is an error status and the
-        robot does not move."""
+    def move(self, waypoints: tuple[crcl.Pose, ...], straight: bool = True) -> Status:
+        """Move the tip through ``waypoints`` to the last one, in straight legs, or (``straight``
+        false: MoveTo's "any convenient trajectory") up, across and down (:func:`transfer`); a
+        waypoint that is no rigid pose, or out of :data:`REACH`, or a path the clock cannot time,
+        or a waypoint out of the work volume, is an error status and the robot does not move."""
         targets = []
         for pose in waypoints:
             try:
                 targets.append(_target(pose, self.metres))
             except ValueError as e:
                 return Status.error(f"bad pose: {e}")
+        if not straight:
+            targets = transfer(self.tip(), targets[-1])
         points = np.array([self.tip()[:3, 3]] + [t[:3, 3] for t in targets])
         seconds = float(np.linalg.norm(np.diff(points, axis=0), axis=1).sum()) / self.speed
         if not np.isfinite(self.time + seconds):
             return Status.error(f"a path of {seconds} s at {self.speed} m/s: the clock would overflow")
-        for target in targets:
-            self._segment(target)
-        return Status.ok()
+        outside = self._outside_work_volume(points[1:])
+        self._contacts = {}
+        try:
+            for target in targets:
+                self._segment(target)
+        finally:
+            found, self._contacts = self._contacts, None
+        for (body, obstacle), detail in found.items():
+            self.on_violation("contact", (body, obstacle), detail)
+        return Status.ok(outside or "")
+
+    def _outside_work_volume(self, points: np.ndarray) -> str | None:
+        """Why a move with these tip points leaves the robot's work volume (the union of its
+        boxes: a straight leg between points of one box stays in it), reported as a violation;
+        None when every point is inside one (within the tolerance) or the state gives none."""
+        volumes = self.world.work_volumes.get(self.world.names[self.index])
+        if not volumes:
+            return None
+        inside = np.zeros(len(points), bool)
+        for lo, hi in volumes:
+            inside |= np.all((points >= lo - TOLERANCE) & (points <= hi + TOLERANCE), axis=1)
+        if inside.all():
+            return None
+        p = points[int(np.argmin(inside))]
+        boxes = ", ".join(f"{_xyz(lo)} .. {_xyz(hi)}" for lo, hi in volumes)
+        detail = f"tip target {_xyz(p)} is outside the work volume {boxes}"
+        self.on_violation("work-volume", (self.world.names[self.index],), detail)
+        return detail
 
     def _segment(self, target: np.ndarray) -> None:
         start = self.tip()
@@ -140,7 +179,52 @@ class Robot:
         self.time += float(np.linalg.norm(step)) / self.speed
 
     def _go(self, tip: np.ndarray) -> None:
+        if self._contacts is not None:
+            self._sweep(self.tip(), tip)
         self.world.set_pose(self.index, tip @ translate(0.0, 0.0, -self.tool_length()))
+
+    def _sweep(self, start: np.ndarray, end: np.ndarray) -> None:
+        """Contacts of the straight leg from tip pose ``start`` to ``end`` (kb.spatial.sweep):
+        the flange, the mounted effector and the held object (with what rests in it) against
+        every other solid, except what the tip starts or ends on (the object grasped or just
+        released, a kit with its parts, the effector being mounted)."""
+        w = self.world
+        moving = w.subtree(self.index)
+        bodies = [j for j in moving if w.placed(j) and not w.stand_in(j)]
+        mask = w.solid_mask()
+        mask[moving] = False
+        pieces = self._pieces()
+        pieces = pieces.select(mask[pieces.owner])
+        if not bodies or not len(pieces):
+            return
+        rel = np.linalg.inv(start) @ w.poses[bodies]
+        found = sweep_contacts(np.array([start, end]), rel, w.local_lo[bodies], w.local_hi[bodies], w.poses, pieces)
+        if not found:
+            return
+        skip: set[int] = set()
+        for point in (start[:3, 3], end[:3, 3]):
+            at = self._at_point(point)
+            if at is not None:
+                skip.update(w.subtree(at))
+        for c in found:
+            key = (w.names[bodies[c.body]], w.names[c.owner])
+            if c.owner in skip or self._contacts is None or key in self._contacts:
+                continue
+            self._contacts[key] = (f"{_local(key[0])} passes through {_local(key[1])} ({c.depth * 1000:.1f} mm "
+                                   f"deep) on the way from {_xyz(start[:3, 3])} to {_xyz(end[:3, 3])}")
+
+    def _pieces(self) -> Pieces:
+        """The solid pieces of every object (:func:`kb.spatial.sweep.solid_pieces`), kept while
+        the objects' boxes are the same (a wrong-SKU fault changes a part's, a kit takes its
+        tray's); holes (holders recessed in a station's base) found once, on the first move."""
+        w = self.world
+        key = (w.local_lo.tobytes(), w.local_hi.tobytes(), w.open_top.tobytes())
+        if self._piece_key != key:
+            every = np.flatnonzero(~np.isnan(w.local_lo[:, 0]))
+            if self._holes is None:
+                self._holes = recessed(w.poses, w.local_lo, w.local_hi, w.open_top, np.array(w.solids(), np.intp))
+            self._piece_key, self._all_pieces = key, solid_pieces(w.local_lo, w.local_hi, w.open_top, every, self._holes)
+        return self._all_pieces
 
     def close_gripper(self) -> Status:
         """Grasp what is at the tip, if the mounted effector suits it."""
@@ -150,8 +234,16 @@ class Robot:
         if target is None:
             return Status.ok("nothing grasped: no top face at the tip")
         name, eff = self.world.names[target], self.world.names[self.effector]
-        if eff not in self.world.effectors_for(target):
+        suits = self.world.effectors_for(target)
+        if eff not in suits:
+            if suits:  # its SKU lists others: a wrong effector (a SKU listing none: nothing to check)
+                self.on_violation("wrong-effector", (eff, name), f"{_local(eff)} is not an end effector the SKU of "
+                                  f"{_local(name)} lists ({', '.join(_local(e) for e in suits)})")
             return Status.ok(f"nothing grasped: {eff} does not suit {name}")
+        heavy = self._overweight(target)
+        if heavy is not None:
+            self.on_violation("overweight", (name, eff), heavy)
+            return Status.error(f"nothing grasped: {heavy}")
         if self.miss_grasp:
             self.miss_grasp = False
             self.on_fault("missed-grasp", (name,), f"the gripper closed on nothing above {name}")
@@ -160,10 +252,32 @@ class Robot:
         self.world.parent[target] = self.effector
         return Status.ok(f"grasped {name}")
 
+    def _overweight(self, target: int) -> str | None:
+        """Why ``target`` (and what moves with it) is too heavy to lift with the mounted
+        effector: more than the effector's maximum load, or with the effector's own weight
+        more than the robot's; None when it is not, or the state gives no weight or no limit."""
+        w = self.world
+        load = w.weight(target)
+        if load is None or self.effector is None:
+            return None
+        eff, robot = w.names[self.effector], w.names[self.index]
+        why = []
+        limit = w.number(EFFECTOR_LOAD, eff)
+        if limit is not None and load > limit * (1 + 1e-9):
+            why.append(f"{_local(eff)}'s maximum load {limit:g} kg")
+        limit = w.number(ROBOT_LOAD, robot)
+        total = load + (w.number(EFFECTOR_WEIGHT, eff) or 0.0)
+        if limit is not None and total > limit * (1 + 1e-9):
+            why.append(f"{_local(robot)}'s maximum load {limit:g} kg (with {_local(eff)}: {total:g} kg)")
+        return f"{_local(w.names[target])} weighs {load:g} kg, more than {' and '.join(why)}" if why else None
+
     def _at_tip(self) -> int | None:
         """The object whose top face is at the tip and whose footprint contains it (a kit for its
         tray); the footprint is the object's own, in its frame (a turned part in a turned tray)."""
-        p = self.tip()[:3, 3]
+        return self._at_point(self.tip()[:3, 3])
+
+    def _at_point(self, p: np.ndarray) -> int | None:
+        """:meth:`_at_tip` for the tip at point ``p``."""
         js = np.array(self.world.solids(set(self.world.subtree(self.index))), np.int64)
         if not len(js):
             return None
@@ -247,6 +361,22 @@ class Robot:
         return Status.ok()
 
 
+def transfer(start: np.ndarray, end: np.ndarray) -> list[np.ndarray]:
+    """The legs of a MoveTo from tip pose ``start`` to ``end``: straight up to the higher of
+    the two heights, across at that height (turning to the end orientation), straight down;
+    legs of no length left out. (A pick-and-place robot's convenient trajectory: the executor's
+    targets lift what it carries clear of what is around and approach from above.)"""
+    top = max(float(start[2, 3]), float(end[2, 3]))
+    up, over = start.copy(), end.copy()
+    up[2, 3] = over[2, 3] = top
+    legs, last = [], start
+    for pose in (up, over, end):
+        if not (np.array_equal(pose[:3, 3], last[:3, 3]) and np.array_equal(pose[:3, :3], last[:3, :3])):
+            legs.append(pose)
+            last = pose
+    return legs or [end]
+
+
 def _target(pose: crcl.Pose, metres: float = 1.0) -> np.ndarray:
     """The 4x4 tip pose of a CRCL pose: a finite rigid transform within :data:`REACH` of the
     workstation's origin, else ValueError (an axis of 1e300 overflows its norm, and a point
@@ -270,12 +400,16 @@ def _unit(expected: str) -> Callable[[Robot, crcl.Command], Status]:
     return check
 
 
+def _local(name: str) -> str:
+    return name.rsplit("#", 1)[-1].rsplit("/", 1)[-1]
+
+
 def _xyz(p: np.ndarray) -> str:
     return "(" + ", ".join(f"{float(v):.3f}" for v in p) + ")"
 
 
 _HANDLERS: dict[type, Callable[[Robot, crcl.Command], Status]] = {
-    crcl.MoveTo: lambda r, c: r.move((c.end_position,)),  # type: ignore[attr-defined]
+    crcl.MoveTo: lambda r, c: r.move((c.end_position,), straight=False),  # type: ignore[attr-defined]
     crcl.MoveStraightTo: lambda r, c: r.move((c.end_position,)),  # type: ignore[attr-defined]
     crcl.MoveThroughTo: lambda r, c: r.move(tuple(c.waypoints)),  # type: ignore[attr-defined]
     crcl.CloseGripper: lambda r, c: r.close_gripper(),

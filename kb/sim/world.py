@@ -17,16 +17,32 @@ tray holds what lies in it, not what lies in its world box (docs/soap.md, "Orien
 
 :meth:`World.to_scene` is the ground truth as a scene, with ``inspections`` =
 ``{"quality-inspection": parts inspected so far that passed}``.
+
+Limits of the robot (the checks of :mod:`kb.sim.robot`), in SI whatever the file's units
+(:mod:`kb.spatial.scene` converts the model's quantities when it reads them): weights from
+the model's values (:meth:`World.weight` of an object and what moves with it, from its SKU's
+``hasStockKeepingUnit_Weight``; :meth:`World.number` of ``hasRobot_MaximumLoadWeight``,
+``hasEndEffector_MaximumLoadWeight``, ``hasEndEffector_Weight``), and each robot's work
+volume (``hasRobot_WorkVolume``, a ``BoxVolume`` whose minimum and maximum points are in the
+workstation's frame), which the scene does not keep (points are geometry, not objects): it is
+read from the scene's state file (:func:`work_volumes`). What a file does not state is None:
+that check is not made.
 """
 
 from __future__ import annotations
 
 import copy
+import math
+import os
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
+from rdflib import Literal, URIRef
 
-from kb.core.namespaces import KTW
+from kb.core.errors import InputError
+from kb.core.namespaces import KTW, local_name
+from kb.core.units import Units
 from kb.spatial.rcc8 import DEFAULT_TOLERANCE, HEADING_MERGE, frame_boxes, headings, world_boxes
 from kb.spatial.scene import STAND_INS, Scene
 from kb.spatial.transforms import invert
@@ -35,6 +51,10 @@ QUALITY = "quality-inspection"
 SKU = str(KTW.hasSkuObject_Sku)
 SKU_EFFECTOR = str(KTW.hasStockKeepingUnit_EndEffector)
 KIT_TRAY = str(KTW.hasKit_KitTray)
+SKU_WEIGHT = str(KTW.hasStockKeepingUnit_Weight)
+ROBOT_LOAD = str(KTW.hasRobot_MaximumLoadWeight)
+EFFECTOR_LOAD = str(KTW.hasEndEffector_MaximumLoadWeight)
+EFFECTOR_WEIGHT = str(KTW.hasEndEffector_Weight)
 #: How far (metres) a face may be from where it should be and still count as there.
 TOLERANCE = DEFAULT_TOLERANCE
 
@@ -67,6 +87,8 @@ class World:
     values: dict[str, dict[str, object]]
     passed: set[str] = field(default_factory=set)  # parts that passed a quality inspection
     defective: set[str] = field(default_factory=set)  # parts a quality inspection rejects
+    #: robot IRI -> (lo, hi) of each of its work volumes in the workstation's frame (m)
+    work_volumes: dict[str, list[tuple[np.ndarray, np.ndarray]]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         self.index = {n: i for i, n in enumerate(self.names)}
@@ -80,7 +102,7 @@ class World:
         lhi = np.array(scene.local_hi, float) if scene.local_hi is not None else np.full((k, 3), np.nan)
         world = cls(list(scene.names), list(scene.classes), poses, llo, lhi, np.array(scene.parents, np.int64),
                     np.array(scene.open_top, bool), copy.deepcopy(scene.facts), copy.deepcopy(scene.values),
-                    set(scene.inspections.get(QUALITY, ())))
+                    set(scene.inspections.get(QUALITY, ())), work_volumes=work_volumes(scene))
         for i in range(k):  # an unplaced reference (e.g. the workstation) is the world
             p = int(world.parent[i])
             if p >= 0 and not world.placed(p):
@@ -131,7 +153,22 @@ class World:
 
     def solids(self, exclude: set[int] | frozenset[int] = frozenset()) -> list[int]:
         """Placed objects that are not stand-ins, minus ``exclude``."""
-        return [i for i in range(len(self)) if i not in exclude and self.placed(i) and not self.stand_in(i)]
+        mask = self.solid_mask()
+        if exclude:
+            mask[np.fromiter(exclude, np.intp, len(exclude))] = False
+        return np.flatnonzero(mask).tolist()
+
+    def solid_mask(self) -> np.ndarray:
+        """(K,) bool: placed and not a stand-in (:meth:`solids`, as an array)."""
+        placed = ~(np.isnan(self.poses[:, 0, 0]) | np.isnan(self.local_lo[:, 0]))
+        return placed & ~self._stand_ins()
+
+    def _stand_ins(self) -> np.ndarray:
+        """(K,) bool: :meth:`stand_in` of every object (kept while no object is added)."""
+        kept = getattr(self, "_stand_in_mask", None)
+        if kept is None or len(kept) != len(self.classes):
+            kept = self._stand_in_mask = np.array([self.stand_in(i) for i in range(len(self.classes))], bool)
+        return kept.copy()
 
     def sku(self, i: int) -> str | None:
         """The SKU of ``i``; for a kit, its kit tray's."""
@@ -145,6 +182,22 @@ class World:
         """The end effectors the SKU of ``i`` lists (``hasStockKeepingUnit_EndEffector``)."""
         sku = self.sku(i)
         return self.objects(SKU_EFFECTOR, sku) if sku else []
+
+    def number(self, prop: str, name: str | None) -> float | None:
+        """The value (SI) of the data property ``prop`` (IRI) of ``name``, if it is a number."""
+        v = self.values.get(prop, {}).get(name) if name is not None else None
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(float(v)):
+            return None
+        return float(v)
+
+    def weight(self, i: int) -> float | None:
+        """The weight (kg) of ``i`` and what moves with it (a kit: its tray and parts; a tray:
+        its parts), each object's its SKU's; None when none of them has one. Stand-ins (a kit)
+        weigh nothing of their own."""
+        found = [self.number(SKU_WEIGHT, s) for j in self.subtree(i) if not self.stand_in(j)
+                 for s in self.objects(SKU, self.names[j])[:1]]
+        known = [w for w in found if w is not None]
+        return math.fsum(known) if known else None
 
     def kit_of_tray(self, i: int) -> int | None:
         """The kit whose kit tray ``i`` is, if any."""
@@ -260,3 +313,50 @@ class World:
         return Scene.from_parts(list(self.names), list(self.classes), self.poses.copy(), self.local_lo.copy(),
                                 self.local_hi.copy(), copy.deepcopy(self.facts), copy.deepcopy(self.values),
                                 {QUALITY: set(self.passed)}, self.parent.copy(), self.open_top.copy())
+
+
+# --- work volumes -----------------------------------------------------------------------------
+
+def work_volumes(scene: Scene) -> dict[str, list[tuple[np.ndarray, np.ndarray]]]:
+    """Robot IRI -> (lo, hi) of each of its ``hasRobot_WorkVolume`` boxes in metres (the model
+    allows several: the robot reaches their union), read from the scene's state file
+    (``scene.path``, in the file's length unit ``scene.units``); empty for a scene not read
+    from a file. A work volume whose points are missing or not numbers is an
+    :class:`~kb.core.errors.InputError` naming it."""
+    if scene.path is None or not os.path.isfile(scene.path):
+        return {}
+    st = os.stat(scene.path)
+    robots = tuple(n for n, c in zip(scene.names, scene.classes) if str(KTW.Robot) in c)
+    found = _volumes(scene.path, st.st_mtime_ns, st.st_size, scene.units, robots)
+    return {r: [(lo.copy(), hi.copy()) for lo, hi in boxes] for r, boxes in found.items()}
+
+
+@lru_cache(maxsize=8)
+def _volumes(path: str, mtime: int, size: int, units: Units,
+             robots: tuple[str, ...]) -> dict[str, list[tuple[np.ndarray, np.ndarray]]]:
+    from kb.io import load_file  # the state file again: its points are not in the scene
+    source = load_file(path)
+    view = source.view()
+    factor = units.factor("length")
+    out: dict[str, list[tuple[np.ndarray, np.ndarray]]] = {}
+    for robot in robots:
+        for volume in sorted(view.objects(URIRef(robot), KTW.hasRobot_WorkVolume), key=str):
+            corners = [_point(view, volume, prop, robot, source) * factor
+                       for prop in (KTW.hasBoxVolume_MinimumPoint, KTW.hasBoxVolume_MaximumPoint)]
+            out.setdefault(robot, []).append((np.minimum(*corners), np.maximum(*corners)))
+    return out
+
+
+def _point(view, volume, prop, robot: str, source) -> np.ndarray:  # noqa: ANN001
+    """The (x, y, z) of a work volume's corner ``prop``; InputError when it is not three numbers."""
+    point = view.value(volume, prop)
+    xyz = [view.value(point, q) if point is not None else None for q in (KTW.hasPoint_X, KTW.hasPoint_Y, KTW.hasPoint_Z)]
+    try:
+        out = np.array([float(v.toPython()) for v in xyz if isinstance(v, Literal)], float)
+    except (TypeError, ValueError, OverflowError):
+        out = np.zeros(0)
+    if out.shape != (3,) or not np.isfinite(out).all():
+        raise InputError(f"work volume {local_name(volume)} of {local_name(robot)}: its "
+                         f"{local_name(prop).rsplit('_', 1)[-1]} is not a point of three numbers",
+                         source.path, source.line_of(volume))
+    return out
