@@ -20,12 +20,13 @@ import pytest
 
 from kb.cli import main
 from kb.crcl.cell import execute_program
-from kb.execution import Executor
+from kb.execution import Executor, run_plan
+from kb.scenario import write_spec
 from kb.execution.belief import Belief
 from kb.scenario.placement import GAP, Placement, place_trays, placements
 from kb.sim import SimulatedCell
 from kb.testmethod import Options, comparable, done_rows, jobs, run_campaign, trial_path
-from kb.testmethod.trial import WatchedCell, file_scene, knowledge, placed_scene, prepared
+from kb.testmethod.trial import WatchedCell, file_scene, knowledge, placed_scene, prepared, run_trial
 
 SMALL = Options("basic", trials=4, seed=5, parts=(3,))
 
@@ -114,6 +115,20 @@ def test_placed_scene_is_the_scene_of_the_placed_file():
         fast = placed_scene(prep.scene, prep.scenario.namespace, placed)
         assert fast.names == from_file.names
         assert np.allclose(np.nan_to_num(fast.poses, nan=7.0), np.nan_to_num(from_file.poses, nan=7.0), atol=1e-9)
+
+
+def test_a_trial_is_run_plan_on_the_placed_file(tmp_path):
+    """The trial's own loop gives the report of ``run_plan(..., truth=FILE)`` on the same files."""
+    job = jobs(Options("errors", trials=2, seed=5, parts=(3,), faults="dropped-part@2,defective-part@4"), [1])[0]
+    row = run_trial(job)
+    prep = prepared(job.spec)
+    real, _ = place_trays(prep.scenario, job.seed)
+    truth, _goal = write_spec(real, tmp_path)
+    run = run_plan(prep.plan, prep.init, prep.goal, truth=truth, faults=job.faults, seed=job.seed,
+                   name=job.spec.name, notifier=lambda *a: None)
+    assert row["injected"] and row["failures"]
+    expected = comparable(run.report())
+    assert {k: v for k, v in comparable(row).items() if k in expected} == expected
 
 
 # ------------------------------------------------------------------ the system moves to the real placement
@@ -254,7 +269,7 @@ def test_multi_builds_designs_in_a_seeded_order_from_storage(tmp_path, capsys, c
     for row in rows:
         taken = [e["args"][1] for e in row["timeline"] if e["kind"] == "action" and e["action"] == "take-kittray"]
         assert len(taken) == 3  # every kit tray fetched from storage
-        assert [k["design"] for k in row["kits"]] == row["trial"]["designs"]
+        assert [k["design"] for k in row["kits"]] == row["trial"]["designs"] == row["trial"]["built"]
     assert data["summary"]["kits_built"] == 6
 
 

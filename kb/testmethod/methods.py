@@ -31,7 +31,7 @@ from kb.scenario.spec import DesignSpec, ScenarioSpec, method_spec, mixed_design
 METHODS = ("basic", "new-variety", "multi", "errors")
 #: the faults of the errors method unless ``--faults`` says otherwise (chance per take-part action)
 DEFAULT_FAULTS = "dropped-part=0.1,defective-part=0.1,missed-grasp=0.05,part-moved=0.05"
-#: parts of each type beyond what the kits need, per method (errors: enough to recover with)
+#: parts of each type beyond what the kits need, per method (errors: see :func:`spare`)
 SPARE = {"basic": 1, "new-variety": 1, "multi": 1, "errors": 3}
 DEFAULT_PARTS = {"basic": (10,), "new-variety": (10,), "multi": (4, 6), "errors": (10,)}
 DEFAULT_KITS = 3
@@ -129,7 +129,8 @@ def job(options: Options, index: int) -> Job:
     name = f"testmethod-{method}"
     if method in ("basic", "errors"):
         design = mixed_design(types, options.parts[0], design_seed(options.seed, 0), "kit_design_1")
-        spec = method_spec(name, types, (design,), (0,), spare=SPARE[method], kit_trays_on_table=True)
+        spec = method_spec(name, types, (design,), (0,), spare=spare(method, options.parts[0]),
+                           kit_trays_on_table=True)
         return Job(method, index, seed, spec, options.faults, order=(design.name,))
     if method == "new-variety":
         design = mixed_design(types, options.parts[0], seed, f"kit_design_new_{index + 1}")
@@ -141,6 +142,12 @@ def job(options: Options, index: int) -> Job:
     kits = _order(len(designs), options.kits, seed)
     spec = method_spec(name, types, designs, kits, spare=SPARE[method])
     return Job(method, index, seed, spec, order=tuple(designs[d].name for d in kits))
+
+
+def spare(method: str, parts: int) -> int:
+    """Spare parts of each type: :data:`SPARE`; for errors, at least half the kit's size, so that
+    a trial's faults exhaust a parts tray seldom (the test is the recovery, not the supply)."""
+    return max(SPARE[method], parts // 2) if method == "errors" else SPARE[method]
 
 
 def _order(designs: int, kits: int, seed: int) -> tuple[int, ...]:

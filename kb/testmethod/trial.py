@@ -166,8 +166,7 @@ def execute(prep: Prepared, cell: WatchedCell, name: str, seed: int) -> Run:
     """Carry out the design's plan on ``cell`` from the nominal belief (what ``run_plan`` does
     once it has read its files)."""
     defs, failures = knowledge()
-    record = RunRecord(name, seed)
-    record.plan_time = prep.plan_time
+    record = RunRecord(name, seed, plan_time=prep.plan_time)
     executor = Executor(cell, prep.domain, prep.problem, defs, failures, Belief(prep.scene),
                         notifier=_quiet, record=record)
     executor.run(list(prep.plan))
@@ -213,7 +212,7 @@ def _run(job: Job, facts: dict[str, Any]) -> dict[str, Any]:
             return _delivered(job, Path(folder), facts)
     prep = prepared(job.spec)
     cell = _cell(job, prep.scenario, prep.scene, facts)
-    return _report(execute(prep, cell, job.spec.name, job.seed))
+    return _report(execute(prep, cell, job.spec.name, job.seed), facts)
 
 
 def _cell(job: Job, nominal: Scenario, scene: Scene, facts: dict[str, Any]) -> WatchedCell:
@@ -237,8 +236,14 @@ def _delivered(job: Job, folder: Path, facts: dict[str, Any]) -> dict[str, Any]:
     run = execute(prep, cell, job.spec.name, job.seed)
     facts["receipt_to_first_command_s"] = (round(cell.first_command - received, 4)
                                            if cell.first_command is not None else None)
-    return _report(run)
+    return _report(run, facts)
 
 
-def _report(run: Run) -> dict[str, Any]:
-    return {"executed": True, **run.report()}
+def _report(run: Run, facts: dict[str, Any]) -> dict[str, Any]:
+    """The run's report; ``facts`` gets ``built``: the designs of the kits in the order they
+    went into their boxes."""
+    report = {"executed": True, **run.report()}
+    design = {k.get("kit"): k.get("design") for k in report.get("kits") or []}
+    facts["built"] = [design.get(e["args"][1], e["args"][1]) for e in report.get("timeline") or []
+                      if e.get("kind") == "action" and e.get("action") == "put-kit" and e.get("status") == "done"]
+    return report
