@@ -1,7 +1,7 @@
 """Compile a SHACL shapes graph into Shape objects the engine evaluates in bulk.
 
 A shape the engine cannot evaluate exactly like pySHACL (an unknown SHACL parameter, a
-complex property path, a custom constraint component, ``$shapesGraph``/``$currentShape`` in
+malformed property path, a custom constraint component, ``$shapesGraph``/``$currentShape`` in
 a SPARQL query) is recorded in :attr:`Program.unsupported` with the reason; the engine hands
 every top-level shape that reaches such a shape to pySHACL instead. A shape that no engine
 may evaluate (SPARQL the specification forbids, a query that does not parse, in a constraint
@@ -19,6 +19,7 @@ from rdflib.term import Node
 
 from kb.core.namespaces import SH
 from kb.shacl import constraints as C
+from kb.shacl import paths
 from kb.shacl.shape import Constraint, Shape
 from kb.shacl.sparql import SparqlC, check_validators, compile_sparql
 from kb.shacl.terms import key_of
@@ -117,15 +118,14 @@ class Compiler:
         path = self._one(n, SH.path)
         if path is not None:
             s.path_node = path
-            if isinstance(path, URIRef):
-                s.path = ("pred", self.key(path))
+            found = paths.read(g, path, self.key)
+            if found is None:
+                s.problems.append(f"sh:path {path} is not a well-formed SHACL property path")
+                s.path = ("pred", "<urn:kitkb:unsupported-path>")
+            elif found[0] == "pred" or (found[0] == "inv" and found[1][0] == "pred"):
+                s.path = (found[0], found[1] if found[0] == "pred" else found[1][1])
             else:
-                inv = self._one(path, SH.inversePath)
-                if isinstance(inv, URIRef) and len(set(g.predicates(path))) == 1:
-                    s.path = ("inv", self.key(inv))
-                else:
-                    s.problems.append(f"property path {path} is neither a predicate nor an inverse predicate")
-                    s.path = ("pred", "<urn:kitkb:unsupported-path>")
+                s.path = ("path", found)
         self._constraints(s)
 
     def _constraints(self, s: Shape) -> None:

@@ -12,7 +12,9 @@ pre-bound variable, and nested SELECTs that do not return every pre-bound variab
   ``?this``, gives the rows of pre-binding for every focus node (the fast path; true for the
   usual shape of a query: ``?this`` bound by a triple pattern before any expression uses it);
 * :class:`Template`: the query text with the pre-bound variables cut out, filled with a
-  focus node's term per evaluation (the path for every other query).
+  focus node's term per evaluation (the path for every other query); a blank focus node,
+  which no query text can name, is bound by pyoxigraph's ``substitutions`` instead
+  (:func:`for_blank_nodes` mends the two places where that falls short).
 """
 
 from __future__ import annotations
@@ -149,16 +151,16 @@ def _safe(p: Any) -> tuple[bool, bool]:
         return False, False
     name = p.name
     if name == "BGP":
-        plain = nullable = False
+        plain = zero = False
         for s, pred, o in _get(p, "triples") or ():
             if THIS in (s, pred, o):
                 if isinstance(pred, Path) and nullable(pred):
-                    nullable = True
+                    zero = True
                 else:
                     plain = True
         # a zero-length path binds ?this to any node of the graph but, pre-bound, also to a
         # focus node that is not in the graph: the same only where a plain triple binds it too
-        return (plain or not nullable), plain
+        return (plain or not zero), plain
     if name in ("Join", "Union"):
         ok1, c1 = _safe(p["p1"])
         ok2, c2 = _safe(p["p2"])
@@ -259,7 +261,7 @@ class Template:
             elif kind == "var" and tok[1:] in self.variables:
                 var = tok[1:]
                 if mode == "project" and parens == mode_parens:
-                    fresh += 1
+                    fresh += nested
                     parts.append(("project-nested", var, fresh) if nested else ("project", var, 0))
                 elif mode == "modifier" and parens == mode_parens:
                     parts.append(("group", var, 0))
@@ -295,10 +297,55 @@ class Template:
         return "".join(out)
 
 
-def _previous_word(tokens: list[tuple[str, str]], i: int) -> str:
+def for_blank_nodes(text: str, variables: Iterable[str] = ("this",)) -> str:
+    """The query to run with pyoxigraph's ``substitutions`` binding a blank focus node (which
+    cannot be written into the text): ``bound(?this)`` made ``(true)``, where pyoxigraph's
+    substitution leaves the variable unbound. pyoxigraph substitutes the rest, in patterns,
+    FILTERs, EXISTS and nested SELECTs, but not where an expression hands the value on
+    (``BIND ($this AS ?x)``): :func:`hands_on` tells those queries apart."""
+    names = frozenset(variables)
+    tokens = [(m.lastgroup or "other", m.group()) for m in _TOKEN.finditer(text)]
+    out: list[str] = []
+    i = 0
+    while i < len(tokens):
+        kind, tok = tokens[i]
+        if kind == "word" and tok.upper() == "BOUND":
+            end = _bound_call(tokens, i, names)
+            if end is not None:
+                out.append("(true)")
+                i = end + 1
+                continue
+        out.append(tok)
+        i += 1
+    return "".join(out)
+
+
+def hands_on(algebra: Any, var: Variable = THIS) -> bool:
+    """Does an expression of the query bind a new variable from ``var`` (BIND, a projected
+    expression, an aggregate)? pyoxigraph's ``substitutions`` do not reach there."""
+    if isinstance(algebra, CompValue):
+        if algebra.name == "Extend" and mentions(_get(algebra, "expr"), var):
+            return True
+        if algebra.name.startswith("Aggregate") and mentions(algebra, var):
+            return True
+        return any(hands_on(v, var) for k, v in algebra.items() if k != "_vars")
+    if isinstance(algebra, dict):
+        return any(hands_on(v, var) for v in algebra.values())
+    if isinstance(algebra, (list, tuple)):
+        return any(hands_on(v, var) for v in algebra)
+    return False
+
+
+def _previous(tokens: list[tuple[str, str]], i: int) -> int:
+    """Index of the token before ``i`` that is not white space or a comment (-1: none)."""
     j = i - 1
     while j >= 0 and tokens[j][0] in ("space", "comment"):
         j -= 1
+    return j
+
+
+def _previous_word(tokens: list[tuple[str, str]], i: int) -> str:
+    j = _previous(tokens, i) if i >= 0 else -1
     return tokens[j][1].upper() if j >= 0 and tokens[j][0] == "word" else ""
 
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 from dataclasses import dataclass, field
-from typing import Protocol
+from typing import Any, Protocol
 
 from rdflib import URIRef
 from rdflib.term import Node
@@ -20,6 +20,7 @@ from rdflib.term import Node
 from kb.core.errors import InputError
 from kb.core.namespaces import SH
 from kb.shacl.index import DataIndex
+from kb.shacl.paths import values
 
 _EMPTY: dict[str, list[str]] = {}
 
@@ -116,7 +117,8 @@ class Shape:
 
     node: Node
     path_node: Node | None = None
-    path: tuple[str, str] | None = None  # ("pred" | "inv", predicate key)
+    #: ("pred" | "inv", predicate key), or ("path", a complex path of :mod:`kb.shacl.paths`)
+    path: tuple[str, Any] | None = None
     severity: URIRef = SH.Violation
     message: str | None = None
     deactivated: bool = False
@@ -133,6 +135,9 @@ class Shape:
         if self.path is None:
             return [(f, (f,)) for f in foci]  # type: ignore[misc]
         kind, pred = self.path
+        if kind == "path":  # a complex path, followed node by node
+            index = ctx.index
+            return [(f, values(index, pred, f)) for f in foci]  # type: ignore[arg-type]
         if kind == "pred":
             if dicts is not None:
                 return [(f, d.get(pred, ())) for f, d in zip(foci, dicts)]  # type: ignore[misc]

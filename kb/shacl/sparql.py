@@ -7,8 +7,10 @@ anything else uses it runs once with ``$this`` unbound and its rows are grouped 
 (:func:`kb.shacl.prebind.groupable` says when that is exact). Every other query runs once
 per focus node with the focus node's term written in place of ``$this`` (pre-binding as the
 specification defines it: substitution into the whole query, :class:`kb.shacl.prebind.Template`);
-a blank focus node, which cannot be written into a query, is pre-bound by rdflib's
-evaluator instead (``initBindings``, as pySHACL does). Queries the specification forbids
+a blank focus node, which cannot be written into a query, is bound by pyoxigraph's
+``substitutions`` (:func:`kb.shacl.prebind.for_blank_nodes`), or where the query does not
+project ``$this`` or hands it on in an expression, by rdflib's evaluator (``initBindings``,
+as pySHACL does, with its departures: see tests/test_shacl_prebind.py). Queries the specification forbids
 (MINUS, VALUES, SERVICE, ``AS $this``, nested SELECTs not returning ``$this``) and queries that
 do not parse are refused with a :class:`kb.shacl.shape.ShapeError`. Simple groups get a cheap
 join order first (:mod:`kb.shacl.reorder`). The pyoxigraph store holds only the triples whose
@@ -39,7 +41,9 @@ from rdflib.plugins.sparql.parserutils import CompValue
 from rdflib.term import Node
 
 from kb.core.namespaces import SH
-from kb.shacl.prebind import CONSTRAINT_VARIABLES, Template, forbidden, groupable, mentions, nullable
+from kb.shacl import paths
+from kb.shacl.prebind import (CONSTRAINT_VARIABLES, Template, for_blank_nodes, forbidden, groupable, hands_on,
+                               mentions, nullable)
 from kb.shacl.reorder import predicates_in, reorder
 from kb.shacl.shape import Constraint, Context, Hit, Pairs, Shape, ShapeError
 from kb.shacl.terms import key_of, to_node
@@ -66,6 +70,9 @@ class SparqlC(Constraint):
         self.once = True
         #: Can ``$this`` be written into the query text (:class:`kb.shacl.prebind.Template`)?
         self.substitutable = True
+        #: Can pyoxigraph's ``substitutions`` pre-bind a blank focus node (``$this`` projected,
+        #: not handed on by an expression; :func:`kb.shacl.prebind.hands_on`)?
+        self.blank_bindable = True
         #: ``$shapesGraph`` and ``$currentShape``, where the query uses them: their terms.
         self.fixed: dict[str, str] = {}
         #: The shapes graph, loaded into the store as :data:`SHAPES_GRAPH` when used.
@@ -161,8 +168,9 @@ def _analyse(c: SparqlC) -> None:
     c.predicates = None if every else preds
     pv = query.algebra.get("PV") or []
     c.projected = {str(v) for v in pv}
-    c.once = groupable(query.algebra)
-    c.substitutable = c.once or _substitutes(c.text)
+    c.once = groupable(query.algebra) and not c.fixed
+    c.substitutable = c.once or _substitutes(c.text, ("this", *c.fixed))
+    c.blank_bindable = "this" in c.projected and not c.fixed and not hands_on(query.algebra)
 
 
 def checked_query(text: str, shape: Node, node: Node, prebound: Collection[str] = CONSTRAINT_VARIABLES,
@@ -185,14 +193,16 @@ def checked_query(text: str, shape: Node, node: Node, prebound: Collection[str] 
         raise ShapeError(shape, f"{where} is not valid SPARQL: {exc}", node) from None
 
 
-def _substitutes(text: str) -> bool:
-    """Does writing a term in place of ``$this`` leave a query that no longer uses ``?this``
-    (but to name it in the outer projection)? Checked once per query, on a stand-in term."""
+def _substitutes(text: str, variables: tuple[str, ...]) -> bool:
+    """Does writing terms in place of the pre-bound ``variables`` leave a query that no longer
+    uses them (but to name them in the outer projection)? Checked once per query, on a
+    stand-in term."""
     try:
-        filled = parseQuery(Template(text, ("this",)).fill({"this": _CHECK_TERM}))
+        filled = parseQuery(Template(text, variables).fill(dict.fromkeys(variables, _CHECK_TERM)))
     except Exception:
         return False
-    return not mentions(_without_projected_names(filled))
+    tree = _without_projected_names(filled)
+    return not any(mentions(tree, Variable(v)) for v in variables)
 
 
 def _without_projected_names(node: Any) -> Any:
@@ -220,12 +230,6 @@ def _prefix_block(g: Graph, prefixes: dict[str, str], cnode: Node, body: str) ->
     return "".join(f"PREFIX {p}: <{ns}>\n" for p, ns in found.items() if f"{p}:" in body)
 
 
-def _path_text(path: Node | None) -> str | None:
-    if isinstance(path, URIRef):
-        return f"<{path}>"
-    return None
-
-
 def compile_sparql(g: Graph, prefixes: dict[str, str], s: Shape, cnode: Node) -> tuple[SparqlC | None, str | None]:
     """Compile one sh:sparql node of shapes graph ``g`` (``prefixes``: those of the shapes
     graph); returns (constraint, problem); deactivated -> (None, None)."""
@@ -240,9 +244,11 @@ def compile_sparql(g: Graph, prefixes: dict[str, str], s: Shape, cnode: Node) ->
     if "currentShape" in uses and not isinstance(s.node, URIRef):
         return None, f"SPARQL constraint {cnode} uses $currentShape in a blank-node shape"
     if _PATH_VAR.search(body):
-        if s.path is None or s.path[0] != "pred" or s.path_node is None:
-            return None, f"SPARQL constraint {cnode} uses $PATH without a predicate path"
-        body = _PATH_VAR.sub(r"\g<1>" + str(_path_text(s.path_node)), body)
+        if s.path is None:
+            return None, f"SPARQL constraint {cnode} uses $PATH in a node shape"
+        kind, arg = s.path
+        text = arg if kind == "pred" else f"^{arg}" if kind == "inv" else paths.sparql(arg)
+        body = _PATH_VAR.sub(lambda m: m.group(1) + text, body)
     messages = sorted(str(m) for m in g.objects(cnode, SH.message))
     c = SparqlC(s, cnode, _prefix_block(g, prefixes, cnode, body) + body, messages)
     if uses:
@@ -420,13 +426,16 @@ class SparqlRunner:
     def _solutions(self, c: SparqlC, focus: str | None = None) -> list[dict[str, str]]:
         """The query's rows: all of them (``focus`` None), or with ``$this`` pre-bound to
         ``focus`` (written into the query; rdflib's pre-binding for a blank node)."""
-        if self.engine == "rdflib" or (focus is not None and (focus[0] == "_" or not c.substitutable)):
+        blank = focus is not None and focus[0] == "_"
+        if self.engine == "rdflib" or (focus is not None and not c.substitutable) or (blank and not c.blank_bindable):
             if c.fixed:
                 raise ShapeError(c.shape.node, "kitkb pre-binds $shapesGraph and $currentShape only with "
                                                "pyoxigraph, for focus nodes that are IRIs or literals", c.node)
             return self._rdflib_solutions(c, focus)
         if focus is None:
             res = self.store().query(self._query_text(c, frozenset()))
+        elif blank:  # no query text can name a blank node: pyoxigraph binds it
+            res = self.store().query(for_blank_nodes(c.text), substitutions={ox.Variable("this"): self.ox_term(focus)})
         else:
             res = self.store().query(self._template(c).fill({"this": focus, **c.fixed}))
         names = [v.value for v in res.variables]
