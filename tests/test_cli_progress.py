@@ -187,6 +187,7 @@ def _cases(tmp: Path) -> dict[str, list[str]]:
         "crcl convert": ["crcl", "convert", str(_crcl(tmp)), "-o", str(tmp / "p2.crcl")],
         "predicates": ["predicates", str(INIT), "-p", "part-location-partstray"],
         "metrics": ["metrics", str(_crcl(tmp))],
+        "testmethod": ["testmethod", "basic", "--trials", "1", "--parts", "2", "--workers", "1", "--out", str(tmp / "tm")],
     }
 
 
