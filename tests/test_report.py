@@ -33,9 +33,9 @@ def _plotly_copies(page: str) -> int:
 
 
 def _figures(page: str) -> dict[str, list[dict[str, Any]]]:
-    """div id -> the traces plotly.js is given (the JSON plotly.io.to_html wrote)."""
-    found = re.findall(r'Plotly\.newPlot\(\s*"([^"]+)",\s*(\[.*?\]),\s*\{', page, re.S)
-    return {div: json.loads(data) for div, data in found}
+    """div id -> the traces plotly.js is given (the JSON plotly.io.to_json wrote)."""
+    found = re.findall(r'kitkbPlots\.push\(\["([^"]+)", (\{.*?\})\]\);</script>', page, re.S)
+    return {div: json.loads(spec)["data"] for div, spec in found}
 
 
 def test_a_box_is_placed_by_its_pose() -> None:
@@ -131,7 +131,8 @@ def test_campaign_page_and_a_page_per_trial(tmp_path: Path, report: dict[str, An
     page = (tmp_path / "out" / "campaign.html").read_text()
     assert _plotly_copies(page) == 1 and 'id="failed-table"' in page and 'id="trials-table"' in page
     figures = _figures(page)
-    assert "modes-plot" in figures and sum(d.startswith("dist-") for d in figures) >= 15
+    assert "modes-plot" in figures and sum(d.startswith("dist-") for d in figures) >= 10
+    assert "0 in every trial: " in page and "RE Range Errors" in page  # named, not drawn
     links = re.findall(r'<a href="([^"]+)"', page.replace(plotly_js(), ""))
     assert len(links) == 2 + 3 and all((tmp_path / "out" / link).is_file() for link in links)
     trial = (folder / "report" / "trial-00001.html").read_text()

@@ -21,7 +21,7 @@ import subprocess
 import tempfile
 import time
 from pathlib import Path
-from typing import Any, Iterator
+from typing import Any, Iterator, Sequence
 
 import pytest
 import websocket
@@ -48,10 +48,10 @@ class Browser:
     """A headless Chromium and one DevTools connection to it; :meth:`open` loads a page in a
     new tab and returns what the tests look at."""
 
-    def __init__(self, binary: str, profile: str) -> None:
+    def __init__(self, binary: str, profile: str, flags: Sequence[str] = ()) -> None:
         args = [binary, "--headless", "--remote-debugging-port=0", f"--user-data-dir={profile}",
                 "--no-first-run", "--no-default-browser-check", "--disable-extensions", "--mute-audio",
-                "--enable-unsafe-swiftshader", "--window-size=1280,900", "about:blank"]
+                "--enable-unsafe-swiftshader", "--window-size=1280,900", *flags, "about:blank"]
         if os.geteuid() == 0:
             args.insert(1, "--no-sandbox")  # Chromium's sandbox refuses to run as root
         self.proc = subprocess.Popen(args, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
@@ -166,16 +166,15 @@ class Browser:
             self.proc.wait()
 
 
-#: A promise that resolves when every plotly plot of the page drew (its data and full layout
-#: set; a 3-D plot's WebGL canvas there), or rejects after the load time-out.
+#: A promise that resolves when the page says it drew every figure (``<body data-drawn="N">``,
+#: kb.report.html.DRAW), or rejects after the load time-out.
 DRAWN = """new Promise((resolve, reject) => {
   const t0 = performance.now();
   const check = () => {
-    const plots = [...document.querySelectorAll('.plotly-graph-div')];
-    const ready = plots.every(p => p._fullLayout && p.data && (!p._fullLayout.scene || p.querySelector('.gl-container canvas')));
-    if (ready) return resolve({plots: plots.length});
-    if (performance.now() - t0 > %d) return reject(new Error('plots not drawn: ' + plots.length));
-    setTimeout(check, 25);
+    if (document.body && document.body.dataset.drawn !== undefined)
+      return resolve({drawn: Number(document.body.dataset.drawn), plots: document.querySelectorAll('div.plot').length});
+    if (performance.now() - t0 > %d) return reject(new Error('figures not drawn'));
+    setTimeout(check, 20);
   };
   check();
 })""" % int(LOAD_TIMEOUT * 1000)
@@ -184,10 +183,11 @@ DRAWN = """new Promise((resolve, reject) => {
 #: and their size; each table's id and rows; the links.
 FACTS = """(() => ({
   title: document.title,
-  figures: [...document.querySelectorAll('.plotly-graph-div')].map(p => ({
-    id: p.id, traces: p.data.length, types: [...new Set(p.data.map(d => d.type))],
-    points: p.data.reduce((n, d) => n + ((d.x && d.x.length) || (d.y && d.y.length) || 0), 0),
-    scene: !!p._fullLayout.scene})),
+  figures: [...document.querySelectorAll('div.plot')].map(p => ({
+    id: p.id, drawn: !!(p._fullLayout && p.data), traces: (p.data || []).length,
+    types: [...new Set((p.data || []).map(d => d.type))],
+    points: (p.data || []).reduce((n, d) => n + ((d.x && d.x.length) || (d.y && d.y.length) || 0), 0),
+    scene: !!(p._fullLayout && p._fullLayout.scene), canvas: !!p.querySelector('.gl-container canvas')})),
   canvases: [...document.querySelectorAll('.gl-container canvas')].map(c => [c.width, c.height]),
   tables: Object.fromEntries([...document.querySelectorAll('table[id]')].map(t => [t.id, t.querySelectorAll('tbody tr').length])),
   links: [...document.querySelectorAll('a[href]')].map(a => a.getAttribute('href')),
@@ -236,7 +236,9 @@ def report() -> dict[str, Any]:
 
 def _assert_drawn(facts: dict[str, Any]) -> None:
     assert facts["errors"] == [], facts["errors"]
-    assert facts["figures"] and all(f["traces"] > 0 and f["points"] > 0 for f in facts["figures"])
+    assert facts["drawn"] == facts["plots"] == len(facts["figures"]) > 0
+    assert all(f["drawn"] and f["traces"] > 0 and f["points"] > 0 for f in facts["figures"])
+    assert all(f["canvas"] for f in facts["figures"] if f["scene"])  # WebGL drew the 3-D view
     shot = facts["screenshot"]
     assert shot["width"] >= 800 and shot["height"] > 900
     assert shot["colours"] > 50 and shot["ink"] > 0.02, shot  # not a blank page

@@ -78,21 +78,35 @@ def metric_label(key: str) -> str:
     return f"{name} ({unit})" if unit else name
 
 
-def distribution_figures(trials: list[dict[str, Any]]) -> list[tuple[str, dict[str, Any]]]:
-    """(metric, box plot with every trial as a point) for each metric some trial has."""
+def metric_values(trials: list[dict[str, Any]]) -> dict[str, list[tuple[int, float]]]:
+    """Metric -> (trial index, value) of every trial that has it."""
     values: dict[str, list[tuple[int, float]]] = {}
     for report in trials:
         for key, v in trial_values(report).items():
             values.setdefault(key, []).append((trial_index(report), v))
+    return values
+
+
+def distribution_figures(trials: list[dict[str, Any]]) -> list[tuple[str, dict[str, Any]]]:
+    """(metric, box plot with every trial as a point) for each metric some trial has, but for
+    those that are 0 in every trial (:func:`always_zero`)."""
     figs = []
-    for key, pairs in values.items():
+    for key, pairs in metric_values(trials).items():
+        if all(v == 0 for _, v in pairs):
+            continue
         data = [{"type": "box", "name": "", "y": [v for _, v in pairs], "boxpoints": "all", "jitter": 0.4,
                  "pointpos": 0, "hovertext": [f"trial {i}" for i, _ in pairs], "hoverinfo": "text+y",
                  "marker": {"size": 4, "color": "#2e86de"}, "line": {"color": "#34495e"}}]
-        layout = {"title": {"text": esc(metric_label(key)), "font": {"size": 13}}, "height": 260,
-                  "margin": {"l": 45, "r": 10, "t": 40, "b": 20}, "showlegend": False}
+        layout = {"title": {"text": esc(metric_label(key)), "font": {"size": 13}, "x": 0.02, "xanchor": "left"},
+                  "height": 250, "margin": {"l": 50, "r": 10, "t": 34, "b": 16}, "showlegend": False,
+                  "xaxis": {"showticklabels": False}}
         figs.append((key, {"data": data, "layout": layout}))
     return figs
+
+
+def always_zero(trials: list[dict[str, Any]]) -> list[str]:
+    """The metrics that are 0 in every trial (named in a line, not drawn)."""
+    return [k for k, pairs in metric_values(trials).items() if all(v == 0 for _, v in pairs)]
 
 
 def modes_figure(trials: list[dict[str, Any]]) -> dict[str, Any] | None:
@@ -151,9 +165,11 @@ def campaign_body(campaign: Campaign, href: Callable[[int], str] | None = _defau
              section("Summary", f'<div id="summary-table">{value_html(summary)}</div>' if summary
                      else note("campaign.json has no summary."), "summary")]
     figs = distribution_figures(trials)
-    grid = "".join(f'<div>{figure(fig, f"dist-{n}")}</div>' for n, (_, fig) in enumerate(figs))
-    parts.append(section("Metrics across the trials", f'<div class="grid">{grid}</div>' if figs
-                         else note("No trial has a metric to show."), "distributions"))
+    grid = "".join(f'<div>{figure(fig, f"dist-{n}", toolbar=False)}</div>' for n, (_, fig) in enumerate(figs))
+    zero = always_zero(trials)
+    zero_line = note("0 in every trial: " + ", ".join(metric_label(k) for k in zero) + ".") if zero else ""
+    parts.append(section("Metrics across the trials", (f'<div class="grid">{grid}</div>' if figs
+                         else note("No trial has a metric to show.")) + zero_line, "distributions"))
     modes = modes_figure(trials)
     parts.append(section("Failures by mode", figure(modes, "modes-plot") if modes else note("No failure was found."),
                          "modes"))
@@ -184,4 +200,5 @@ def trial_extra(report: dict[str, Any]) -> str:
 def trial_page(report: dict[str, Any], *, back: str | None = None, script_src: str | None = None) -> str:
     """The page of one trial: its run's page with the trial's facts and a link ``back`` to the campaign."""
     links = f'<nav><a href="{esc(back)}">&larr; campaign</a></nav>' if back else ""
-    return run_page(report, script_src=script_src, links=links, extra=trial_extra(report))
+    title = f"Trial {trial_index(report)}: {report.get('scenario')}"
+    return run_page(report, script_src=script_src, links=links, extra=trial_extra(report), title=title)

@@ -114,14 +114,31 @@ def note(text: str) -> str:
     return f'<p class="note">{esc(text)}</p>'
 
 
-def figure(fig: dict[str, Any], div_id: str, height: int | None = None) -> str:
-    """The div and script of a plotly figure (a plain dict of data and layout), without plotly.js."""
+def figure(fig: dict[str, Any], div_id: str, *, toolbar: bool = True) -> str:
+    """The div of a plotly figure (a plain dict of data and layout) and a script that queues it
+    for drawing once plotly.js has loaded (:data:`DRAW`); ``toolbar`` False: no mode bar."""
     layout = dict(fig.get("layout", {}))
-    if height is not None:
-        layout.setdefault("height", height)
-    return plotly.io.to_html({"data": fig.get("data", []), "layout": layout}, config=CONFIG, full_html=False,
-                             include_plotlyjs=False, validate=False, div_id=div_id,
-                             default_height=f"{layout.get('height', 450)}px", default_width="100%")
+    config = CONFIG if toolbar else {**CONFIG, "displayModeBar": False}
+    spec = plotly.io.to_json({"data": fig.get("data", []), "layout": layout, "config": config}, validate=False,
+                             remove_uids=True)
+    height = layout.get("height", 450)
+    return (f'<div id="{esc(div_id)}" class="plot" style="height:{int(height)}px"></div>'
+            f'<script>kitkbPlots.push(["{esc(div_id)}", {spec}]);</script>')
+
+
+#: Draws the queued figures after plotly.js, the flat ones first (the tables and 2-D plots show
+#: at once, the 3-D view, which needs WebGL, last), yielding to the browser between figures;
+#: ``<body data-drawn="N">`` when all N are drawn (an error goes to the console).
+DRAW = """(async () => {
+  const plots = window.kitkbPlots.slice().sort((a, b) =>
+    (a[1].data.some(t => t.type.endsWith('3d')) ? 1 : 0) - (b[1].data.some(t => t.type.endsWith('3d')) ? 1 : 0));
+  for (const [id, fig] of plots) {
+    await new Promise(r => setTimeout(r, 0));
+    try { await Plotly.newPlot(id, fig.data, fig.layout, fig.config); }
+    catch (e) { console.error('kitkb report: figure ' + id + ' not drawn: ' + e); }
+  }
+  document.body.dataset.drawn = String(plots.length);
+})();"""
 
 
 @lru_cache(maxsize=1)
@@ -132,7 +149,8 @@ def plotly_js() -> str:
 
 def page(title: str, body: str, *, script_src: str | None = None) -> str:
     """A whole HTML page: plotly.js inlined once (``script_src`` None), or loaded from the
-    relative path ``script_src`` (a campaign's trial pages share one copy)."""
+    relative path ``script_src`` (a campaign's trial pages share one copy), at the end of the
+    body so that the text and tables show before the figures are drawn."""
     if script_src is None:
         script = f'<script type="text/javascript">{plotly_js()}</script>'
     else:
@@ -140,4 +158,5 @@ def page(title: str, body: str, *, script_src: str | None = None) -> str:
     return ("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
             f"<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
             f"<meta name=\"generator\" content=\"kitkb report\">\n<title>{esc(title)}</title>\n"
-            f"<style>{STYLE}</style>\n{script}\n</head>\n<body>\n{body}\n</body>\n</html>\n")
+            f"<style>{STYLE}</style>\n<script>window.kitkbPlots = [];</script>\n</head>\n<body>\n{body}\n"
+            f"{script}\n<script>{DRAW}</script>\n</body>\n</html>\n")

@@ -44,7 +44,7 @@ def run_sections(report: dict[str, Any], prefix: str = "run") -> str:
     ])
 
 
-def run_body(report: dict[str, Any], *, links: str = "", extra: str = "") -> str:
+def run_body(report: dict[str, Any], *, links: str = "", extra: str = "", title: str = "") -> str:
     """The body of a run's page: title, headline, ``extra`` (a trial's facts), the sections;
     a report of several runs gets a summary table and a part per run."""
     runs = report.get("runs")
@@ -56,16 +56,18 @@ def run_body(report: dict[str, Any], *, links: str = "", extra: str = "") -> str
                         tid="runs-table")
         parts = "".join(f'<div id="run{n}"><h1>Run {esc(r.get("scenario"))}</h1>{headline(r)}'
                         f'{run_sections(r, f"run{n}")}</div>' for n, r in enumerate(runs))
-        return f"{links}<h1>kitkb runs</h1>{headline(report | {'actions': _sum(runs, 'actions')})}{summary}{parts}"
-    return (f"{links}<h1>Run {esc(report.get('scenario'))}</h1>{headline(report)}{extra}"
+        total = report | {"actions": _sum(runs, "actions"), "time_s": round(_sum(runs, "time_s"), 3)}
+        return f"{links}<h1>kitkb runs</h1>{headline(total)}{summary}{parts}"
+    return (f"{links}<h1>{esc(title or 'Run ' + str(report.get('scenario')))}</h1>{headline(report)}{extra}"
             f"{run_sections(report)}")
 
 
-def _sum(runs: list[dict[str, Any]], key: str) -> int:
-    return sum(r.get(key) or 0 for r in runs if isinstance(r.get(key), int))
+def _sum(runs: list[dict[str, Any]], key: str) -> float:
+    return sum(r[key] for r in runs if isinstance(r.get(key), (int, float)) and not isinstance(r.get(key), bool))
 
 
-def run_page(report: dict[str, Any], *, script_src: str | None = None, links: str = "", extra: str = "") -> str:
+def run_page(report: dict[str, Any], *, script_src: str | None = None, links: str = "", extra: str = "",
+             title: str = "") -> str:
     """The HTML page of a run report (plotly.js inlined unless ``script_src`` names a copy)."""
-    title = f"kitkb report: {report.get('scenario') or 'runs'}"
-    return page(title, run_body(report, links=links, extra=extra), script_src=script_src)
+    head = f"kitkb report: {title or report.get('scenario') or 'runs'}"
+    return page(head, run_body(report, links=links, extra=extra, title=title), script_src=script_src)

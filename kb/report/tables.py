@@ -12,10 +12,12 @@ from kb.report.html import esc, note, table, value_html
 EXECUTION_NAMES = {
     "failures": "Failures during kit building",
     "failures_per_kit": "Failures per kit",
+    "failures_by_mode": "Failures by mode",
     "recovered": "Failure modes recovered",
     "unrecovered": "Failures not recovered",
     "recovered_by_mode": "Recoveries by failure mode",
     "plan_time_s": "Planning time",
+    "replan_time_s": "Replanning time",
     "replans": "Plan generation (replans)",
     "contact_errors": "Contact errors",
     "violations": "Constraint violations",
@@ -63,7 +65,7 @@ def metrics_table(report: dict[str, Any]) -> str:
         keys = [m for m in METRICS if m in static] + [k for k in static if k not in METRICS]
         rows += [(k, NAMES.get(k, k), static[k], unit_of(k)) for k in keys]
     out = table(["metric", "name", "value", "unit"], rows, tid="metrics-table")
-    violations = metrics.get("violations")
+    violations = metrics.get("violations") or report.get("violations")
     if isinstance(violations, list) and violations:
         out += f"<h3>Constraint violations</h3>{value_html(violations)}"
     return out
