@@ -20,7 +20,7 @@ from rdflib.term import Node
 from kb.core.errors import InputError
 from kb.core.namespaces import SH
 from kb.shacl.index import DataIndex
-from kb.shacl.paths import values
+from kb.shacl.paths import sparql, values
 
 _EMPTY: dict[str, list[str]] = {}
 
@@ -128,7 +128,11 @@ class Shape:
 
     @property
     def path_text(self) -> str:
-        return str(self.path_node) if self.path_node is not None else "the node"
+        """The path for messages: the predicate's IRI, else the path in SPARQL's syntax."""
+        if self.path is None or self.path_node is None:
+            return "the node"
+        kind, arg = self.path
+        return str(self.path_node) if kind == "pred" else f"^{arg}" if kind == "inv" else sparql(arg)
 
     def pairs(self, ctx: Context, foci: Iterable[str], dicts: list[dict[str, list[str]]] | None = None) -> Pairs:
         """(focus, value nodes) for each focus node (``dicts``: the foci's spo entries, if known)."""

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Sequence
 
-from rdflib import RDF, Graph, URIRef
+from rdflib import RDF, BNode, Graph, URIRef
 from rdflib.collection import Collection
 from rdflib.term import Node
 
@@ -119,8 +119,7 @@ def validate_files(data: Sequence[str | Path], shapes: Sequence[str | Path],
         raise InputError("no shapes files given (-s SHAPES)")
     with gc_paused(), progress.task(f"reading {len(shapes)} shapes file(s)") as step:
         user = ShapesFiles.read(shapes)
-        with user.located():
-            fallback = shacl.check_shapes(user.graph)
+        fallback = shacl.check_shapes(user.graph)  # compiled by read() already: the reasons
         step.update(description=f"reading {len(data)} data file(s)")
         unique = {str(Path(p).resolve()): p for p in data}
         sources = [load_file(p) for p in unique.values()]
@@ -166,9 +165,9 @@ def _diagnostic(p: Placed, namer: Namer, shapes: Graph) -> Diagnostic:
     path = f" {path_text(r.path, shapes, namer, src)}" if r.path is not None else ""
     value = f" = {namer.name(r.value, src)}" if r.value is not None and r.value != r.focus else ""
     comp = str(r.component).replace("#", "/").rsplit("/", 1)[-1].removesuffix("ConstraintComponent")
-    shape = namer.name(r.source_shape, src)
+    rule = comp if isinstance(r.source_shape, BNode) else f"{comp} of {namer.name(r.source_shape, src)}"
     return Diagnostic(str(src.path) if src is not None else "(data)", p.line, _DIAGNOSTIC.get(severity(r), "info"),  # type: ignore[arg-type]
-                      f"{f}{path}{value}: {r.message}", f"{comp} of {shape}", f)
+                      f"{f}{path}{value}: {r.message}", rule, f)
 
 
 def path_text(path: Node, shapes: Graph, namer: Namer, src: Any = None, depth: int = 0) -> str:

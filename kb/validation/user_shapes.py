@@ -70,17 +70,21 @@ class ShapesFiles:
     @classmethod
     def read(cls, paths: Sequence[str | Path]) -> "ShapesFiles":
         """Read ``paths``; InputError for a missing or broken file, a file without shapes,
-        or files whose shapes have no target at all."""
+        files whose shapes have no target at all, or a shape no engine may evaluate (at its
+        ``file:line``)."""
         sources = [read(p) for p in paths]
         for src in sources:
             require_shapes(src.graph, str(src.path))
         if sources and not any(shacl.targeted_shapes(src.graph) for src in sources):
-            names = ", ".join(str(s.path) for s in sources)
-            raise InputError(f"no shape of {names} has a target (sh:targetClass, sh:targetNode, "
+            others = f" (nor of {', '.join(str(s.path) for s in sources[1:])})" if len(sources) > 1 else ""
+            raise InputError(f"no shape has a target{others} (sh:targetClass, sh:targetNode, "
                              "sh:targetSubjectsOf, sh:targetObjectsOf or a shape that is a class): "
-                             "they would check nothing")
+                             "the shapes would check nothing", sources[0].path)
         graph = sources[0].graph if len(sources) == 1 else _union(s.graph for s in sources)
-        return cls(sources, graph)
+        found = cls(sources, graph)
+        with found.located():  # compiled now: a shape SHACL forbids is refused before any work
+            shacl.check_shapes(graph)
+        return found
 
     def input_error(self, exc: ShapeError) -> InputError:
         """``exc`` as an input error at the file and line of the shape (of its constraint),
