@@ -192,6 +192,9 @@ FACTS = """(() => ({
   tables: Object.fromEntries([...document.querySelectorAll('table[id]')].map(t => [t.id, t.querySelectorAll('tbody tr').length])),
   links: [...document.querySelectorAll('a[href]')].map(a => a.getAttribute('href')),
   text: document.body.innerText,
+  paint_ms: (performance.getEntriesByName('first-contentful-paint')[0] || {}).startTime,
+  load_ms: performance.getEntriesByType('navigation')[0].loadEventEnd,
+  drawn_ms: Number(document.body.dataset.drawnMs),
 }))()"""
 
 #: The screenshot decoded by the browser itself: its size, how many colours, and the share of

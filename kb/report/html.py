@@ -128,7 +128,8 @@ def figure(fig: dict[str, Any], div_id: str, *, toolbar: bool = True) -> str:
 
 #: Draws the queued figures after plotly.js, the flat ones first (the tables and 2-D plots show
 #: at once, the 3-D view, which needs WebGL, last), yielding to the browser between figures;
-#: ``<body data-drawn="N">`` when all N are drawn (an error goes to the console).
+#: ``<body data-drawn="N" data-drawn-ms="T">`` when all N are drawn, T ms after navigation
+#: started (an error goes to the console).
 DRAW = """(async () => {
   const plots = window.kitkbPlots.slice().sort((a, b) =>
     (a[1].data.some(t => t.type.endsWith('3d')) ? 1 : 0) - (b[1].data.some(t => t.type.endsWith('3d')) ? 1 : 0));
@@ -137,6 +138,7 @@ DRAW = """(async () => {
     try { await Plotly.newPlot(id, fig.data, fig.layout, fig.config); }
     catch (e) { console.error('kitkb report: figure ' + id + ' not drawn: ' + e); }
   }
+  document.body.dataset.drawnMs = String(Math.round(performance.now()));
   document.body.dataset.drawn = String(plots.length);
 })();"""
 
