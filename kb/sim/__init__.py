@@ -9,13 +9,18 @@ noise and USARTruth's text form (:mod:`.sensor`), and seeded fault injection (:m
 :class:`FaultSpec`, :class:`Injected`, :data:`FAULT_KINDS`). :class:`CellServer`
 (:mod:`.server`) serves a cell on loopback in kitkb's cell protocol (:mod:`kb.crcl.wire`:
 USARTruth-style sensor lines, CRCL XML programs), for :class:`kb.crcl.RemoteCell`.
+The robot notices constraint violations (overweight grasps, moves out of its work volume,
+wrong effectors, contacts along every move: :class:`Violation`, ``SimulatedCell.violations``),
+and :mod:`.playback` plays a CRCL program on a cell of a state and decides the first paper's
+object and constraint metrics (:func:`play`, :func:`object_metrics`).
 """
 
-from kb.sim.cell import SimulatedCell
+from kb.sim.cell import SimulatedCell, Violation
 from kb.sim.faults import FAULT_KINDS, FaultSpec, Injected
 from kb.sim.interface import CellInterface, Observation, Status
+from kb.sim.robot import VIOLATION_KINDS
 from kb.sim.sensor import parse_truth_line, truth_line
 from kb.sim.server import CellServer
 
-__all__ = ["FAULT_KINDS", "CellInterface", "CellServer", "FaultSpec", "Injected", "Observation", "SimulatedCell",
-           "Status", "parse_truth_line", "truth_line"]
+__all__ = ["FAULT_KINDS", "VIOLATION_KINDS", "CellInterface", "CellServer", "FaultSpec", "Injected", "Observation",
+           "SimulatedCell", "Status", "Violation", "parse_truth_line", "truth_line"]

@@ -171,6 +171,10 @@ class SimulatedCell:
         """Ground truth now (simulation only: for tests and scoring, never for the executor)."""
         return self.world.to_scene()
 
+    def create_kit(self, kit: str, tray: str) -> None:
+        """Make ``kit`` exist where its kit ``tray`` is (what a create-kit action does)."""
+        self._create_kit(kit, tray)
+
     def _create_kit(self, kit: str, tray: str) -> None:
         """The kit comes into being where its kit tray is; nothing happens when the tray is no
         placed kit tray, or the kit exists already or names another kind of object (a repeated

@@ -12,6 +12,16 @@ Conventions (those of the state files):
   length + flange height))``;
 * moves are instantaneous: the end pose is reached (through the waypoints); the clock advances
   by the tip's path length / speed (``SetAbsoluteSpeed``, default 1 m/s, in the length unit in force); ``Dwell`` adds its time;
+* the path: ``MoveStraightTo`` a straight line, ``MoveThroughTo`` straight legs through its
+  waypoints, ``MoveTo`` (CRCL: "any convenient trajectory") up, across and down
+  (:meth:`Robot.transfer`): straight up to the transfer height, across at that height,
+  straight down — a pick-and-place robot's way. The transfer height is the higher of the
+  start's and the target's, or higher where what the robot carries would not clear a solid
+  below its way across (a box's walls around the start, a table on the way): the
+  controller chooses a MoveTo's path, so it goes over what it can see; a program that chooses
+  its path (MoveStraightTo, MoveThroughTo) can run into things, and so can a MoveTo's legs
+  straight up and down. The orientation turns uniformly along a leg (about one axis; for
+  MoveTo, across);
 * ``CloseGripper`` grasps the object whose top face is at the tip (within :data:`GRASP_TOLERANCE`
   = 2 x :data:`kb.spatial.rcc8.DEFAULT_TOLERANCE` = 2 mm) and whose footprint contains the
   tip's x, y (its own footprint, in its frame: a part of a turned tray, not its world box) —
@@ -24,7 +34,8 @@ Conventions (those of the state files):
   (within :data:`GRASP_TOLERANCE`); the effector keeps its orientation (its z axis is taken to
   be along the flange's, as in a holder that presents it tool-down). ``OpenToolChanger``
   leaves it where it is: in the holder it sits in, else it falls;
-* lengths are in metres until a ``SetLengthUnits`` (meter, millimeter, inch) says otherwise:
+* lengths are in metres (``length_unit``, which ``InitCanon`` sets again) until a
+  ``SetLengthUnits`` (meter, millimeter, inch) says otherwise:
   the positions and speeds of the commands after it are in that unit (the ground truth stays
   in metres); ``SetAngleUnits`` takes degree or radian (no command the simulator executes has
   an angle); another unit, a coordinate frame other than ``Workstation`` and an ``Unreadable``
@@ -33,6 +44,38 @@ Conventions (those of the state files):
   than :data:`REACH` (1 km) from the origin on an axis, a move or dwell that would overflow the
   clock, and a speed that is not a positive number are error statuses: the robot does not move,
   so every pose stays a finite rigid transform (``tests/test_sim_properties.py``).
+
+Constraint violations (the first paper, §VI: "It will also be necessary to decide what the
+simulation should do in these cases"), each reported through ``on_violation(kind, objects,
+detail)`` (:class:`kb.sim.SimulatedCell` keeps them as ``violations``); a check the state file
+gives no numbers for (no weight, no load, no work volume) is not made:
+
+* ``overweight`` — ``CloseGripper`` on an object heavier than the mounted effector's
+  ``hasEndEffector_MaximumLoadWeight``, or than the robot's ``hasRobot_MaximumLoadWeight``
+  with the effector's own ``hasEndEffector_Weight`` (the load hangs on the flange). An
+  object's weight is its SKU's ``hasStockKeepingUnit_Weight`` plus that of everything that
+  moves with it (a kit: its tray and its parts). The robot lifts nothing and the command is an
+  error status (the arm cannot lift it; what a program does next is its own);
+* ``work-volume`` — a move with a tip point (its target, a waypoint, the corners of MoveTo's
+  path) outside every ``hasRobot_WorkVolume`` box of the robot (workstation frame, within the
+  tolerance; a box holds the straight legs between its points). The move is carried out and
+  counted, its status says so: the box is all kitkb knows of the arm's reach, and refusing
+  would stop a run on a file whose box does not hold its own objects (NIST's
+  kittingInstancesInit1: a 2 m box at the origin, trays at x 1.5 to 8.75 m);
+* ``wrong-effector`` — ``CloseGripper`` on an object whose SKU lists end effectors
+  (``hasStockKeepingUnit_EndEffector``), not the mounted one. It grasps nothing, as before
+  (status done, "nothing grasped"). An object whose SKU lists none is not checked;
+* ``contact`` — along every move, the flange, the mounted effector or the held object (with
+  what rests in it) passing through another solid (:mod:`kb.spatial.sweep`: continuous, the
+  whole path, so no part is too small or too fast to be missed; touching within the
+  tolerance is not contact). Not counted: what moves together, what the tip starts or ends
+  on (the object grasped or just released and what is in it — a vacuum cup over a kit's
+  parts —, the effector being mounted), and the holder of the mounted effector or of the
+  one at the tip (the holder listing it, ``hasEndEffectorHolder_EndEffector``, or the one it
+  sits in at the start or the end of the move: NIST's effectors hang through their holders,
+  thin solid plates). One violation per (moving object, solid) per
+  command; the move goes on (a simulation does not stop at a collision; the count is the
+  metric).
 """
 
 from __future__ import annotations
@@ -44,8 +87,8 @@ import numpy as np
 from kb import crcl
 from kb.core.units import ANGLE, LENGTH
 from kb.crcl.cell import Status
-from kb.sim.world import EFFECTOR_LOAD, EFFECTOR_WEIGHT, ROBOT_LOAD, TOLERANCE, World, translate
-from kb.spatial.sweep import Pieces, recessed, solid_pieces, sweep_contacts
+from kb.sim.world import EFFECTOR_LOAD, EFFECTOR_WEIGHT, HOLDER_EFFECTOR, ROBOT_LOAD, TOLERANCE, World, translate
+from kb.spatial.sweep import Pieces, clearance, recessed, solid_pieces, sweep_contacts
 
 GRASP_TOLERANCE = 2 * TOLERANCE
 #: A held part armed to drop falls in the first move that carries its tip this far sideways (m).
@@ -75,6 +118,7 @@ class Robot:
         self.time = 0.0
         self.speed = 1.0  # m/s
         self.metres = 1.0  # metres per length unit of the commands (CRCL SetLengthUnits; metre by default)
+        self.length_unit = "meter"  # the unit InitCanon sets (CRCL: "units ... back to their defaults")
         self.on_fault = on_fault or (lambda kind, objects, detail: None)
         self.on_violation = on_violation or (lambda kind, objects, detail: None)
         self._holes: dict | None = None  # open containers recessed in closed objects (on the first move)
@@ -128,7 +172,7 @@ class Robot:
             except ValueError as e:
                 return Status.error(f"bad pose: {e}")
         if not straight:
-            targets = transfer(self.tip(), targets[-1])
+            targets = self.transfer(self.tip(), targets[-1])
         points = np.array([self.tip()[:3, 3]] + [t[:3, 3] for t in targets])
         seconds = float(np.linalg.norm(np.diff(points, axis=0), axis=1).sum()) / self.speed
         if not np.isfinite(self.time + seconds):
@@ -183,18 +227,49 @@ class Robot:
             self._sweep(self.tip(), tip)
         self.world.set_pose(self.index, tip @ translate(0.0, 0.0, -self.tool_length()))
 
+    def transfer(self, start: np.ndarray, end: np.ndarray) -> list[np.ndarray]:
+        """The legs of a MoveTo from tip pose ``start`` to ``end`` (its "convenient trajectory"):
+        straight up to the transfer height, across at that height (turning to the end
+        orientation), straight down; legs of no length left out. The transfer height is the
+        higher end point's, or higher where what the robot carries would not clear a solid
+        below its way across (kb.spatial.sweep.clearance)."""
+        up, over = start.copy(), end.copy()
+        up[2, 3] = over[2, 3] = 0.0
+        bodies, pieces = self._moving(), self._obstacles()
+        rise = -np.inf
+        if bodies and len(pieces):
+            w = self.world
+            rel = np.linalg.inv(start) @ w.poses[bodies]
+            rise = clearance(np.array([up, over]), rel, w.local_lo[bodies], w.local_hi[bodies], w.poses, pieces)
+        up[2, 3] = over[2, 3] = max(float(start[2, 3]), float(end[2, 3]), rise)
+        legs, last = [], start
+        for pose in (up, over, end):
+            if not (np.array_equal(pose[:3, 3], last[:3, 3]) and np.array_equal(pose[:3, :3], last[:3, :3])):
+                legs.append(pose)
+                last = pose
+        return legs or [end]
+
+    def _moving(self) -> list[int]:
+        """The boxes that move with the flange: itself, the mounted effector, the held object
+        and what rests in it (not stand-ins: a held kit is its tray)."""
+        w = self.world
+        return [j for j in w.subtree(self.index) if w.placed(j) and not w.stand_in(j)]
+
+    def _obstacles(self) -> Pieces:
+        """The solid pieces of everything that does not move with the flange."""
+        w = self.world
+        mask = w.solid_mask()
+        mask[w.subtree(self.index)] = False
+        pieces = self._pieces()
+        return pieces.select(mask[pieces.owner])
+
     def _sweep(self, start: np.ndarray, end: np.ndarray) -> None:
         """Contacts of the straight leg from tip pose ``start`` to ``end`` (kb.spatial.sweep):
         the flange, the mounted effector and the held object (with what rests in it) against
         every other solid, except what the tip starts or ends on (the object grasped or just
         released, a kit with its parts, the effector being mounted)."""
         w = self.world
-        moving = w.subtree(self.index)
-        bodies = [j for j in moving if w.placed(j) and not w.stand_in(j)]
-        mask = w.solid_mask()
-        mask[moving] = False
-        pieces = self._pieces()
-        pieces = pieces.select(mask[pieces.owner])
+        bodies, pieces = self._moving(), self._obstacles()
         if not bodies or not len(pieces):
             return
         rel = np.linalg.inv(start) @ w.poses[bodies]
@@ -202,10 +277,19 @@ class Robot:
         if not found:
             return
         skip: set[int] = set()
+        effectors = [self.effector] if self.effector is not None else []
         for point in (start[:3, 3], end[:3, 3]):
             at = self._at_point(point)
             if at is not None:
                 skip.update(w.subtree(at))
+                effectors += [j for j in w.subtree(at) if w.is_a(j, "EndEffector")]
+        to_end = end @ np.linalg.inv(start)
+        for e in effectors:  # an effector's holder, which it is mounted from and stowed into
+            skip.update(w.index[h] for h in w.subjects(HOLDER_EFFECTOR, w.names[e]) if h in w.index)
+            for pose in (None, to_end @ w.poses[e] if e in bodies else None):
+                holder = w.holder_around(e, pose)
+                if holder is not None:
+                    skip.add(holder)
         for c in found:
             key = (w.names[bodies[c.body]], w.names[c.owner])
             if c.owner in skip or self._contacts is None or key in self._contacts:
@@ -361,22 +445,6 @@ class Robot:
         return Status.ok()
 
 
-def transfer(start: np.ndarray, end: np.ndarray) -> list[np.ndarray]:
-    """The legs of a MoveTo from tip pose ``start`` to ``end``: straight up to the higher of
-    the two heights, across at that height (turning to the end orientation), straight down;
-    legs of no length left out. (A pick-and-place robot's convenient trajectory: the executor's
-    targets lift what it carries clear of what is around and approach from above.)"""
-    top = max(float(start[2, 3]), float(end[2, 3]))
-    up, over = start.copy(), end.copy()
-    up[2, 3] = over[2, 3] = top
-    legs, last = [], start
-    for pose in (up, over, end):
-        if not (np.array_equal(pose[:3, 3], last[:3, 3]) and np.array_equal(pose[:3, :3], last[:3, :3])):
-            legs.append(pose)
-            last = pose
-    return legs or [end]
-
-
 def _target(pose: crcl.Pose, metres: float = 1.0) -> np.ndarray:
     """The 4x4 tip pose of a CRCL pose: a finite rigid transform within :data:`REACH` of the
     workstation's origin, else ValueError (an axis of 1e300 overflows its norm, and a point
@@ -409,6 +477,7 @@ def _xyz(p: np.ndarray) -> str:
 
 
 _HANDLERS: dict[type, Callable[[Robot, crcl.Command], Status]] = {
+    crcl.InitCanon: lambda r, c: r.set_length_units(r.length_unit),
     crcl.MoveTo: lambda r, c: r.move((c.end_position,), straight=False),  # type: ignore[attr-defined]
     crcl.MoveStraightTo: lambda r, c: r.move((c.end_position,)),  # type: ignore[attr-defined]
     crcl.MoveThroughTo: lambda r, c: r.move(tuple(c.waypoints)),  # type: ignore[attr-defined]

@@ -55,6 +55,7 @@ SKU_WEIGHT = str(KTW.hasStockKeepingUnit_Weight)
 ROBOT_LOAD = str(KTW.hasRobot_MaximumLoadWeight)
 EFFECTOR_LOAD = str(KTW.hasEndEffector_MaximumLoadWeight)
 EFFECTOR_WEIGHT = str(KTW.hasEndEffector_Weight)
+HOLDER_EFFECTOR = str(KTW.hasEndEffectorHolder_EndEffector)
 #: How far (metres) a face may be from where it should be and still count as there.
 TOLERANCE = DEFAULT_TOLERANCE
 
@@ -267,16 +268,17 @@ class World:
                 best = cand
         return best[0], best[2]
 
-    def boxes_in_frames(self, i: int, js: np.ndarray) -> tuple[tuple[np.ndarray, np.ndarray],
-                                                                 tuple[np.ndarray, np.ndarray]]:
+    def boxes_in_frames(self, i: int, js: np.ndarray, pose: np.ndarray | None = None) -> tuple[
+            tuple[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]:
         """((lo, hi) of ``i``, (lo, hi) of each of ``js``), each (len(js), 3): both boxes in the
         frame of object j, the world turned about z by j's heading (:func:`kb.spatial.rcc8.headings`;
         exactly the world frame for an axis-aligned j). There j's box is exact when j is turned
-        about z only, and i's is the hull of its oriented box."""
+        about z only, and i's is the hull of its oriented box (at ``pose``, default where i is)."""
         yaw = _snapped(headings(self.poses[js]))
         j_boxes = frame_boxes(self.poses[js], self.local_lo[js], self.local_hi[js], yaw)
         n = len(js)
-        i_boxes = frame_boxes(np.broadcast_to(self.poses[i], (n, 4, 4)), np.broadcast_to(self.local_lo[i], (n, 3)),
+        at = self.poses[i] if pose is None else pose
+        i_boxes = frame_boxes(np.broadcast_to(at, (n, 4, 4)), np.broadcast_to(self.local_lo[i], (n, 3)),
                               np.broadcast_to(self.local_hi[i], (n, 3)), yaw)
         return i_boxes, j_boxes
 
@@ -295,13 +297,13 @@ class World:
         self.parent[i] = support
         return support
 
-    def holder_around(self, i: int) -> int | None:
+    def holder_around(self, i: int, pose: np.ndarray | None = None) -> int | None:
         """The end effector holder ``i`` sits in (footprint inside it, heights overlapping), if
-        any; compared in the holder's frame."""
+        any; compared in the holder's frame. ``pose``: where i would be (default: where it is)."""
         js = np.array([j for j in self.solids(set(self.subtree(i))) if self.is_a(j, "EndEffectorHolder")], np.int64)
         if not len(js):
             return None
-        (lo, hi), (jlo, jhi) = self.boxes_in_frames(i, js)
+        (lo, hi), (jlo, jhi) = self.boxes_in_frames(i, js, pose)
         t = TOLERANCE
         inside = ((lo[:, :2] >= jlo[:, :2] - t) & (hi[:, :2] <= jhi[:, :2] + t)).all(axis=1)
         hits = np.flatnonzero(inside & (lo[:, 2] < jhi[:, 2] + t) & (hi[:, 2] > jlo[:, 2] - t))

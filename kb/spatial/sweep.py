@@ -54,7 +54,7 @@ from numpy.typing import ArrayLike, NDArray
 from kb.spatial.frames import world_boxes
 from kb.spatial.rcc8 import DEFAULT_TOLERANCE
 
-__all__ = ["Contact", "Pieces", "recessed", "solid_pieces", "sweep_contacts"]
+__all__ = ["Contact", "Pieces", "clearance", "recessed", "solid_pieces", "sweep_contacts"]
 
 FloatArray = NDArray[np.float64]
 #: Most stretches a turning leg is cut into (beyond, the inflation grows instead).
@@ -262,6 +262,55 @@ def _depths(ua: FloatArray, a: FloatArray, ca: FloatArray, d: FloatArray, grow: 
     return depth.min(axis=1)
 
 
+def _moving_boxes(path: FloatArray, rel: FloatArray, blo: FloatArray, bhi: FloatArray, tol: float,
+                  max_inflation: float | None) -> tuple:
+    """The moving boxes of each stretch of ``path``: (legs, axes (S, M, 3, 3), centres at the
+    stretch's start (S, M, 3), half sizes (M, 3), translation (S, 3), inflation (S,), world
+    boxes lo, hi (S, M, 3) of each box swept along its stretch)."""
+    grow_max = tol / 4.0 if max_inflation is None else max_inflation
+    half_a = (bhi - blo) / 2.0
+    centre_a = np.einsum("mij,mj->mi", rel[:, :3, :3], (blo + bhi) / 2.0) + rel[:, :3, 3]  # in the frame
+    reach = float(np.max(np.linalg.norm(centre_a, axis=1) + np.linalg.norm(half_a, axis=1)))
+    legs, rots, starts, moves, grow = _stretches(path, reach, grow_max)
+    ua = np.einsum("sij,mjk->smik", rots, rel[:, :3, :3])
+    ca = np.einsum("sij,mj->smi", rots, centre_a) + starts[:, None, :]
+    ext_a = np.einsum("smij,mj->smi", np.abs(ua), half_a) + grow[:, None, None]
+    lo_a = np.minimum(ca, ca + moves[:, None, :]) - ext_a
+    hi_a = np.maximum(ca, ca + moves[:, None, :]) + ext_a
+    return legs, ua, ca, half_a, moves, grow, lo_a, hi_a
+
+
+def _piece_boxes(poses: FloatArray, pieces: Pieces) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
+    """Pieces in the world: (axes (P, 3, 3), half sizes, centres, world box lo, hi)."""
+    g = poses[pieces.owner]
+    vb = g[:, :3, :3]
+    half_b = (pieces.hi - pieces.lo) / 2.0
+    cb = np.einsum("pij,pj->pi", vb, (pieces.lo + pieces.hi) / 2.0) + g[:, :3, 3]
+    ext_b = np.einsum("pij,pj->pi", np.abs(vb), half_b)
+    return vb, half_b, cb, cb - ext_b, cb + ext_b
+
+
+def clearance(path: ArrayLike, body_rel: ArrayLike, body_lo: ArrayLike, body_hi: ArrayLike, poses: ArrayLike,
+              pieces: Pieces, tol: float = DEFAULT_TOLERANCE) -> float:
+    """How high (m) the moving frame must be lifted so that the boxes it carries along ``path``
+    pass above every solid piece whose world box their way crosses in x and y (more than
+    ``tol`` deep): the largest (piece's top - box's bottom) over those, with the path as given;
+    ``-inf`` when none is under the way. (Decided on world boxes: it may lift more than the
+    oriented boxes need, never less.)"""
+    path = np.asarray(path, float)
+    rel = np.asarray(body_rel, float)
+    if len(path) < 2 or not len(rel) or not len(pieces):
+        return -math.inf
+    *_, lo_a, hi_a = _moving_boxes(path, rel, np.asarray(body_lo, float), np.asarray(body_hi, float), tol, None)
+    lo_a, hi_a = lo_a.reshape(-1, 3), hi_a.reshape(-1, 3)
+    *_, blo, bhi = _piece_boxes(np.asarray(poses, float), pieces)
+    under = np.all(np.minimum(hi_a[:, None, :2] - blo[None, :, :2], bhi[None, :, :2] - lo_a[:, None, :2]) > tol, axis=2)
+    if not under.any():
+        return -math.inf
+    q, p = np.nonzero(under)
+    return float(np.max(bhi[p, 2] - lo_a[q, 2]))
+
+
 def sweep_contacts(path: ArrayLike, body_rel: ArrayLike, body_lo: ArrayLike, body_hi: ArrayLike,
                    poses: ArrayLike, pieces: Pieces, tol: float = DEFAULT_TOLERANCE,
                    max_inflation: float | None = None) -> list[Contact]:
@@ -274,36 +323,21 @@ def sweep_contacts(path: ArrayLike, body_rel: ArrayLike, body_lo: ArrayLike, bod
     (:func:`solid_pieces`). Contact: penetration depth above ``tol`` (module docstring)."""
     path = np.asarray(path, float)
     rel = np.asarray(body_rel, float)
-    blo, bhi = np.asarray(body_lo, float), np.asarray(body_hi, float)
     if len(path) < 2 or not len(rel) or not len(pieces):
         return []
-    grow_max = tol / 4.0 if max_inflation is None else max_inflation
-    half_a = (bhi - blo) / 2.0
-    centre_a = rel[:, :3, :3] @ ((blo + bhi) / 2.0)[:, :, None]
-    centre_a = centre_a[:, :, 0] + rel[:, :3, 3]  # box centres in the frame
-    reach = float(np.max(np.linalg.norm(centre_a, axis=1) + np.linalg.norm(half_a, axis=1)))
-    legs, rots, starts, moves, grow = _stretches(path, reach, grow_max)
-    # obstacle pieces in the world
-    g = np.asarray(poses, float)[pieces.owner]
-    vb = g[:, :3, :3]
-    half_b = (pieces.hi - pieces.lo) / 2.0
-    cb = np.einsum("pij,pj->pi", vb, (pieces.lo + pieces.hi) / 2.0) + g[:, :3, 3]
-    ext_b = np.einsum("pij,pj->pi", np.abs(vb), half_b)
-    # moving boxes per stretch: (S, M)
-    ua = np.einsum("sij,mjk->smik", rots, rel[:, :3, :3])
-    ca = np.einsum("sij,mj->smi", rots, centre_a) + starts[:, None, :]
-    ext_a = np.einsum("smij,mj->smi", np.abs(ua), half_a) + grow[:, None, None]
-    lo_a = np.minimum(ca, ca + moves[:, None, :]) - ext_a
-    hi_a = np.maximum(ca, ca + moves[:, None, :]) + ext_a
+    legs, ua, ca, half_a, moves, grow, lo_a, hi_a = _moving_boxes(
+        path, rel, np.asarray(body_lo, float), np.asarray(body_hi, float), tol, max_inflation)
+    vb, half_b, cb, blo, bhi = _piece_boxes(np.asarray(poses, float), pieces)
     s_n, m_n = lo_a.shape[:2]
     lo_a, hi_a = lo_a.reshape(-1, 3), hi_a.reshape(-1, 3)
-    # broad phase: swept world boxes against piece world boxes, more than tol deep on every axis
+    # broad phase: swept world boxes against piece world boxes, more than tol deep on every
+    # axis (the distance to push one out of the other along the axis: a plate inside a box is
+    # as deep as the box reaches on its thinner side)
     whole_lo, whole_hi = lo_a.min(axis=0), hi_a.max(axis=0)
-    near = np.flatnonzero(np.all((np.minimum(whole_hi, cb + ext_b) - np.maximum(whole_lo, cb - ext_b)) > tol, axis=1))
+    near = np.flatnonzero(np.all(np.minimum(whole_hi - blo, bhi - whole_lo) > tol, axis=1))
     if not len(near):
         return []
-    deep = np.all((np.minimum(hi_a[:, None, :], (cb + ext_b)[None, near]) -
-                   np.maximum(lo_a[:, None, :], (cb - ext_b)[None, near])) > tol, axis=2)
+    deep = np.all(np.minimum(hi_a[:, None, :] - blo[None, near], bhi[None, near] - lo_a[:, None, :]) > tol, axis=2)
     q, p = np.nonzero(deep)
     if not len(q):
         return []
@@ -312,10 +346,9 @@ def sweep_contacts(path: ArrayLike, body_rel: ArrayLike, body_lo: ArrayLike, bod
     depth = _depths(ua[si, mi], half_a[mi], ca[si, mi], moves[si], grow[si], vb[pi], half_b[pi], cb[pi])
     hit = depth > tol
     found: dict[tuple[int, int], Contact] = {}
-    leg_of = legs
     for s, m, piece, dep in zip(si[hit].tolist(), mi[hit].tolist(), pi[hit].tolist(), depth[hit].tolist()):
         key = (m, int(pieces.owner[piece]))
-        leg = int(leg_of[s])
+        leg = int(legs[s])
         old = found.get(key)
         if old is None or leg < old.leg or (leg == old.leg and dep > old.depth):
             found[key] = Contact(m, key[1], leg, dep)
