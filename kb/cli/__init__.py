@@ -263,6 +263,18 @@ def _add_metrics(sub: Any) -> None:
     p.add_argument("--config", metavar="WEIGHTS.toml",
                    help="TOML file with a [weights] table, metric = weight, for the total score (default "
                         "weights: docs/metrics.md)")
+    p.add_argument("--init", metavar="STATE",
+                   help="also play the program on a simulated cell of this initial state file: objects moved "
+                        "(OM) and constraint violations (OVW overweight grasps, WVE moves out of the work volume, "
+                        "WEE wrong effectors, CTE contacts along every move; docs/metrics.md)")
+    p.add_argument("--goal", metavar="STATE",
+                   help="with --init: the goal state file, for the objects that should have moved (OSM) and those "
+                        "moved to the right (OMR) or a wrong place (OMW), decided by the ontology's predicates")
+    p.add_argument("--match-names", action="store_true",
+                   help="with --goal: match its individuals to the initial state's by local name (NIST's files)")
+    p.add_argument("--length-unit", choices=list(LENGTH),
+                   help="the unit of the program's lengths until it sets one, set again by InitCanon (default "
+                        "millimeter, the paper's; kitkb's executor sends meter)")
 
 
 def _add_predicates(sub: Any) -> None:

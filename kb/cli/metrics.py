@@ -1,65 +1,136 @@
-"""``kitkb metrics PROGRAM``: the static metrics of a CRCL program (kb.metrics)."""
+"""``kitkb metrics PROGRAM``: the static metrics of a CRCL program (kb.metrics); with
+``--init`` (and ``--goal``) the program is also played on a simulated cell of that state for
+the object and constraint metrics (kb.sim.playback)."""
 
 from __future__ import annotations
 
 import math
-from typing import TextIO
+from typing import Any, TextIO
 
 from kb.cli.output import Output
 from kb.core.errors import InputError
-from kb.metrics import (METRICS, NAMES, UNITS, Robot, Score, StaticMetrics, program_metrics, read_weights,
-                        score)
+from kb.metrics import (METRICS, NAMES, UNITS, Robot, Score, StaticMetrics, read_steps, read_weights, score,
+                        static_metrics)
 from kb.metrics.motion import DEFAULT_MAX_ACCELERATION, DEFAULT_MAX_SPEED
+from kb.metrics.score import CONSTRAINT_METRICS, OBJECT_METRICS, OBJECT_NAMES
+
+#: Index of TCE in a row's values: a command was executed when TCE grew.
+_TCE = METRICS.index("TCE")
 
 
 def metrics(program: str, format: str, per_command: bool, max_speed: float | None,
-            max_acceleration: float | None, config: str | None, out: Output) -> int:
-    """Print the static metrics of ``program`` (text: a table, with ``per_command`` a row per
-    command first; json: one object with ``metrics``, ``score`` and ``rows``)."""
+            max_acceleration: float | None, config: str | None, out: Output, init: str | None = None,
+            goal: str | None = None, match_names: bool = False, length_unit: str | None = None) -> int:
+    """Print the metrics of ``program`` (text: a table, with ``per_command`` a row per command
+    first; json: one object with ``metrics``, ``score`` and ``rows``; with ``init``, the
+    object and constraint metrics, ``objects`` and ``violations`` too)."""
     for option, value in (("--max-speed", max_speed), ("--max-acceleration", max_acceleration)):
         if value is not None and not (math.isfinite(value) and value > 0):
             raise InputError(f"{option} must be a positive number, not {value:g}")
+    if init is None and (goal is not None or match_names):
+        raise InputError(f"{'--goal' if goal is not None else '--match-names'} needs --init (the state the "
+                         "program is played from)")
     weights = read_weights(config) if config else None
-    robot = Robot(max_speed=DEFAULT_MAX_SPEED if max_speed is None else max_speed,
-                  max_acceleration=DEFAULT_MAX_ACCELERATION if max_acceleration is None else max_acceleration)
+    robot = _robot(max_speed, max_acceleration, length_unit)
     with out.progress(f"evaluating {program}"):
-        result = program_metrics(program, robot, rows=per_command)
-    total = score(result.totals, weights)
+        steps = read_steps(program)
+        result = static_metrics(steps, robot, rows=per_command or init is not None, source=program)
+    played = None
+    if init is not None:
+        from kb.sim.playback import play  # the simulator only when a state is given
+        rows = result.rows or []
+        executed = [r.values[_TCE] > (rows[k - 1].values[_TCE] if k else 0) for k, r in enumerate(rows)]
+        with out.progress(f"playing {program} on {init}"):
+            played = play(steps, init, goal, executed=executed, length_unit=length_unit or robot_unit(robot),
+                          match_names=match_names)
+    totals: dict[str, Any] = {**result.totals, **(played.totals() if played is not None else {})}
+    total = score(totals, weights)
     if out.is_json:
+        data = result.as_dict()
+        if not per_command:
+            data.pop("rows", None)
+        if played is not None:
+            data["metrics"] = totals
+            data["names"] = {**data["names"], **{m: OBJECT_NAMES[m] for m in OBJECT_METRICS + CONSTRAINT_METRICS}}
+            data.update({"init": init, "goal": goal, "objects": played.objects.as_dict(),
+                         "violations": [v.as_dict() for v in played.violations]})
+            if per_command:
+                for row, extra in zip(data["rows"], played.rows()):
+                    row.update({m: extra[m] for m in CONSTRAINT_METRICS}, notes=row["notes"] + extra["notes"])
         # rows: on one line (the C encoder; an indented 100,000-row object takes seconds)
-        out.emit({**result.as_dict(), "score": total.as_dict(), "config": config},
-                 indent=None if per_command else 1)
+        out.emit({**data, "score": total.as_dict(), "config": config}, indent=None if per_command else 1)
         return 0
     if per_command:
-        _rows(result, out.results)
-    _summary(result, total, out.results)
+        _rows(result, played.rows() if played is not None else None, out.results)
+    _summary(result, totals, total, out.results)
+    if played is not None:
+        _objects(played, init, goal, [r.line for r in result.rows or []], out.results)
+    print(f"score {total.total:.3f}", file=out.results)
     return 0
+
+
+def _robot(max_speed: float | None, max_acceleration: float | None, length_unit: str | None) -> Robot:
+    """The metrics' robot; ``length_unit`` where kb.metrics' robot takes one."""
+    kw: dict[str, Any] = {}
+    if length_unit is not None and "length_unit" in getattr(Robot, "__dataclass_fields__", {}):
+        kw["length_unit"] = length_unit
+    return Robot(max_speed=DEFAULT_MAX_SPEED if max_speed is None else max_speed,
+                 max_acceleration=DEFAULT_MAX_ACCELERATION if max_acceleration is None else max_acceleration, **kw)
+
+
+def robot_unit(robot: Robot) -> str:
+    """The unit the metrics read a program's lengths in before it sets one."""
+    return str(getattr(robot, "length_unit", "millimeter"))
 
 
 def _number(metric: str, value: float) -> str:
     return f"{value:.3f}" if metric in UNITS else f"{int(value)}"
 
 
-def _rows(result: StaticMetrics, stream: TextIO) -> None:
+def _rows(result: StaticMetrics, played: list[dict[str, Any]] | None, stream: TextIO) -> None:
     width = max([len(r.command) for r in result.rows or []] + [7])
     width = min(width, 48)
-    print(f"{'line':>5}  {'command':<{width}}  " + "  ".join(f"{m:>8}" for m in METRICS) + "  notes",
+    extra = CONSTRAINT_METRICS if played is not None else ()
+    print(f"{'line':>5}  {'command':<{width}}  " + "  ".join(f"{m:>8}" for m in METRICS + extra) + "  notes",
           file=stream)
-    for row in result.rows or []:
+    for k, row in enumerate(result.rows or []):
         command = row.command if len(row.command) <= width else row.command[:width - 3] + "..."
         line = "" if row.line is None else str(row.line)
         cells = "  ".join(f"{_number(m, v):>8}" for m, v in zip(METRICS, row.values))
-        print(f"{line:>5}  {command:<{width}}  {cells}  {'; '.join(row.notes)}".rstrip(), file=stream)
+        notes = list(row.notes)
+        if played is not None:
+            cells += "  " + "  ".join(f"{played[k][m]:>8}" for m in extra)
+            notes += played[k]["notes"]
+        print(f"{line:>5}  {command:<{width}}  {cells}  {'; '.join(notes)}".rstrip(), file=stream)
     print(file=stream)
 
 
-def _summary(result: StaticMetrics, total: Score, stream: TextIO) -> None:
+def _summary(result: StaticMetrics, totals: dict[str, Any], total: Score, stream: TextIO) -> None:
     robot = result.robot
     print(f"{result.source}: {result.commands} commands; robot: max speed {robot.max_speed:g} m/s, "
           f"max acceleration {robot.max_acceleration:g} m/s²", file=stream)
-    for m in METRICS:
+    names = {**NAMES, **OBJECT_NAMES}
+    for m in METRICS + OBJECT_METRICS + CONSTRAINT_METRICS:
+        if m not in totals:
+            continue
         unit = f" {UNITS[m]}" if m in UNITS else ""
+        value = totals[m]
+        shown = "-" if value is None else _number(m, value)
         weight = total.weights[m]
-        part = f"  x {weight:g} = {total.contributions[m] + 0.0:.3f}" if weight else ""
-        print(f"{m:<4} {NAMES[m]:<32} {_number(m, result.totals[m]):>12}{unit:<2}{part}", file=stream)
-    print(f"score {total.total:.3f}", file=stream)
+        part = f"  x {weight:g} = {total.contributions[m] + 0.0:.3f}" if weight and m in total.contributions else ""
+        print(f"{m:<4} {names[m]:<32} {shown:>12}{unit:<2}{part}", file=stream)
+
+
+def _objects(played: Any, init: str, goal: str | None, lines: list[int | None], stream: TextIO) -> None:
+    """The objects behind the object metrics, and each violation (at its command's line)."""
+    objects = played.objects.as_dict()
+    print(f"played on {init}" + (f", judged against {goal}" if goal else " (no --goal: OSM, OMR, OMW not decided)"),
+          file=stream)
+    for key, label in (("should_move", "should have moved"), ("moved", "moved"), ("right", "moved to the right place"),
+                       ("wrong", "moved to a wrong place")):
+        if objects[key]:
+            print(f"  {label}: {', '.join(objects[key])}", file=stream)
+    for v in played.violations:
+        line = lines[v.command] if 0 <= v.command < len(lines) else None
+        where = f"line {line}" if line is not None else f"command {v.command + 1}"
+        print(f"  {v.kind} ({where}): {v.detail}", file=stream)

@@ -52,6 +52,7 @@ from typing import Any, Iterable, Sequence
 import numpy as np
 
 from kb import crcl
+from kb.core.errors import InputError
 from kb.core.namespaces import KTW, local_name
 from kb.crcl.cell import Status
 from kb.crcl.wire import parse_action
@@ -158,7 +159,10 @@ def play(program: Iterable[Any], init: str | Path | Scene, goal: str | Path | No
         raise ValueError(f"executed has {len(executed)} entries for {len(commands)} commands")
     declared = [goal] if goal is not None else []
     initial = init if isinstance(init, Scene) else Scene.from_files([init], declared, match_names=match_names)
-    cell = SimulatedCell(initial)
+    try:
+        cell = SimulatedCell(initial)
+    except ValueError as exc:  # no robot to play the program
+        raise InputError(f"cannot play a program on it: {exc}", initial.path) from None
     robot = cell.robot
     if length_unit not in crcl.LENGTH_UNITS:
         raise ValueError(f"length_unit must be one of {', '.join(crcl.LENGTH_UNITS)}, not {length_unit!r}")
