@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 
 from kb import planning
+from kb.cli import main
 from kb.execution import open_run, run_plan
 from kb.execution.records import ActionRecord, FailureRecord
 from kb.metrics import Robot
@@ -67,7 +68,7 @@ def test_a_built_kit_scores_full_marks_and_the_report_says_so(small_plan: list[s
 
 
 def test_an_unrecovered_wrong_sku_loses_the_slot_point_with_its_predicate(tight: tuple[Path, Path, list[str]],
-                                                                         tmp_path: Path) -> None:
+                                                                         tmp_path: Path, capsys) -> None:
     init, goal, plan = tight
     at = _take(plan, "b")
     db = tmp_path / "world.sqlite"
@@ -87,6 +88,19 @@ def test_an_unrecovered_wrong_sku_loses_the_slot_point_with_its_predicate(tight:
     lost = run.report()["kits"][0]["lost"]
     assert {"points": 1, "predicate": "part-location-kit"}.items() <= next(
         x for x in lost if x["predicate"] == "part-location-kit").items()
+    # kitkb metrics --run: the same, from the database
+    capsys.readouterr()
+    assert main(["metrics", "--run", str(run.record.run_id), "--db", str(db), "--format", "json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["metrics"] == json.loads(json.dumps(m)) and data["kits"] == run.report()["kits"]
+    assert main(["metrics", "--run", str(run.record.run_id), "--db", str(db)]) == 0
+    text = capsys.readouterr().out
+    assert f"kit kit_1: {kit.score} of {kit.max_score} points" in text and "(part-location-kit(kit_1, " in text
+    for bad in (["--run", "99", "--db", str(db)], ["--run", "1", "--db", str(tmp_path / "none.sqlite")],
+                ["--run", "1"], [str(tmp_path / "p.crcl"), "--run", "1", "--db", str(db)]):
+        assert main(["metrics", *bad]) == 2
+        assert capsys.readouterr().err.count("\n") == 1
+    assert not (tmp_path / "none.sqlite").exists()
 
 
 def test_failures_count_for_their_kit_across_retries_and_replans() -> None:

@@ -252,7 +252,13 @@ def _add_metrics(sub: Any) -> None:
                          "simulated robot and print the first paper's static metrics with cumulative values: "
                          "ACE, OCE, TCE, TDM, CCE, TET, RE, PE, CSE, TE, UCE (docs/metrics.md defines them), "
                          "and a weighted total score.")
-    p.add_argument("program", metavar="PROGRAM", help="a .crcl (text form) or .xml (CRCL XML) program")
+    p.add_argument("program", metavar="PROGRAM", nargs="?",
+                   help="a .crcl (text form) or .xml (CRCL XML) program (or --run RUN_ID --db URL)")
+    p.add_argument("--run", metavar="RUN_ID", type=int,
+                   help="instead of a program: the execution metrics and kit scores of a run recorded in --db "
+                        "(and the static metrics of the CRCL it sent), from its records, without running it again")
+    p.add_argument("--db", metavar="URL",
+                   help="with --run: the world-model database (SQLite file or PostgreSQL URL) the run was recorded in")
     p.add_argument("--per-command", action="store_true",
                    help="also print the metrics after every command, one row each, as NIST's kittingViewer "
                         "showed them")

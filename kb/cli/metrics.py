@@ -20,13 +20,21 @@ _TCE = METRICS.index("TCE")
 
 def metrics(program: str, format: str, per_command: bool, max_speed: float | None,
             max_acceleration: float | None, config: str | None, out: Output, init: str | None = None,
-            goal: str | None = None, match_names: bool = False, length_unit: str | None = None) -> int:
+            goal: str | None = None, match_names: bool = False, length_unit: str | None = None,
+            run: int | None = None, db: str | None = None) -> int:
     """Print the metrics of ``program`` (text: a table, with ``per_command`` a row per command
     first; json: one object with ``metrics``, ``score`` and ``rows``; with ``init``, the
     object and constraint metrics, ``objects`` and ``violations`` too)."""
     for option, value in (("--max-speed", max_speed), ("--max-acceleration", max_acceleration)):
         if value is not None and not (math.isfinite(value) and value > 0):
             raise InputError(f"{option} must be a positive number, not {value:g}")
+    if run is not None or db is not None:
+        if program is not None or run is None or db is None or init is not None or per_command:
+            raise InputError("kitkb metrics takes a PROGRAM, or --run RUN_ID --db URL (a recorded run; no "
+                             "PROGRAM, --init or --per-command with it)")
+        return run_metrics(run, db, config, out)
+    if program is None:
+        raise InputError("kitkb metrics needs a PROGRAM (a .crcl or .xml CRCL file), or --run RUN_ID --db URL")
     if init is None and (goal is not None or match_names):
         raise InputError(f"{'--goal' if goal is not None else '--match-names'} needs --init (the state the "
                          "program is played from)")
@@ -134,3 +142,53 @@ def _objects(played: Any, init: str, goal: str | None, lines: list[int | None], 
         line = lines[v.command] if 0 <= v.command < len(lines) else None
         where = f"line {line}" if line is not None else f"command {v.command + 1}"
         print(f"  {v.kind} ({where}): {v.detail}", file=stream)
+
+
+def run_metrics(run_id: int, db: str, config: str | None, out: Output) -> int:
+    """``kitkb metrics --run RUN_ID --db URL``: the execution metrics, kit scores and the static
+    metrics of the CRCL a recorded run sent (:func:`kb.execution.open_run`), and the score of
+    the static and constraint metrics."""
+    from kb.execution import open_run
+    from kb.world.database import safe_url
+    weights = read_weights(config) if config else None
+    with out.progress(f"reading run {run_id}"):
+        recorded = open_run(db, run_id)
+    m = recorded.metrics
+    totals: dict[str, Any] = dict(m["static"])
+    if m.get("constraints") is not None:
+        totals.update(m["constraints"])
+    total = score(totals, weights)
+    kits = [k.as_dict() for k in recorded.kit_scores]
+    rec = recorded.record
+    if out.is_json:
+        out.emit({"run": rec.run_id, "db": safe_url(db), "scenario": rec.scenario, "seed": rec.seed,
+                  "goal_holds": rec.goal_holds, "stopped": rec.stopped, "metrics": m, "kits": kits,
+                  "score": total.as_dict(), "config": config})
+        return 0
+    stream = out.results
+    print(f"run {rec.run_id} ({rec.scenario}, seed {rec.seed}) in {safe_url(db)}: goal "
+          f"{'holds' if rec.goal_holds else 'does not hold'}" + (f"; stopped: {rec.stopped}" if rec.stopped else ""),
+          file=stream)
+    by_mode = ", ".join(f"{k} {v}" for k, v in m["failures_by_mode"].items()) or "none"
+    per_kit = ", ".join(f"{k} {v}" for k, v in m["failures_per_kit"].items()) or "none"
+    recovered = ", ".join(f"{k} {v}" for k, v in m["recovered_by_mode"].items()) or "none"
+    plan = "-" if m["plan_time_s"] is None else f"{m['plan_time_s']:.3f} s"
+    contacts = "not reported by the cell" if m["contact_errors"] is None else str(m["contact_errors"])
+    for label, value in (("failures", f"{m['failures']} ({by_mode})"), ("failures per kit", per_kit),
+                         ("recovered", f"{m['recovered']} ({recovered}); unrecovered {m['unrecovered']}"),
+                         ("plan generation", f"{plan}; replans {m['replans']} ({m['replan_time_s']:.3f} s)"),
+                         ("contact errors", contacts)):
+        print(f"  {label:<18} {value}", file=stream)
+    if m.get("violations"):
+        print(f"  {'violations':<18} " + ", ".join(f"{k} {v}" for k, v in m["violations"].items()), file=stream)
+    print("  static metrics of the CRCL sent:", file=stream)
+    for name in METRICS:
+        print(f"    {name:<4} {_number(name, m['static'][name]):>12} {UNITS.get(name, ''):<2} {NAMES[name]}",
+              file=stream)
+    for kit in kits:
+        print(f"  kit {kit['kit']}: {kit['score']} of {kit['max_score']} points", file=stream)
+        for lost in kit["lost"]:
+            print(f"    lost {lost['points']}: {lost['reason']} ({lost['predicate']}"
+                  f"({', '.join(lost['objects'])}) {'holds' if lost['holds'] else 'does not hold'})", file=stream)
+    print(f"  score {total.total:.3f}", file=stream)
+    return 0

@@ -41,6 +41,7 @@ from kb.core.units import SI, Units
 from kb.execution.records import ActionRecord, AtomCheck, FailureRecord, RunRecord, Sighting
 from kb.metrics.kits import KitScore, LostPoint
 from kb.world import LoadReport, load, normalize_url, open_engine
+from kb.world.database import safe_url
 from kb.world.lock import Held, acquire
 
 #: What a run's lock says it is held by.
@@ -271,14 +272,18 @@ class RunStore:
 
 def read_run(url: str | Path, run_id: int | None = None) -> RunRecord:
     """A run back from the database (the latest one by default), as a :class:`RunRecord`."""
-    engine = open_engine(normalize_url(url))
+    engine = open_engine(normalize_url(url), must_exist=True)
     try:
         with engine.connect() as conn:
+            if not inspect(conn).has_table(RUNS.name):
+                from kb.core.errors import InputError
+                raise InputError(f"no run is recorded in {safe_url(normalize_url(url))} (it has no kitkb_run table)")
             q = select(RUNS).order_by(RUNS.c.id.desc())
             row = conn.execute(q.where(RUNS.c.id == run_id) if run_id is not None else q).first()
             if row is None:
                 from kb.core.errors import InputError
-                raise InputError(f"no run {run_id if run_id is not None else ''} in the database".replace("  ", " "))
+                raise InputError(f"no run {run_id if run_id is not None else ''} in {safe_url(normalize_url(url))}"
+                                 .replace("  ", " "))
             rec = RunRecord(row.scenario, row.seed, goal_holds=row.goal_holds, stopped=row.stopped,
                             replans=row.replans, run_id=row.id)
             rec.started, rec.ended = 0.0, (row.ended_at - row.started_at).total_seconds() if row.ended_at else 0.0

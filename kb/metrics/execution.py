@@ -13,7 +13,8 @@ figures, :func:`execution_metrics`):
   the others are unrecovered; both by mode;
 * **plan generation** — the first plan's time, the replans and the time they took;
 * **contact errors** and the other constraint violations, where the cell reports its ground
-  truth (a simulated cell; a real cell reports none: ``None``);
+  truth (a simulated cell; a real cell reports none: ``None``), also as the constraint metrics
+  a program's playback gives (``constraints``: OVW, WVE, WEE, CTE);
 * the **static metrics** (§IV-A) of the CRCL the run sent, one program per action
   (:func:`~kb.metrics.static.session_metrics`).
 """
@@ -24,6 +25,7 @@ from collections import Counter
 from typing import Any, Iterable, Protocol, Sequence
 
 from kb.metrics.motion import Robot
+from kb.metrics.score import CONSTRAINT_OF_KIND
 from kb.metrics.static import session_metrics
 from kb.metrics.steps import text_steps
 
@@ -84,11 +86,12 @@ def execution_metrics(failures: Sequence[FailureLike], actions: Sequence[ActionL
         "recovered_by_mode": dict(sorted(rec_mode.items())),
         "plan_time_s": None if plan_time is None else round(plan_time, 4),
         "replans": replans, "replan_time_s": round(replan_time, 4),
-        "contact_errors": None, "violations": None,
+        "contact_errors": None, "violations": None, "constraints": None,
         "static": crcl_metrics(actions, robot),
     }
     if violations is not None:
         kinds = Counter(str(v.get("kind")) for v in violations)
         out["contact_errors"] = kinds.get("contact", 0)
         out["violations"] = dict(sorted(kinds.items()))
+        out["constraints"] = {metric: kinds.get(kind, 0) for kind, metric in CONSTRAINT_OF_KIND.items()}
     return out

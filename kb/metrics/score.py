@@ -40,6 +40,8 @@ OBJECT_METRICS = ("OSM", "OM", "OMR", "OMW")
 #: capacity, ... moving outside of its work volume, ... using a gripper ... not qualified to
 #: move the object"; §IV-B: contact errors).
 CONSTRAINT_METRICS = ("OVW", "WVE", "WEE", "CTE")
+#: The kind of a violation a cell reports (kb.sim's ``Violation.kind``) -> its constraint metric.
+CONSTRAINT_OF_KIND = {"overweight": "OVW", "work-volume": "WVE", "wrong-effector": "WEE", "contact": "CTE"}
 OBJECT_NAMES = {
     "OSM": "Objects that Should have Moved", "OM": "Objects Moved", "OMR": "Objects Moved to the Right place",
     "OMW": "Objects Moved to a Wrong place", "OVW": "OVerWeight grasps", "WVE": "Work Volume Errors",
