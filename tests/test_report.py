@@ -16,7 +16,7 @@ from kb.cli import main
 from kb.report import campaign_page, run_page, write_report
 from kb.report.campaign import distribution_figures, failed_because
 from kb.report.html import plotly_js
-from kb.report.scene import corners, scene_figure
+from kb.report.scene import CLASS_COLOURS, corners, scene_figure
 from kb.report.timeline import timeline_figure
 from test_report_inputs import run_report, with_metrics, write_campaign
 
@@ -58,14 +58,18 @@ def test_run_page_has_every_part_and_plotly_once(report: dict[str, Any]) -> None
     assert "Total Distance Moved" in page and "missed-grasp" in page
 
 
-def test_the_scene_draws_each_class_in_each_state_and_marks_the_failure(report: dict[str, Any]) -> None:
+def test_the_scene_draws_each_object_coloured_by_class_and_marks_the_failure(report: dict[str, Any]) -> None:
     fig = scene_figure(report)
     assert isinstance(fig, dict)
     meshes = [t for t in fig["data"] if t["type"] == "mesh3d"]
-    classes = {o["class"] for o in report["scene"]["objects"]}
-    assert {(t["legendgroup"], t["name"].split(" (")[0]) for t in meshes} >= {("final", c) for c in classes if c != "Kit"}
-    assert all(len(t["x"]) == 8 * int(t["name"].rsplit("(", 1)[1].rstrip(")")) for t in meshes)
-    assert [t["visible"] for t in meshes if t["legendgroup"] == "initial"] == [False] * len(classes - {"Kit"})
+    placed = [o for o in report["scene"]["objects"] if o["final"] is not None]
+    final = [t for t in meshes if t["legendgroup"] == "final"]
+    assert sum(len(t["x"]) for t in final) == 8 * len(placed) and all(t["visible"] for t in final)
+    assert not any(t["visible"] for t in meshes if t["legendgroup"] == "initial")  # the buttons show them
+    objects = [t for t in final if t["name"].startswith("objects")][0]
+    parts = [n for n, text in enumerate(objects["hovertext"][::8]) if "<br>Part (" in text]
+    assert parts and {objects["facecolor"][12 * n] for n in parts} == {CLASS_COLOURS["Part"]}
+    assert {c for c, _, _ in fig["key"]} == {o["class"] for o in report["scene"]["objects"]}
     path = [t for t in fig["data"] if t["name"] == "tool tip path"][0]
     assert len(path["x"]) == sum(len(p["points"]) for p in report["path"]) + ("tip_start" in report)
     failure = [t for t in fig["data"] if t["name"] == "failures"][0]
@@ -106,8 +110,9 @@ def test_everything_from_the_files_is_escaped(report: dict[str, Any]) -> None:
     assert "<img" not in page and "</script><script>alert(2)" not in page
     assert "&lt;img src=x onerror=&quot;alert(1)&quot;&gt;&amp;amp;" in page
     figures = _figures(page)  # plotly's JSON escapes < and >; the names in it are HTML-escaped for plotly.js
-    names = [t.get("name", "") for t in figures["run-scene"]]
-    assert any("&lt;\\u002fscript&gt;" in json.dumps(n) or "&lt;/script&gt;" in n for n in names)
+    texts = [h for t in figures["run-scene"] for h in t.get("hovertext") or []]
+    assert any("&lt;/script&gt;&lt;script&gt;alert(2)" in h for h in texts)
+    assert "&lt;/script&gt;&lt;script&gt;alert(2)&lt;/script&gt; (1)" in page  # the colour key
 
 
 def test_several_runs_on_one_page(report: dict[str, Any]) -> None:

@@ -34,6 +34,9 @@ table.nested td, table.nested th { border-color: #e8ebf0; padding: 0.1em 0.4em; 
 .lost td { background: #fff6f5; } .plot { width: 100%; } .grid { display: grid; gap: 0.6em;
   grid-template-columns: repeat(auto-fill, minmax(270px, 1fr)); }
 nav a { margin-right: 1em; } code { font-size: 0.95em; }
+.keys { margin: 0.2em 0; } .key { margin-right: 1.1em; white-space: nowrap; }
+.key i { display: inline-block; width: 0.9em; height: 0.9em; margin-right: 0.3em; vertical-align: -0.1em;
+  border: 1px solid #0003; }
 """
 
 

@@ -25,7 +25,14 @@ def headline(report: dict[str, Any]) -> str:
 
 
 def _figure_or_note(fig: dict[str, Any] | str, div_id: str) -> str:
-    return note(fig) if isinstance(fig, str) else figure(fig, div_id)
+    return note(fig) if isinstance(fig, str) else figure(fig, div_id) + colour_key(fig.get("key") or [])
+
+
+def colour_key(key: list[tuple[str, str, int]]) -> str:
+    """The classes' colours under the 3-D view: a swatch, the class, how many."""
+    items = "".join(f'<span class="key"><i style="background:{esc(c)}"></i>{esc(cls)} ({n})</span>'
+                    for cls, c, n in key)
+    return f'<p class="keys">{items}</p>' if items else ""
 
 
 def run_sections(report: dict[str, Any], prefix: str = "run") -> str:
@@ -33,8 +40,9 @@ def run_sections(report: dict[str, Any], prefix: str = "run") -> str:
     return "".join([
         section("Run", run_facts(report), f"{prefix}-facts"),
         section("Workstation (3-D)", _figure_or_note(scene_figure(report), f"{prefix}-scene")
-                + '<p class="note">Drag to turn, scroll to zoom, double-click to reset; the buttons switch '
-                  'between the final and the initial state, the legend turns classes on and off.</p>',
+                + '<p class="note">Drag to turn, scroll to zoom, double-click to go back; the buttons switch '
+                  'between the final and the initial state; hover an object, the path or a failure for its '
+                  'name.</p>',
                 f"{prefix}-workstation"),
         section("Metrics", metrics_table(report), f"{prefix}-metrics"),
         section("Kit scores", kits_table(report), f"{prefix}-kits"),

@@ -1,10 +1,12 @@
-"""The 3-D view of the workstation: the objects' oriented boxes (one plotly ``Mesh3d`` per
-class and state, with their edges), the robot's tool tip path, and a marker where each
-failure happened, from a run report's ``scene``, ``path`` and ``failures``.
+"""The 3-D view of the workstation: the objects' oriented boxes (plotly ``Mesh3d``, each face
+coloured by its object's class; per state one mesh of the objects and one, faint, of the
+furniture, with their edges), the robot's tool tip path, and a marker where each failure
+happened, from a run report's ``scene``, ``path`` and ``failures``.
 
 A box is the object's ``lo``/``hi`` corners in its own frame, placed by its global pose (a
 4x4 matrix, metres). The view shows the final state; buttons switch to the initial state or
-both, and the legend turns each class on and off.
+both. A few traces, not one per class: each trace costs WebGL set-up when the page loads
+(docs/benchmarks.md, "Report pages"); the page shows the colours of the classes as a key.
 """
 
 from __future__ import annotations
@@ -28,9 +30,9 @@ _CORNERS = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 
 _TRIANGLES = np.array([[0, 1, 2], [0, 2, 3], [4, 5, 6], [4, 6, 7], [0, 1, 5], [0, 5, 4],
                        [1, 2, 6], [1, 6, 5], [2, 3, 7], [2, 7, 6], [3, 0, 4], [3, 4, 7]])
 _EDGES = np.array([[0, 1], [1, 2], [2, 3], [3, 0], [4, 5], [5, 6], [6, 7], [7, 4], [0, 4], [1, 5], [2, 6], [3, 7]])
-#: How opaque each class's boxes are (big furniture faint, so the parts show through).
-_FAINT = {"WorkTable": 0.18, "LargeContainer": 0.25, "LargeBoxWithKits": 0.25, "LargeBoxWithEmptyKitTrays": 0.25,
-          "EndEffectorChangingStation": 0.2, "MechanicalComponent": 0.2}
+#: The classes drawn faint (big furniture, so that the parts show through).
+_FAINT = frozenset({"WorkTable", "LargeContainer", "LargeBoxWithKits", "LargeBoxWithEmptyKitTrays",
+                    "EndEffectorChangingStation", "MechanicalComponent"})
 
 
 def corners(lo: Sequence[float], hi: Sequence[float], pose: Any) -> np.ndarray:
@@ -81,16 +83,19 @@ def colour(cls: str, order: list[str]) -> str:
     return PALETTE[order.index(cls) % len(PALETTE)]
 
 
-def mesh_trace(cls: str, items: list[tuple[str, np.ndarray]], state: str, col: str) -> dict[str, Any]:
-    """One Mesh3d of the boxes of class ``cls`` in ``state``."""
-    pts = np.concatenate([c for _, c in items])
+def mesh_trace(label: str, items: list[tuple[str, str, np.ndarray]], state: str, colours: dict[str, str],
+               opacity: float) -> dict[str, Any]:
+    """One Mesh3d of the boxes ``items`` ((class, name, corners)) in ``state``, each face
+    coloured by its object's class (one trace for many classes: WebGL set-up is per trace)."""
+    pts = np.concatenate([c for _, _, c in items])
     tri = np.concatenate([_TRIANGLES + 8 * n for n in range(len(items))])
-    names = [f"{esc(name)}<br>{esc(cls)} ({state})" for name, _ in items for _ in range(8)]
-    return {"type": "mesh3d", "name": f"{esc(cls)} ({len(items)})", "legendgroup": state,
+    names = [f"{esc(name)}<br>{esc(cls)} ({state})" for cls, name, _ in items for _ in range(8)]
+    faces = [colours[cls] for cls, _, _ in items for _ in range(len(_TRIANGLES))]
+    return {"type": "mesh3d", "name": f"{label} ({len(items)})", "legendgroup": state,
             "legendgrouptitle": {"text": f"{state} state"}, "x": _r(pts[:, 0]), "y": _r(pts[:, 1]),
             "z": _r(pts[:, 2]), "i": tri[:, 0].tolist(), "j": tri[:, 1].tolist(), "k": tri[:, 2].tolist(),
-            "color": col, "opacity": _FAINT.get(cls, 0.75), "flatshading": True, "hovertext": names,
-            "hoverinfo": "text", "showlegend": True}
+            "facecolor": faces, "opacity": opacity, "flatshading": True, "hovertext": names, "hoverinfo": "text",
+            "showlegend": True}
 
 
 def edge_trace(all_boxes: list[np.ndarray], state: str) -> dict[str, Any]:
@@ -198,19 +203,23 @@ def scene_figure(report: dict[str, Any]) -> dict[str, Any] | str:
     states = [s for s in ("final", "initial") if boxes(scene, s)]
     if not states:
         return "The report's scene places no object with a box, so there is nothing to draw."
-    traces, visible_in = [], []
     order: list[str] = []
-    where = {}
+    colours = {cls: colour(cls, order) for cls in sorted({c for st in states for c in boxes(scene, st)})}
+    traces, visible_in = [], []
+    where: dict[str, np.ndarray] = {}
     for state in ("initial", "final"):
         by_class = boxes(scene, state)
-        for cls in sorted(by_class):
-            traces.append(mesh_trace(cls, by_class[cls], state, colour(cls, order)))
+        items = [(cls, name, box) for cls in sorted(by_class) for name, box in by_class[cls]]
+        for label, faint in (("objects", False), ("tables, boxes, stations", True)):
+            part = [x for x in items if (x[0] in _FAINT) == faint]
+            if part:
+                traces.append(mesh_trace(label, part, state, colours, 0.2 if faint else 0.8))
+                visible_in.append(state)
+        if items:
+            traces.append(edge_trace([box for _, _, box in items], state))
             visible_in.append(state)
-            if state == "initial":
-                where.update({name: box for name, box in by_class[cls]})
-        if by_class:
-            traces.append(edge_trace([b for items in by_class.values() for _, b in items], state))
-            visible_in.append(state)
+        if state == "initial":
+            where.update({name: box for _, name, box in items})
     if not where:
         where = {name: box for items in boxes(scene, "final").values() for name, box in items}
     extra = [t for t in (path_trace(report.get("path") or [], report.get("tip_start")), failure_trace(report.get("failures") or [], where))
@@ -219,7 +228,8 @@ def scene_figure(report: dict[str, Any]) -> dict[str, Any] | str:
     for t, state in zip(traces, visible_in):
         t["visible"] = state == shown
     data = traces + extra
-    return {"data": data, "layout": _layout(states, visible_in, len(extra))}
+    key = [(cls, colours[cls], max(len(boxes(scene, st).get(cls, [])) for st in states)) for cls in colours]
+    return {"data": data, "layout": _layout(states, visible_in, len(extra)), "key": key}
 
 
 def _layout(states: list[str], visible_in: list[str], extra: int) -> dict[str, Any]:

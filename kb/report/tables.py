@@ -21,6 +21,7 @@ EXECUTION_NAMES = {
     "replans": "Plan generation (replans)",
     "contact_errors": "Contact errors",
     "violations": "Constraint violations",
+    "constraints": "Constraint violations by kind",
 }
 _SUFFIX_UNITS = {"_s": "s", "_m": "m", "_kg": "kg", "_rad": "rad"}
 
