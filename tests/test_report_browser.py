@@ -15,7 +15,6 @@ import base64
 import itertools
 import json
 import os
-import re
 import shutil
 import subprocess
 import tempfile
@@ -54,25 +53,25 @@ class Browser:
                 "--enable-unsafe-swiftshader", "--window-size=1280,900", *flags, "about:blank"]
         if os.geteuid() == 0:
             args.insert(1, "--no-sandbox")  # Chromium's sandbox refuses to run as root
-        self.proc = subprocess.Popen(args, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
-                                     stderr=subprocess.PIPE, text=True)
+        self.profile = Path(profile)
+        self.log = self.profile / "chromium.log"  # a file, not a pipe: a full pipe would stop Chromium
+        with open(self.log, "w") as log:
+            self.proc = subprocess.Popen(args, stdin=subprocess.DEVNULL, stdout=log, stderr=log)
         self.ws = websocket.create_connection(self._address(), timeout=LOAD_TIMEOUT, suppress_origin=True)
         self.ids = itertools.count(1)
         self.events: list[dict[str, Any]] = []
 
     def _address(self) -> str:
+        """The browser's DevTools address, from the DevToolsActivePort file it writes in its profile."""
         deadline = time.monotonic() + LOAD_TIMEOUT
-        seen = []
-        assert self.proc.stderr is not None
-        while time.monotonic() < deadline:
-            line = self.proc.stderr.readline()
-            if not line and self.proc.poll() is not None:
-                break
-            seen.append(line)
-            found = re.search(r"DevTools listening on (ws://\S+)", line)
-            if found:
-                return found.group(1)
-        raise RuntimeError("Chromium did not start: " + "".join(seen[-10:]))
+        port_file = self.profile / "DevToolsActivePort"
+        while time.monotonic() < deadline and self.proc.poll() is None:
+            lines = port_file.read_text().split() if port_file.exists() else []
+            if len(lines) == 2:
+                return f"ws://127.0.0.1:{lines[0]}{lines[1]}"
+            time.sleep(0.05)
+        self.proc.kill()
+        raise RuntimeError("Chromium did not start: " + self.log.read_text()[-2000:])
 
     def send(self, method: str, session: str | None = None, **params: Any) -> dict[str, Any]:
         """One DevTools command; its result (events that arrive meanwhile are kept)."""
