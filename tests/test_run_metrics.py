@@ -137,3 +137,15 @@ def test_a_run_s_programs_are_judged_one_by_one_with_the_robot_s_state_carried_o
     assert joined["CSE"] == 2
     # InitCanon sets the robot's unit: millimetres by the paper, metres for kitkb's cell
     assert session_metrics([list(text_steps(first))]).totals["TDM"] == pytest.approx(0.001)
+
+
+def test_kitkb_run_writes_the_report_as_a_page(tmp_path: Path) -> None:
+    page, report = tmp_path / "run.html", tmp_path / "run.json"
+    assert main(["run", str(SMALL / "init.ttl"), str(SMALL / "goal.ttl"), "-o", str(tmp_path / "out"), "-q",
+                 "--faults", "missed-grasp@6", "--seed", "1", "--report", str(report), "--report-html", str(page)]) == 0
+    html = page.read_text(encoding="utf-8")
+    data = json.loads(report.read_text())
+    assert html.lstrip().lower().startswith("<!doctype html") and "plotly" in html.lower()
+    assert "kit_1" in html and "missed-grasp" in html and data["kits"][0]["score"] == data["kits"][0]["max_score"]
+    assert main(["run", str(SMALL / "init.ttl"), str(SMALL / "goal.ttl"), "-o", str(tmp_path / "out"), "-q",
+                 "--report-html", str(SMALL / "init.ttl")]) == 2  # never over an input

@@ -224,6 +224,9 @@ def _add_run(sub: Any) -> None:
                         "(repeatable; default: the shipped kitting-domain.ttl)")
     p.add_argument("--report", metavar="FILE", help="write the JSON report (goal_holds, injected, failures, ...); "
                                                    "--format json prints the same report on standard output")
+    p.add_argument("--report-html", metavar="FILE",
+                   help="write the report as one self-contained HTML page (3-D view of the cell, the tool's path, "
+                        "failures, metrics, kit scores, timeline; docs/report.md)")
     p.add_argument("--cell", metavar="HOST:PORT", help="drive a cell server (kitkb sim serve) instead of the "
                                                         "in-process simulator")
     p.add_argument("--match-names", action="store_true",
@@ -407,7 +410,8 @@ def _guard(options: dict[str, Any]) -> Any:
     db = options.get("db")
     databases = [db] if isinstance(db, str) and "://" not in db else []
     return command_scope(inputs=inputs, databases=databases,
-                         outputs=[v for v in (options.get("output"), options.get("report")) if isinstance(v, str)])
+                         outputs=[v for v in (options.get("output"), options.get("report"), options.get("report_html"))
+                                  if isinstance(v, str)])
 
 
 _PARSER_ONLY = {"subcommand", "scenario_command", "generate_command", "db_command", "crcl_command",

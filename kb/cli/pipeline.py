@@ -47,7 +47,7 @@ from kb.world.lock import hold
 
 def run(files: list[str], output: str, faults: str | None, seed: int, db: str | None, report: str | None,
         cell: str | None, match_names: bool, out: Output, domain: list[str] | None = None,
-        replace: bool = False) -> int:
+        replace: bool = False, report_html: str | None = None) -> int:
     """``kitkb run [INIT GOAL]``: the closed loop on the files, or the main job on every shipped
     scenario; a line per stage and action on standard output (with ``--quiet`` only the problems
     found; with ``--format json`` the report instead, the problems on standard error)."""
@@ -59,7 +59,7 @@ def run(files: list[str], output: str, faults: str | None, seed: int, db: str | 
     options = RunOptions(faults, seed, db, cell, match_names, domain, replace)
     show = _Show(display=out.tracker, problems=_Current("stderr") if out.is_json else None,
                  on_report=(lambda data: print(json.dumps(data, indent=1), file=out.results, flush=True))
-                 if out.is_json else None)
+                 if out.is_json else None, html=report_html)
     stream: TextIO = _Discard() if out.is_json else out.stdout or _Current("stdout")  # type: ignore[assignment]
     if files:
         return run_files(stream, files[0], files[1], output, options, report, quiet=out.quiet, show=show)
@@ -98,6 +98,7 @@ class _Show:
     display: Progress = SILENT
     problems: Any = None  # a stream
     on_report: Callable[[Any], None] | None = None
+    html: str | None = None  # where the report goes as an HTML page (--report-html)
 
 
 @dataclass
@@ -176,12 +177,17 @@ def run_files(out: TextIO, init: str | Path, goal: str | Path, out_dir: str | Pa
 
 
 def _write_report(path: str | None, reports: list[dict], show: _Show | None = None) -> None:
-    """The report to ``path`` (if given) and to ``show.on_report`` (``--format json``)."""
-    if path is None and (show is None or show.on_report is None):
+    """The report to ``path`` (if given), as a page to ``show.html`` (``--report-html``) and to
+    ``show.on_report`` (``--format json``)."""
+    html = show.html if show is not None else None
+    if path is None and html is None and (show is None or show.on_report is None):
         return
     data = _report_data(reports)
     if path is not None:
         write_atomic(Path(path), json.dumps(data, indent=1) + "\n")
+    if html is not None:
+        from kb.report import run_page  # plotly only when a page is asked for
+        write_atomic(Path(html), run_page(json.loads(json.dumps(data))))
     if show is not None and show.on_report is not None:
         show.on_report(data)
 
