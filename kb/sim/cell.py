@@ -6,14 +6,14 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal, Sequence
 
-import numpy as np
 
 from kb.core.namespaces import KTW, local_name
 from kb.crcl import Command, EndCanon
 from kb.crcl.cell import Observation, Status
 from kb.sim.faults import FaultSpec, Injected, Injector
+from kb.sim.noise import SensorNoise
 from kb.sim.robot import VIOLATION_KINDS, Robot
-from kb.sim.sensor import _rpy_many, most_specific, observe
+from kb.sim.sensor import Sensor, observe
 from kb.sim.world import KIT_TRAY, SKU, World
 from kb.spatial.scene import Scene, class_ancestors
 
@@ -44,9 +44,11 @@ class SimulatedCell:
     """A :class:`~kb.crcl.cell.CellInterface` on a simulated ground truth.
 
     ``init``: a state file (its scene is ``Scene.from_files([init], declared)``) or a scene;
-    ``faults``: what goes wrong (:class:`FaultSpec`); ``noise``: (position sigma in metres,
-    orientation sigma in radians) of the sensor; ``seed``: of the sensor noise generator (the
-    faults have their own seed in their spec).
+    ``faults``: what goes wrong (:class:`FaultSpec`); ``noise``: the sensor's
+    :class:`~kb.sim.noise.SensorNoise` (or a (position sigma in metres, orientation sigma in
+    radians) pair); ``seed``: of the sensor noise generators (the faults have their own seed in
+    their spec). ``sensor`` (:class:`~kb.sim.sensor.Sensor`) keeps what the sensor did wrong
+    (``sensor.errors``: misdetections, misclassifications), ground truth like ``injected``.
 
     ``violations`` lists the constraints the robot broke (:class:`Violation`: an overweight
     grasp, a move out of the work volume, a grasp with an effector the object's SKU does not
@@ -59,17 +61,19 @@ class SimulatedCell:
     """
 
     def __init__(self, init: str | Path | Scene, faults: FaultSpec | None = None,
-                 noise: tuple[float, float] = (0.0, 0.0), seed: int = 0,
+                 noise: SensorNoise | tuple[float, float] = (0.0, 0.0), seed: int = 0,
                  declared: Sequence[str | Path] = ()) -> None:
         scene = init if isinstance(init, Scene) else Scene.from_files([init], declared)
         self.world = World.from_scene(scene)
         self.robot = Robot(self.world, on_violation=self._violated)
         self.violations: list[Violation] = []
         self.commands = 0  # commands executed so far
-        self.noise = (float(noise[0]), float(noise[1]))
-        if min(self.noise) < 0:
-            raise ValueError(f"noise sigmas must be >= 0, not {noise}")
-        self.rng = np.random.default_rng(seed)
+        try:
+            self.sensor = Sensor(SensorNoise.of(noise), seed)
+        except ValueError as exc:
+            raise ValueError(f"sensor noise: {exc}") from None
+        self.noise = (self.sensor.noise.position, self.sensor.noise.orientation)
+        self.rng = self.sensor.rng  # the pose noise's generator
         self.injected: list[Injected] = []
         self.faults = Injector(faults or FaultSpec(), self.world, self.robot, self.injected.append)
         self.action: tuple[int, str, tuple[str, ...]] | None = None
@@ -98,7 +102,7 @@ class SimulatedCell:
 
     def sense(self, query: str, *, by: Literal["class", "name"] = "class") -> list[Observation]:
         """Placed objects of a class (local name or IRI) or of a name, with the cell's sensor noise."""
-        return observe(self.world, query, by, self.time, self.noise, self.rng)
+        return observe(self.world, query, by, self.time, sensor=self.sensor)
 
     def sense_names(self, names: Sequence[str]) -> list[Observation]:
         """The placed objects among ``names`` (IRIs), in the order asked: what one
@@ -108,20 +112,18 @@ class SimulatedCell:
         chosen = [i for i in (w.index.get(n) for n in names) if i is not None and w.placed(i)]
         if not chosen:
             return []
-        skus = self._skus()
-        sp, so = self.noise
-        out = []
-        locs, oris = w.poses[chosen, :3, 3].astype(float), _rpy_many(w.poses[chosen])  # as observe does
-        for i, loc, ori in zip(chosen, locs, oris):
-            if sp:
-                loc = loc + self.rng.normal(0.0, sp, 3)
-            if so:
-                ori = ori + self.rng.normal(0.0, so, 3)
-            sku = skus.get(w.names[i]) or (self._kit_skus().get(w.names[i]) if w.is_a(i, "Kit") else None)
-            out.append(Observation(w.names[i], most_specific(w.classes[i]), float(self.time),
-                                   tuple(loc.tolist()), tuple(ori.tolist()),  # type: ignore[arg-type]
-                                   local_name(sku) if sku else None))
-        return out
+        skus, kits = self._skus(), None
+        names = w.names
+
+        def sku_of(i: int) -> str | None:
+            nonlocal kits
+            if names[i] in skus:
+                return skus[names[i]]
+            if not w.is_a(i, "Kit"):
+                return None
+            kits = kits if kits is not None else self._kit_skus()
+            return kits.get(names[i])
+        return self.sensor.report(w, chosen, self.time, sku_of)
 
     def _skus(self) -> dict[str, str]:
         """Each object's SKU as :func:`kb.sim.sensor.observe` reports it (its least), kept while
@@ -164,6 +166,7 @@ class SimulatedCell:
     def begin_action(self, index: int, action: str, args: tuple[str, ...]) -> None:
         """Plan action ``index`` starts: faults are chosen and applied or armed; create-kit is done."""
         self.action = (index, action, tuple(args))
+        self.sensor.action = index
         self._pending_kit = (args[0], args[1]) if action == "create-kit" and len(args) >= 2 else None
         self.faults.begin_action(index, action, tuple(args))
 

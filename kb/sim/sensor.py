@@ -7,9 +7,13 @@ matching object::
 
 (Name, Class: the most specific class, Time: simulated seconds, Location: global x,y,z,
 Rotation: global roll,pitch,yaw). :func:`observe` answers a query from a
-:class:`~kb.sim.world.World`, with optional Gaussian noise drawn from the cell's seeded
-generator, and the SKU it recognises (``{Sku sku_part_a}``: the local name of the object's
-``hasSkuObject_Sku``, a kit's tray's), so a part of the wrong SKU shows.
+:class:`~kb.sim.world.World`, with the SKU it recognises (``{Sku sku_part_a}``: the local name
+of the object's ``hasSkuObject_Sku``, a kit's tray's), so a part of the wrong SKU shows; a
+:class:`Sensor` adds the errors of a :class:`~kb.sim.noise.SensorNoise` (Gaussian position and
+orientation noise from the cell's seeded generator, a per-object bias, objects not reported,
+objects reported with another SKU) and keeps a :class:`SensorError` for each object it did not
+report or misclassified, as the faults keep an ``Injected``: ground truth, for scoring. The
+ground truth itself never changes.
 :func:`truth_line` / :func:`parse_truth_line`, the text form (numbers written with ``repr``, so
 a line reads back to the same floats), are the cell contract's (:mod:`kb.crcl.cell`).
 """
@@ -17,17 +21,23 @@ a line reads back to the same floats), are the cell contract's (:mod:`kb.crcl.ce
 from __future__ import annotations
 
 import math
+import zlib
+from dataclasses import dataclass
 from functools import lru_cache
-from typing import Literal
+from typing import Any, Callable, Literal, Sequence
 
 import numpy as np
 
 from kb.core.namespaces import KTW, local_name
 from kb.crcl.cell import Observation, parse_truth_line, truth_line
+from kb.sim.noise import SensorNoise
 from kb.sim.world import SKU, World
 from kb.spatial.scene import class_ancestors
 
-__all__ = ["matches", "most_specific", "observe", "parse_truth_line", "rpy", "truth_line"]
+__all__ = ["Sensor", "SensorError", "matches", "most_specific", "observe", "parse_truth_line", "rpy", "truth_line"]
+
+#: what a sensor can do wrong besides the pose noise, as its errors are recorded
+SENSOR_ERROR_KINDS: tuple[str, ...] = ("misdetection", "misclassification")
 
 
 @lru_cache(maxsize=None)
@@ -64,14 +74,14 @@ def matches(world: World, i: int, query: str, by: Literal["class", "name"]) -> b
 
 
 def observe(world: World, query: str, by: Literal["class", "name"], time: float,
-            noise: tuple[float, float] = (0.0, 0.0), rng: np.random.Generator | None = None) -> list[Observation]:
+            noise: "tuple[float, float] | SensorNoise" = (0.0, 0.0), rng: np.random.Generator | None = None,
+            sensor: "Sensor | None" = None) -> list[Observation]:
     """Observations of the placed objects answering ``query``, in name order.
 
     ``noise``: (position sigma in metres, orientation sigma in radians) of Gaussian noise added
-    to each coordinate, drawn from ``rng``; none is drawn when both are 0.
+    to each coordinate, drawn from ``rng``; none is drawn when both are 0. A ``sensor`` brings
+    its own noise and generators instead (:meth:`Sensor.report`).
     """
-    out = []
-    sp, so = noise
     skus: dict[str, str] = {}  # name -> its SKU, as World.sku gives it (one pass, not one per object)
     for s, o in world.facts.get(SKU, ()):
         if s not in skus or o < skus[s]:
@@ -80,19 +90,104 @@ def observe(world: World, query: str, by: Literal["class", "name"], time: float,
     chosen = [i for i in sorted(range(len(world)), key=lambda k: world.names[k])
               if placed[i] and matches(world, i, query, by)]
     if not chosen:
+        return []
+    if sensor is None:
+        sensor = Sensor(SensorNoise.of(noise), rng=rng)
+    return sensor.report(world, chosen, time, lambda i: skus.get(world.names[i]) or
+                         (world.sku(i) if world.is_a(i, "Kit") else None))
+
+
+@dataclass(frozen=True)
+class SensorError:
+    """What the sensor got wrong in one look (ground truth, like :class:`~kb.sim.faults.Injected`):
+    ``kind`` (misdetection: the object was not reported; misclassification: it was reported
+    with another SKU), ``action_index`` (the plan action announced last, None before any),
+    ``objects`` (its IRI), ``detail`` and the cell's ``time``."""
+
+    kind: str
+    action_index: int | None
+    objects: tuple[str, ...]
+    detail: str
+    time: float
+
+    def as_dict(self) -> dict[str, Any]:
+        """The error as JSON data (objects by local name)."""
+        return {"kind": self.kind, "action_index": self.action_index,
+                "objects": [local_name(o) for o in self.objects], "detail": self.detail, "time": self.time}
+
+
+class Sensor:
+    """The simulated pose sensor: a :class:`~kb.sim.noise.SensorNoise` and its seeded
+    generators. ``rng`` draws the position and orientation noise per look (the cell's
+    generator, seeded by the cell's seed); the misdetections and misclassifications come from a
+    generator of their own (seed, 1), and each object's bias from one seeded by the seed and its
+    name, drawn once: changing one rate leaves the other draws as they were. ``errors`` lists
+    what it did wrong; ``action`` is the plan action its errors are recorded under."""
+
+    def __init__(self, noise: SensorNoise | None = None, seed: int = 0, rng: np.random.Generator | None = None) -> None:
+        self.noise = noise or SensorNoise()
+        self.seed = seed
+        self.rng = rng if rng is not None else np.random.default_rng(seed)
+        self._detect = np.random.default_rng([seed, 1])
+        self._bias: dict[str, np.ndarray] = {}
+        self.errors: list[SensorError] = []
+        self.action: int | None = None
+
+    def report(self, world: World, chosen: Sequence[int], time: float,
+               sku_of: Callable[[int], str | None]) -> list[Observation]:
+        """The observations of objects ``chosen`` (indices, placed), in that order, with the
+        sensor's errors: pose noise drawn for every object in order (location then orientation,
+        as ever), then each object missed or misclassified at its rate."""
+        n = self.noise
+        sp, so = n.position, n.orientation
+        locs = world.poses[list(chosen), :3, 3].astype(float)
+        oris = _rpy_many(world.poses[list(chosen)])
+        out = []
+        for k, i in enumerate(chosen):
+            loc, ori = locs[k], oris[k]
+            if sp:
+                loc = loc + self.rng.normal(0.0, sp, 3)
+            if so:
+                ori = ori + self.rng.normal(0.0, so, 3)
+            if n.bias:
+                loc = loc + self.bias(world.names[i])
+            name = world.names[i]
+            if n.misdetection and self._detect.random() < n.misdetection:
+                self.errors.append(SensorError("misdetection", self.action, (name,),
+                                               f"{local_name(name)} was not reported", float(time)))
+                continue
+            sku = sku_of(i)
+            if n.misclassification and sku and self._detect.random() < n.misclassification:
+                other = self._other_sku(world, i, sku, sku_of)
+                if other is not None:
+                    self.errors.append(SensorError("misclassification", self.action, (name,),
+                                                   f"{local_name(name)} reported as {local_name(other)}, not "
+                                                   f"{local_name(sku)}", float(time)))
+                    sku = other
+            out.append(Observation(name, most_specific(world.classes[i]), float(time),
+                                   tuple(loc.tolist()), tuple(ori.tolist()),  # type: ignore[arg-type]
+                                   local_name(sku) if sku else None))
         return out
-    locs = world.poses[chosen, :3, 3].astype(float)
-    oris = _rpy_many(world.poses[chosen])
-    for k, i in enumerate(chosen):
-        loc, ori = locs[k], oris[k]
-        if (sp or so) and rng is not None:
-            loc = loc + rng.normal(0.0, sp, 3) if sp else loc
-            ori = ori + rng.normal(0.0, so, 3) if so else ori
-        sku = skus.get(world.names[i]) or (world.sku(i) if world.is_a(i, "Kit") else None)
-        out.append(Observation(world.names[i], most_specific(world.classes[i]), float(time),
-                               tuple(loc.tolist()), tuple(ori.tolist()),  # type: ignore[arg-type]
-                               local_name(sku) if sku else None))
-    return out
+
+    def bias(self, name: str) -> np.ndarray:
+        """The object's location offset (m), drawn once from its own seeded generator."""
+        b = self._bias.get(name)
+        if b is None:
+            rng = np.random.default_rng([self.seed, 2, zlib.crc32(name.encode("utf-8"))])
+            b = self._bias[name] = rng.normal(0.0, self.noise.bias, 3)
+        return b
+
+    def _other_sku(self, world: World, i: int, sku: str, sku_of: Callable[[int], str | None]) -> str | None:
+        """Another SKU of the cell's objects of ``i``'s kind (its most specific class), drawn
+        uniformly; None when there is none (kits are never misclassified: a kit's SKU is its tray's)."""
+        cls = most_specific(world.classes[i])
+        if cls == "Kit":
+            return None
+        others = sorted({s for j in range(len(world)) if most_specific(world.classes[j]) == cls
+                         for s in (sku_of(j),) if s and s != sku})
+        if not others:
+            return None
+        return others[int(self._detect.integers(len(others)))]
 
 
 def _rpy_many(m: np.ndarray) -> np.ndarray:
