@@ -17,9 +17,11 @@ and, with a goal state, the object metrics (:class:`ObjectMetrics`).
 Object metrics (:func:`object_metrics`), decided by the ontology's predicates on three scenes
 — the initial state, the goal state's own geometry, the cell's ground truth at the end:
 
-* the *objects*: placed solids of the initial or final scene but the robot; an object that
-  lends its box to a stand-in (a kit's tray, a large box's container) counts as that stand-in
-  (the kit), which is where its lender is when it has no pose of its own;
+* the *objects*: the objects of the task placed in the initial or final scene — SKU objects
+  (parts, trays, boxes), not the cell's equipment (the robot, effectors, holders, tables: a
+  plan may well end with an effector on the robot); an object that lends its box to a
+  stand-in (a kit's tray, a large box's container) counts as that stand-in (the kit), which
+  is where its lender is when it has no pose of its own;
 * an object's *goal facts*: the atoms of the domain's two-argument spatial predicates (a
   definition with a relation atom: part-location-kit, kit-location-lbwk,
   endeffector-location-endeffectorholder ...) that hold in the goal state with the object as
@@ -358,18 +360,21 @@ def _goal_facts(goal: Scene, initial: Scene, defs: Definitions, tolerance: float
 
 
 def _objects(initial: Scene, final: Scene) -> list[str]:
-    """Placed solids of either scene but robots; a lender of its box to a stand-in counts as
-    that stand-in."""
-    lenders = set()
+    """The objects of the task, placed in either scene: SKU objects (parts, trays, boxes) and
+    the stand-ins that lend an SKU object's box (a kit), which count for their lender; not the
+    cell's equipment (robots, effectors, holders, tables)."""
+    lenders: dict[str, str] = {}
     for scene in (initial, final):
         for prop in STAND_INS.values():
-            lenders.update(o for s, o in scene.facts.get(str(prop), ()) if s in scene.index or s in final.index)
+            lenders.update({o: s for s, o in scene.facts.get(str(prop), ())})
     out = set()
     for scene in (initial, final):
         for i, n in enumerate(scene.names):
-            cls = scene.classes[i]
-            if scene.placed[i] and _SOLID in cls and _ROBOT not in cls and n not in lenders:
-                out.add(n)
+            if not scene.placed[i] or _SOLID not in scene.classes[i] or _ROBOT in scene.classes[i]:
+                continue
+            if _sku(initial, n) is None and _sku(final, n) is None:
+                continue
+            out.add(lenders.get(n, n))  # a kit tray is its kit
     return sorted(out)
 
 
