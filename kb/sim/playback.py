@@ -58,7 +58,7 @@ from kb.core.errors import InputError
 from kb.core.namespaces import KTW, local_name
 from kb.crcl.cell import Status
 from kb.crcl.wire import parse_action
-from kb.metrics.score import CONSTRAINT_METRICS, OBJECT_METRICS
+from kb.metrics.score import CONSTRAINT_METRICS, CONSTRAINT_OF_KIND
 from kb.model.definitions import Definitions, Relation, load_definitions
 from kb.sim.cell import SimulatedCell, Violation
 from kb.spatial.predicates import Evaluator
@@ -67,8 +67,6 @@ from kb.spatial.scene import STAND_INS, Scene
 
 __all__ = ["ObjectMetrics", "Playback", "commands_of", "object_metrics", "play"]
 
-#: violation kind -> its metric
-KIND_METRIC = {"overweight": "OVW", "work-volume": "WVE", "wrong-effector": "WEE", "contact": "CTE"}
 _SKU = str(KTW.hasSkuObject_Sku)
 _PART = str(KTW.Part)
 _SOLID = str(KTW.SolidObject)
@@ -122,7 +120,7 @@ class Playback:
     def totals(self) -> dict[str, int | None]:
         """The object and constraint metrics (:data:`~kb.metrics.score.OBJECT_METRICS`,
         :data:`~kb.metrics.score.CONSTRAINT_METRICS`; object metrics None without a goal)."""
-        kinds = Counter(KIND_METRIC[v.kind] for v in self.violations)
+        kinds = Counter(CONSTRAINT_OF_KIND[v.kind] for v in self.violations)
         return {**self.objects.counts(), **{m: kinds.get(m, 0) for m in CONSTRAINT_METRICS}}
 
     def rows(self) -> list[dict[str, Any]]:
@@ -136,7 +134,7 @@ class Playback:
         for i, status in enumerate(self.statuses):
             here = by_command.get(i, [])
             for v in here:
-                running[KIND_METRIC[v.kind]] += 1
+                running[CONSTRAINT_OF_KIND[v.kind]] += 1
             notes = [f"{v.kind}: {v.detail}" for v in here]
             if status is not None and not status.done:
                 notes.append(f"cell: {status.message}")
