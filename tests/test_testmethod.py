@@ -284,7 +284,8 @@ def test_errors_recovers_from_a_dropped_and_a_defective_part(tmp_path, capsys, c
 
 
 @pytest.mark.parametrize("args, message", [
-    (["basic", "--trials", "0"], "--trials must be at least 1"),
+    (["basic", "--trials", "0"], "--trials must be from 1 to"),
+    (["basic", "--trials", "2000000"], "--trials must be from 1 to"),
     (["basic", "--parts", "1"], "two or more parts"),
     (["basic", "--parts", "x"], "--parts takes whole numbers"),
     (["basic", "--parts", "3,4"], "give one number"),
@@ -311,4 +312,6 @@ def test_another_campaign_in_the_folder_is_refused(two_workers, tmp_path, capsys
     assert code == 2 and "give another --out" in err and err.count("\n") == 1, err
     assert (folder / "campaign.json").read_bytes() == before
     (tmp_path / "file").write_text("x")
-    assert main(["testmethod", "basic", "--out", str(tmp_path / "file")]) == 2
+    for out in (tmp_path / "file", tmp_path / "file" / "campaign"):
+        assert main(["testmethod", "basic", "--out", str(out)]) == 2
+        assert capsys.readouterr().err.count("\n") == 1

@@ -27,7 +27,7 @@ import logging
 import os
 import time
 import uuid
-from contextlib import contextmanager
+from contextlib import contextmanager, nullcontext
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Iterator
@@ -101,6 +101,17 @@ def done_rows(options: Options, out_dir: Path) -> dict[int, dict[str, Any]]:
     return rows
 
 
+def _check_folder(out_dir: Path) -> None:
+    """An InputError, before any work, for a campaign folder that cannot be made or written."""
+    place = out_dir
+    while not place.exists() and place != place.parent:
+        place = place.parent
+    if not place.is_dir():
+        raise InputError(f"{place} is a file: the campaign folder cannot be made under it", file=out_dir)
+    if not os.access(place, os.W_OK | os.X_OK):
+        raise InputError(f"{place} is not writable: the campaign folder cannot be made there", file=out_dir)
+
+
 def _read_row(path: Path) -> dict[str, Any] | None:
     try:
         data = json.loads(path.read_text(encoding="utf-8"))
@@ -119,14 +130,18 @@ def run_campaign(options: Options, out_dir: str | Path, *, workers: int | None =
     if workers is not None and workers < 1:
         raise InputError(f"--workers must be at least 1 (got {workers})")
     rows = done_rows(options, out_dir)
+    _check_folder(out_dir)
     todo = [i for i in range(options.trials) if i not in rows]
-    (out_dir / TRIALS).mkdir(parents=True, exist_ok=True)
-    write_atomic(out_dir / CAMPAIGN_FILE, json.dumps(header(options), indent=1) + "\n")
     t = time.perf_counter()
     lost: list[int] = []
     n_workers = 0
-    if todo:
-        with _client(workers, scheduler, client) as client:
+    with _client(workers, scheduler, client) if todo else nullcontext() as client:
+        try:
+            (out_dir / TRIALS).mkdir(parents=True, exist_ok=True)  # once the scheduler answered
+        except OSError as e:
+            raise InputError(f"cannot make the campaign folder: {e.strerror}", file=out_dir) from None
+        write_atomic(out_dir / CAMPAIGN_FILE, json.dumps(header(options), indent=1) + "\n")
+        if todo:
             n_workers = len(client.scheduler_info().get("workers", {})) or (workers or 0)
             with progress.task(f"{options.method}: trials on {n_workers} Dask worker(s)", total=len(todo),
                                unit="trials") as task:

@@ -35,6 +35,8 @@ DEFAULT_FAULTS = "dropped-part=0.1,defective-part=0.1,missed-grasp=0.05,part-mov
 SPARE = {"basic": 1, "new-variety": 1, "multi": 1, "errors": 3}
 DEFAULT_PARTS = {"basic": (10,), "new-variety": (10,), "multi": (4, 6), "errors": (10,)}
 DEFAULT_KITS = 3
+#: trials of one campaign at most (each is a Dask task and a file)
+MAX_TRIALS = 1_000_000
 
 
 @dataclass(frozen=True)
@@ -58,8 +60,8 @@ class Options:
         self._check()
 
     def _check(self) -> None:
-        if self.trials < 1:
-            raise InputError(f"--trials must be at least 1 (got {self.trials})")
+        if not 1 <= self.trials <= MAX_TRIALS:
+            raise InputError(f"--trials must be from 1 to {MAX_TRIALS:,} (got {self.trials:,})")
         for n in self.parts:
             if n < 2:
                 raise InputError(f"--parts: a kit holds two or more parts (got {n})")

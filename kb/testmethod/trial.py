@@ -19,6 +19,7 @@ receipt to the first CRCL command the cell gets is the trial's ``receipt_to_firs
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import tempfile
 import time
 from dataclasses import dataclass
@@ -75,18 +76,17 @@ def knowledge() -> tuple[Definitions, FailureModel]:
     return load_definitions(None), load_failure_model(None)
 
 
-@lru_cache(maxsize=1)
-def _folder() -> Path:
-    """This process's folder for nominal state files (removed when the process ends)."""
-    holder = tempfile.TemporaryDirectory(prefix="kitkb-testmethod-")
-    _folder.holder = holder  # type: ignore[attr-defined]  # kept alive with the cache
-    return Path(holder.name)
+#: this process's folder for the nominal state files it writes (removed when the process ends)
+_FOLDER: list[tempfile.TemporaryDirectory] = []
+_DESIGNS = itertools.count(1)
 
 
 @lru_cache(maxsize=KEEP)
 def prepared(spec: ScenarioSpec) -> Prepared:
     """:func:`prepare` once per design and process."""
-    return prepare(spec, _folder() / f"design-{len(list(_folder().iterdir()))}")
+    if not _FOLDER:
+        _FOLDER.append(tempfile.TemporaryDirectory(prefix="kitkb-testmethod-"))
+    return prepare(spec, Path(_FOLDER[0].name) / f"design-{next(_DESIGNS)}")
 
 
 def prepare(spec: ScenarioSpec, folder: Path) -> Prepared:
