@@ -11,8 +11,8 @@ noise and USARTruth's text form (:mod:`.sensor`), and seeded fault injection (:m
 USARTruth-style sensor lines, CRCL XML programs), for :class:`kb.crcl.RemoteCell`.
 The robot notices constraint violations (overweight grasps, moves out of its work volume,
 wrong effectors, contacts along every move: :class:`Violation`, ``SimulatedCell.violations``),
-and :mod:`.playback` plays a CRCL program on a cell of a state and decides the first paper's
-object and constraint metrics (:func:`play`, :func:`object_metrics`).
+and :mod:`kb.sim.playback` (imported on use) plays a CRCL program on a cell of a state and
+decides the first paper's object and constraint metrics (``play``, ``object_metrics``).
 """
 
 from kb.sim.cell import SimulatedCell, Violation

@@ -6,7 +6,9 @@
 * :mod:`.scene`: the objects of a state (file or simulator), their classes, model facts and
   world boxes;
 * :mod:`.predicates`: the SOAP predicates and functions evaluated on a scene from their Turtle
-  definitions (:mod:`kb.model.definitions`).
+  definitions (:mod:`kb.model.definitions`);
+* :mod:`.sweep`: continuous contact: the solids oriented boxes pass through as they move along
+  a path (:func:`sweep_contacts`; open containers as floor and walls).
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ from kb.model.definitions import load_definitions
 from kb.spatial.predicates import Evaluator
 from kb.spatial.rcc8 import DEFAULT_TOLERANCE
 from kb.spatial.scene import Scene
+from kb.spatial.sweep import sweep_contacts
 
 
 def true_predicates(state: Sequence[str | Path], goal: str | Path | None = None, match_names: bool = False,
@@ -34,4 +37,4 @@ def true_predicates(state: Sequence[str | Path], goal: str | Path | None = None,
     return ev.facts(names)
 
 
-__all__ = ["DEFAULT_TOLERANCE", "Evaluator", "Scene", "true_predicates"]
+__all__ = ["DEFAULT_TOLERANCE", "Evaluator", "Scene", "sweep_contacts", "true_predicates"]
