@@ -44,6 +44,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import datetime as dt
+import importlib.util
 import json
 import logging
 import multiprocessing as mp
@@ -77,22 +78,13 @@ SECTION = "Execution and failure recovery"
 RESULTS = ROOT / "benchmarks" / "results" / "execution.json"
 KITKB = ROOT / ".venv" / "bin" / "kitkb"
 
-#: Ground truth: the failure modes a fault of each kind may be diagnosed as (from the issue).
-#: part-moved and kit-tray-moved need no diagnosis while late binding finds the object where
-#: it now is; a failure they cause must name one of these.
-ALLOWED: dict[str, frozenset[str]] = {
-    "missed-grasp": frozenset({"missed-grasp"}),
-    "dropped-part": frozenset({"dropped-part", "dropped-part-in-transit"}),
-    "part-missing": frozenset({"part-missing-from-tray", "parts-tray-empty"}),
-    "wrong-sku": frozenset({"wrong-sku"}),
-    "defective-part": frozenset({"defective-part"}),
-    "part-moved": frozenset({"part-missing-from-tray", "kit-not-on-worktable", "kittray-not-on-worktable"}),
-    "kit-tray-moved": frozenset({"part-missing-from-tray", "kit-not-on-worktable", "kittray-not-on-worktable"}),
-}
-#: kinds whose every injection must be detected (the others may be absorbed by late binding)
-MUST_DETECT = frozenset({"missed-grasp", "dropped-part", "part-missing", "wrong-sku", "defective-part"})
-#: failure modes after which the part is rejected: never put into a kit
-REJECTING = frozenset({"defective-part", "wrong-sku"})
+#: Ground truth and the scoring of a run's report: kb.execution.quality of this checkout (bench_noise.py
+#: scores with it too; bench_campaign.py imports ``score`` from here), read from its file so that a
+#: --baseline tree without it still runs.
+_spec = importlib.util.spec_from_file_location("kitkb_quality", ROOT / "kb" / "execution" / "quality.py")
+_quality = sys.modules["kitkb_quality"] = importlib.util.module_from_spec(_spec)  # type: ignore[arg-type]
+_spec.loader.exec_module(_quality)  # type: ignore[union-attr]
+ALLOWED, MUST_DETECT, REJECTING, score = _quality.ALLOWED, _quality.MUST_DETECT, _quality.REJECTING, _quality.score
 
 
 # --- machine --------------------------------------------------------------------------------------
@@ -278,30 +270,6 @@ def private_cwd() -> None:
 
 
 # --- scoring ----------------------------------------------------------------------------------------
-
-def score(rep: dict) -> dict:
-    """Match every failure of a run's report to an injected fault (an object named in both, and
-    the failure at or after the injection: the latest such injection) and judge its mode."""
-    injected = rep.get("injected", [])
-    matched_to: list[int | None] = []
-    verdicts = []
-    for f in rep.get("failures", []):
-        objs = set(f["objects"])
-        cands = [j for j, x in enumerate(injected) if objs & set(x["objects"]) and f["action_index"] >= x["action_index"]]
-        j = max(cands, key=lambda j: (injected[j]["action_index"], j)) if cands else None
-        matched_to.append(j)
-        if j is None:
-            verdicts.append("unmatched")
-        else:
-            verdicts.append("correct" if f["mode"] in ALLOWED[injected[j]["kind"]] else "wrong")
-    detected = [any(m == j for m in matched_to) for j in range(len(injected))]
-    # a fault on a part the run had already rejected (found defective or of the wrong SKU) needs
-    # no detection: the executor never takes that part again (it rebinds without a new check)
-    rejected = [(f["action_index"], o) for f in rep.get("failures", []) if f["mode"] in REJECTING
-                for o in f["objects"][:1]]
-    moot = [any(i < x["action_index"] and o == x["objects"][0] for i, o in rejected) for x in injected]
-    return {"verdicts": verdicts, "matched_to": matched_to, "detected": detected, "moot": moot}
-
 
 def stop_reason(text: str | None) -> str | None:
     if not text:

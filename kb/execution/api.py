@@ -122,7 +122,8 @@ def run_plan(plan: Sequence[str], init: str | Path, goal: str | Path, *, cell: C
              replace: bool = False, store: Any = None,
              progress: Callable[[str], None] | None = None, notifier: Callable[[str, str], None] = log_notifier,
              planner: str | None = None, domain_files: Sequence[str | Path] | None = None,
-             name: str | None = None, truth: str | Path | None = None, plan_time: float | None = None) -> Run:
+             name: str | None = None, truth: str | Path | None = None, plan_time: float | None = None,
+             sensor_noise: Any = None) -> Run:
     """Carry out ``plan`` (PDDL action lines) from the state ``init`` towards ``goal``.
 
     ``cell``: any :class:`~kb.crcl.cell.CellInterface` (a real cell, :class:`kb.crcl.RemoteCell`);
@@ -135,17 +136,23 @@ def run_plan(plan: Sequence[str], init: str | Path, goal: str | Path, *, cell: C
     paper's "the actual location of the kit tray and parts supplies will not be known before
     runtime"); the executor starts from ``init``, the nominal layout, and finds the objects by
     sensing. ``plan_time``: the seconds the plan took to make (a metric of the run).
+    ``sensor_noise``: the sensor's accuracy (a :class:`kb.sim.SensorNoise` or its text,
+    ``"position=1mm,orientation=0.5deg,misdetection=0.01"``), over the sensor individual of
+    ``init`` (:meth:`SensorNoise.from_scene <kb.sim.noise.SensorNoise.from_scene>`): the
+    simulated cell's sensor has it, and the executor verifies with it (docs/execution.md,
+    "Sensing with noise"); with another ``cell``, what the executor assumes of its sensor.
     """
     from kb.planning.model import read_specs
     domain, spec = read_specs([init], [goal], encoding="numeric", domain_files=domain_files,
                               match_names=match_names)
     scene = Scene.from_files([init], declared=[goal], match_names=match_names)
+    accuracy = _accuracy(scene, sensor_noise)
     sim = None
     if cell is None:
         from kb.sim import FaultSpec, SimulatedCell  # imported only when no cell is given
         spec_f = FaultSpec.parse(faults, seed=seed) if isinstance(faults, str) else faults
         sim = SimulatedCell(Scene.from_files([truth or init], declared=[goal], match_names=match_names),
-                            faults=spec_f, seed=seed)
+                            faults=spec_f, seed=seed, **({"noise": accuracy} if accuracy is not None else {}))
         cell = sim
     own_store = None
     if db is not None and store is None:
@@ -155,7 +162,7 @@ def run_plan(plan: Sequence[str], init: str | Path, goal: str | Path, *, cell: C
     record = RunRecord(name or Path(init).parent.name, seed, plan_time=plan_time)
     executor = Executor(cell, domain, spec, load_definitions(domain_files), load_failure_model(domain_files),
                         Belief(scene), store=store, notifier=notifier, progress=progress, planner=planner,
-                        record=record)
+                        record=record, accuracy=accuracy)
     if store is not None:
         store.begin_run(record, init, goal)
     try:
@@ -171,6 +178,9 @@ def run_plan(plan: Sequence[str], init: str | Path, goal: str | Path, *, cell: C
     if injected is not None:
         record.injected = [{"kind": x.kind, "action_index": x.action_index, "objects": [local(o) for o in x.objects],
                             "detail": x.detail} for x in injected]
+    sensor = getattr(sim if sim is not None else cell, "sensor", None)  # what a simulated sensor did wrong
+    if accuracy is not None and not accuracy.zero and sensor is not None:
+        record.sensor_errors = [e.as_dict() for e in sensor.errors]
     violations = getattr(sim if sim is not None else cell, "violations", None)  # the same, of constraints
     if violations is not None:
         record.violations = [_as_data(v) for v in violations]
@@ -179,6 +189,22 @@ def run_plan(plan: Sequence[str], init: str | Path, goal: str | Path, *, cell: C
     if own_store is not None:
         own_store.close()
     return Run(record)
+
+
+def _accuracy(scene: Scene, sensor_noise: Any) -> Any:
+    """The sensor's accuracy: ``sensor_noise`` (a SensorNoise or its text) over the state's
+    sensor individual; None when neither is given (kb.sim imported only then)."""
+    from kb.sim.noise import SENSOR_OF, SensorNoise
+    if sensor_noise is None and SENSOR_OF not in scene.facts and not any(
+            "PoseSensor" in str(c) for cs in scene.classes for c in cs):
+        return None
+    base = SensorNoise.from_scene(scene)
+    if isinstance(sensor_noise, str):
+        try:
+            return SensorNoise.parse(sensor_noise, base)
+        except ValueError as exc:
+            raise InputError(f"sensor noise: {exc}") from None
+    return sensor_noise if sensor_noise is not None else base
 
 
 def _as_data(record: Any) -> dict[str, Any]:

@@ -14,7 +14,8 @@ predicates are evaluated on.
 from __future__ import annotations
 
 import copy
-from typing import Iterable
+import math
+from typing import Any, Iterable
 
 import numpy as np
 
@@ -23,6 +24,9 @@ from kb.crcl.cell import Observation
 from kb.spatial.scene import Scene, scene_boxes
 
 SKU_OF, KIT_TRAY = str(KTW.hasSkuObject_Sku), str(KTW.hasKit_KitTray)
+#: a look within this many sigmas of the belief is of the same pose (per coordinate, per angle)
+GATE = 5.0
+_LEVEL = 1e-9  # roll and pitch below this: level
 
 
 class Belief:
@@ -50,6 +54,21 @@ class Belief:
         self._scene: Scene | None = None
         self._boxes: tuple[np.ndarray, np.ndarray] | None = None
         self._stale: set[int] = set()  # objects whose world box changed since _boxes was made
+        #: the sensor's accuracy the belief filters with (None: an exact sensor, every look taken as it is)
+        self.noise: Any = None
+        #: looks of each object averaged into its pose since it last moved (with noise)
+        self.looks = np.zeros(len(self.names), np.int64)
+        #: object -> the SKU (local name) a look reported instead of the believed one, to confirm
+        self.claims: dict[str, str] = {}
+        self.last_moved: list[str] = []  # the objects the last observe found moved (outside the gate)
+        self._confirm = False
+
+    def use_noise(self, noise: Any) -> None:
+        """Filter the looks of a sensor of this accuracy (a :class:`~kb.sim.noise.SensorNoise`:
+        ``position``, ``orientation``, ``bias`` sigmas; ``misclassification`` rate); None or
+        an exact one: take every look as it is."""
+        self.noise = noise if noise is not None and noise.poses else None
+        self._confirm = bool(noise is not None and noise.misclassification)
 
     def _stand_in_boxes(self) -> None:
         """A kit not yet placed takes its tray's box (for when the sensor first reports it)."""
@@ -62,7 +81,10 @@ class Belief:
     # --- updates --------------------------------------------------------------------
     def observe(self, observations: Iterable[Observation], asked: Iterable[str] = ()) -> list[str]:
         """Take the sensor's global poses; objects ``asked`` for by name and not reported are
-        believed gone. Returns the names whose pose changed."""
+        believed gone. Returns the names whose pose changed (with noise: moved or refined;
+        :attr:`last_moved` has those that moved)."""
+        if self.noise is not None:
+            return self._filtered(list(observations), asked)
         changed = []
         seen = set()
         rows, locs, rpys = [], [], []
@@ -92,11 +114,109 @@ class Belief:
         if changed:
             self._scene = None
             self._stale.update(self.index[n] for n in changed)
+        self.last_moved = changed
         return changed
+
+    def _filtered(self, observations: list[Observation], asked: Iterable[str]) -> list[str]:
+        """:meth:`observe` with a noisy sensor: each look averaged into its object's belief or,
+        outside the gate, taken as the object having moved (module docstring)."""
+        changed: dict[str, None] = {}
+        moved: dict[str, None] = {}
+        seen = set()
+        batches: list[list[tuple[int, Observation]]] = []  # an object's k-th look goes in batch k
+        count: dict[int, int] = {}
+        for obs in observations:
+            i = self.index.get(obs.name)
+            if i is None:
+                continue
+            seen.add(obs.name)
+            k = count.get(i, 0)
+            count[i] = k + 1
+            if k == len(batches):
+                batches.append([])
+            batches[k].append((i, obs))
+            if obs.sku:
+                self._recognised(obs.name, obs.sku)
+        for batch in batches:
+            idx = np.array([i for i, _ in batch], np.int64)
+            xyz = np.array([o.location for _, o in batch], float)
+            rpy = np.array([o.orientation for _, o in batch], float)
+            new, went = self._merge(idx, xyz, rpy)
+            for j, i in enumerate(idx):
+                if new[j]:
+                    changed[self.names[i]] = None
+                if went[j]:
+                    moved[self.names[i]] = None
+        for name in asked:
+            i = self.index.get(name)
+            if name not in seen and i is not None and not np.isnan(self.poses[i, 0, 0]):
+                self.poses[i] = np.nan
+                self.looks[i] = 0
+                changed[name] = None
+                moved[name] = None
+        if changed:
+            self._scene = None
+            self._stale.update(self.index[n] for n in changed)
+        self.last_moved = list(moved)
+        return list(changed)
+
+    def _merge(self, idx: np.ndarray, xyz: np.ndarray, rpy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Take one look of each object ``idx`` (distinct): (pose changed, moved) per object."""
+        nz = self.noise
+        old = self.poses[idx]
+        n = self.looks[idx]
+        known = ~np.isnan(old[:, 0, 0]) & (n > 0)
+        prior_level = np.isnan(old[:, 0, 0]) | ((np.abs(old[:, 2, 0]) < _LEVEL) & (np.abs(old[:, 2, 1]) < _LEVEL))
+        spread = np.sqrt(1.0 + 1.0 / np.maximum(n, 1))
+        tilt_gate = GATE * nz.orientation * spread + _LEVEL
+        level = prior_level & (np.abs(rpy[:, 0]) <= tilt_gate) & (np.abs(rpy[:, 1]) <= tilt_gate)
+        rpy = rpy.copy()
+        rpy[level, :2] = 0.0
+        old_xyz = old[:, :3, 3]
+        old_rpy = _rpy(old)
+        d_xyz = xyz - old_xyz
+        d_rpy = _wrap(rpy - old_rpy)
+        inside = known & np.all(np.abs(d_xyz) <= (GATE * nz.position * spread + _LEVEL)[:, None], axis=1) \
+            & np.all(np.abs(d_rpy) <= (GATE * nz.orientation * spread + _LEVEL)[:, None], axis=1)
+        w = np.where(inside, 1.0 / (n + 1.0), 1.0)[:, None]
+        new_xyz = np.where(inside[:, None], old_xyz + d_xyz * w, xyz)
+        new_rpy = np.where(inside[:, None], _wrap(old_rpy + d_rpy * w), rpy)
+        poses = _poses(new_xyz, new_rpy)
+        self.looks[idx] = np.where(inside, n + 1, 1)
+        changed = ~np.all(np.abs(poses - np.nan_to_num(old, nan=np.inf)) <= 1e-12, axis=(1, 2))
+        self.poses[idx[changed]] = poses[changed]
+        return changed, ~inside
+
+    def sigma(self, i: int) -> float:
+        """The standard deviation (m) of object ``i``'s believed position, per coordinate, from
+        its looks (the bias of a look does not average out); 0 with an exact sensor, or for an
+        object not looked at yet (its pose is the state file's)."""
+        nz = self.noise
+        n = int(self.looks[i])
+        if nz is None or n == 0:
+            return 0.0
+        s = math.hypot(nz.position / math.sqrt(n), nz.bias)
+        if nz.orientation and not np.isnan(self.poses[i, 0, 0]) and not (
+                abs(self.poses[i, 2, 0]) < _LEVEL and abs(self.poses[i, 2, 1]) < _LEVEL):
+            s += nz.orientation / math.sqrt(n) * float(np.linalg.norm(self.local_hi[i] - self.local_lo[i]))
+        return s
+
+    def confirm_sku(self, name: str, sku_local: str | None) -> None:
+        """Settle a SKU claim: ``sku_local`` is the SKU further looks agreed on (None: they did not)."""
+        self.claims.pop(name, None)
+        if sku_local is not None and self._sku_local.get(name) != sku_local:
+            self._apply_sku(name, sku_local)
 
     def _recognised(self, name: str, sku_local: str) -> None:
         if self._sku_local.get(name) == sku_local:  # what the model says already (the usual case)
+            self.claims.pop(name, None)
             return
+        if self._confirm:  # a misclassification is possible: the executor confirms it first
+            self.claims[name] = sku_local
+            return
+        self._apply_sku(name, sku_local)
+
+    def _apply_sku(self, name: str, sku_local: str) -> None:
         pairs = self.facts.setdefault(SKU_OF, set())
         current = [s for n, s in pairs if n == name]
         match = [n for n in self.names if n.rsplit("#", 1)[-1] == sku_local]
@@ -181,6 +301,21 @@ class Belief:
 
     def related(self, prop: str, subject: str) -> list[str]:
         return sorted(o for s, o in self.facts.get(prop, ()) if s == subject)
+
+
+def _rpy(m: np.ndarray) -> np.ndarray:
+    """(K, 3) roll, pitch, yaw of K poses (inverse of :func:`_poses`; NaN rows stay NaN)."""
+    r20 = np.clip(m[:, 2, 0], -1.0, 1.0)
+    pitch = np.arcsin(-r20)
+    regular = np.abs(r20) < 1 - 1e-9
+    roll = np.where(regular, np.arctan2(m[:, 2, 1], m[:, 2, 2]), 0.0)
+    yaw = np.where(regular, np.arctan2(m[:, 1, 0], m[:, 0, 0]), np.arctan2(-m[:, 0, 1], m[:, 1, 1]))
+    return np.stack([roll, pitch, yaw], axis=1)
+
+
+def _wrap(a: np.ndarray) -> np.ndarray:
+    """Angles wrapped into [-pi, pi)."""
+    return (a + np.pi) % (2 * np.pi) - np.pi
 
 
 def _poses(xyz: np.ndarray, rpy: np.ndarray) -> np.ndarray:

@@ -20,6 +20,15 @@ For each plan action (seed 004 §4, seed 002 §4-5):
    and recovered as its remediation says: retry (up to its limit), rebind, replan from the
    current state with the same goal (:mod:`kb.planning.replan`), or stop — the executor's
    base :class:`kb.execution.recovery.Recovery`.
+
+With a sensor that is not exact (``accuracy``, a :class:`~kb.sim.noise.SensorNoise`), the
+executor looks again where one look is not enough (:mod:`.looks`): the belief filters the
+looks (:mod:`.belief`), the objects a motion target is computed from get enough looks first,
+a check is decided with a tolerance derived from the accuracy and the looks, a violated check
+is looked at again before it fails, and a failure says how sure it is (``certainty``); an
+atom violated at the noise tolerance but not at the exact one is undecidable and does not fail
+its check. An object not seen is looked for again before it is believed gone, a new SKU
+confirmed by further looks. With an exact sensor (the default) every run is as before.
 """
 
 from __future__ import annotations
@@ -28,22 +37,23 @@ import logging
 import time
 from collections import deque
 from dataclasses import dataclass, field
-from typing import Callable
+from typing import Any, Callable
 
 import numpy as np
 
 from kb.core.errors import CellError, KitkbError
 from kb.core.namespaces import KTW
 from kb.crcl import COMMANDS, Command, Dwell, EndCanon, InitCanon, Message, Pose
-from kb.crcl.cell import CellInterface, execute_program, sense_names
+from kb.crcl.cell import CellInterface, execute_program
 from kb.diagnosis import diagnose
 from kb.execution.belief import Belief
 from kb.execution.focus import Focus
-from kb.execution.records import ActionRecord, AtomCheck, Check, RunRecord, StoreLike, local
+from kb.execution.looks import RECHECK, RELEASE, WIDEST, Looks
+from kb.execution.records import ActionRecord, AtomCheck, Check, FailureRecord, RunRecord, StoreLike, local
 from kb.execution.recovery import Recovery
 from kb.execution.scoring import crcl_lines, kit_goals, scene_data
 from kb.execution.steps import Fields, Step, Stop, parse_plan
-from kb.execution.targets import TargetError, Targets
+from kb.execution.targets import TargetError, Targets, parse as parse_target, raised
 from kb.model.definitions import Definitions, variable_classes
 from kb.model.failures import EFF, PRE, FailureModel
 from kb.metrics.kits import score_kits
@@ -81,6 +91,8 @@ class Executor(Recovery):
     tolerance: float = DEFAULT_TOLERANCE
     max_replans: int = 10
     record: RunRecord = field(default_factory=lambda: RunRecord("run"))
+    #: the sensor's accuracy (a :class:`kb.sim.noise.SensorNoise`); None or zero: exact
+    accuracy: Any = None
 
     def __post_init__(self) -> None:
         self.actions: dict[str, ActionSpec] = {a.name: a for a in self.domain.actions}
@@ -94,7 +106,13 @@ class Executor(Recovery):
         self.index = 0
         self.taken_from: dict[str, np.ndarray] = {}  # part -> tip pose it was grasped at
         self._classes: dict[str, set[str]] = {}  # action -> classes its predicates search
-        self.focus = Focus(self.defs, self.actions, self.belief.classes, self.tolerance)
+        self.belief.use_noise(self.accuracy)
+        self.looks = Looks(self.cell, self.belief, self.accuracy, self.tolerance)
+        self.noisy = self.looks.poses  # poses are not exact: filtered, looked at again, wider tolerances
+        self.focus = Focus(self.defs, self.actions, self.belief.classes, WIDEST if self.noisy else self.tolerance)
+        self._target_args: dict[str, tuple[str, ...]] = {}  # action -> parameters its targets read
+        if self.looks.active:
+            self.record.sensor = {"accuracy": self.accuracy.as_dict(), "looks": 0, "undecidable": 0}
         self._near: np.ndarray | None = None  # the neighbourhood sensed last (None: the whole cell)
         self.targets.mounted = self._mounted()
         self.record.tip_start = tuple(round(float(v), 6) for v in self.targets.tip[:3, 3])  # type: ignore[assignment]
@@ -130,6 +148,9 @@ class Executor(Recovery):
             log.exception("the goal could not be checked")
             rec.goal_holds = False
         rec.ended = time.perf_counter()
+        if rec.sensor is not None:
+            rec.sensor["looks"] = self.looks.count
+            rec.sensor["undecidable"] = sum(len(c.undecidable) for c in rec.checks)
         try:  # on the cell as sensed for the goal
             rec.kits = score_kits(kit_goals(self.belief, self.spec, self.by_name), self.evaluator())
             rec.scene = scene_data(self.belief)
@@ -168,6 +189,7 @@ class Executor(Recovery):
             if rebound is not None:
                 act.status = "rebound"
                 return rebound
+        self._look_for_targets(step)
         approach = self._program(step, act, approach=True)
         if approach:  # the transit to where the action happens; the check is made on arrival
             self._send(approach)
@@ -176,6 +198,7 @@ class Executor(Recovery):
         if not pre.ok:
             act.status = "failed"
             return self._failed(step, i, PRE, pre, queue)
+        self._look_for_targets(step)
         commands = self._program(step, act, approach=False)
         statuses = self._send(commands)
         bad = [s for s in statuses if not s.done]
@@ -225,8 +248,8 @@ class Executor(Recovery):
         for _ in range(NEIGHBOURHOOD_ROUNDS):
             before = self.belief.world_boxes()
             names = [self.belief.names[i] for i in todo]
-            moved = self.belief.observe(sense_names(self.cell, names), asked=names)
-            changed += moved
+            changed += self.belief.observe(self.looks.sense(names), asked=names)
+            moved = self.belief.last_moved  # with noise: outside the gate (a look averaged in did not move)
             sensed.update(todo)
             if not moved:  # the belief is as it was: so is the neighbourhood, sensed in full now
                 self._near = np.array(sorted(sensed), np.int64)
@@ -239,6 +262,8 @@ class Executor(Recovery):
                 break
         else:  # a neighbourhood that keeps growing: the whole cell
             self._sense_classes(step)
+        if self.belief.claims:
+            self.looks.confirm()
         if changed and self.store is not None:
             self.store.poses_changed({n: self.belief.pose(n) for n in dict.fromkeys(changed) if self.belief.placed(n)})
 
@@ -249,27 +274,68 @@ class Executor(Recovery):
         queries = [SOLID] if SOLID in classes else sorted(classes)
         seen, expected = [], set()
         for cls in queries:
-            obs = self.cell.sense(cls.rsplit("#", 1)[-1], by="class")
+            placed = [n for n in self.belief.of_class(cls) if self.belief.placed(n)]
+            obs = self.looks.sense_class(cls.rsplit("#", 1)[-1], placed)
             seen.extend(obs)
-            expected.update(n for n in self.belief.of_class(cls) if self.belief.placed(n))
+            expected.update(placed)
         for name in step.args.values():
             if name in self.belief.index and not any(o.name == name for o in seen):
-                seen.extend(self.cell.sense(local(name), by="name"))
+                seen.extend(self.looks.sense([name]) if self.looks.active else self.cell.sense(local(name), by="name"))
                 expected.add(name)
         changed = self.belief.observe(seen, asked=expected)
+        if self.belief.claims:
+            self.looks.confirm()
         if changed and self.store is not None:
             self.store.poses_changed({n: self.belief.pose(n) for n in changed if self.belief.placed(n)})
 
     # --- checks ---------------------------------------------------------------------
     def evaluator(self) -> Evaluator:
-        return Evaluator(self.defs, self.belief.scene(), self.tolerance)
+        """The predicates on the whole belief (with noise: at the tolerance its looks allow,
+        after more looks when it is wider than :data:`~kb.execution.looks.WIDEST`)."""
+        tol = self.tolerance
+        if self.noisy:
+            tol = self.looks.narrow(np.flatnonzero(~np.isnan(self.belief.poses[:, 0, 0])))
+        return Evaluator(self.defs, self.belief.scene(), tol)
 
     def _check(self, i: int, step: Step, phase: str) -> Check:
         """The action's preconditions or effects, decided on its neighbourhood when it was sensed
-        as one (the same truth as on the whole belief: :mod:`.focus`), else on the whole belief."""
+        as one (the same truth as on the whole belief: :mod:`.focus`), else on the whole belief.
+        With noise: at the tolerance the objects' looks allow; a violated check is looked at
+        again (:data:`~kb.execution.looks.RECHECK` more looks of its objects) and decided anew,
+        and each atom still violated is decided with twice the noise margin too
+        (:meth:`Looks.wide <kb.execution.looks.Looks.wide>`): violated at both, it fails the
+        check; at the check's tolerance only, noise can explain it: it is undecidable."""
+        if not self.noisy:
+            atoms = self._atoms(step, phase, self.tolerance)
+            check = Check(i, phase, atoms, time.perf_counter())
+            self.record.checks.append(check)
+            return check
+        objects = self._near if self._near is not None else np.flatnonzero(~np.isnan(self.belief.poses[:, 0, 0]))
+        tol = self.looks.narrow(objects)
+        atoms = self._atoms(step, phase, tol)
+        undecidable: list[AtomCheck] = []
+        if not all(a.ok for a in atoms):
+            self.looks.until(objects, int(self.belief.looks[objects].min(initial=1)) + RECHECK)
+            if self.belief.claims:
+                self.looks.confirm()
+            tol = self.looks.tolerance_of(objects)
+            atoms = self._atoms(step, phase, tol)
+            if not all(a.ok for a in atoms):
+                wide = {(a.predicate, a.args): a for a in self._atoms(step, phase, self.looks.wide(tol))}
+                for k, a in enumerate(atoms):
+                    if not a.ok and wide[(a.predicate, a.args)].ok:  # noise can make it so
+                        undecidable.append(a)
+                        atoms[k] = AtomCheck(a.predicate, a.args, a.negated, not a.negated)  # not failing
+        check = Check(i, phase, atoms, time.perf_counter(), undecidable)
+        self.record.checks.append(check)
+        if undecidable:
+            self._say(f"  action {i}: undecidable under the sensor's noise: " + ", ".join(a.text() for a in undecidable))
+        return check
+
+    def _atoms(self, step: Step, phase: str, tolerance: float) -> list[AtomCheck]:
         spec = self.actions[step.action]
-        ev = self.evaluator() if self._near is None else \
-            Evaluator(self.defs, self.belief.subscene(self._near), self.tolerance)
+        ev = self.evaluator() if self._near is None and not self.noisy else Evaluator(
+            self.defs, self.belief.scene() if self._near is None else self.belief.subscene(self._near), tolerance)
         atoms = []
         for atom in (spec.pre if phase == PRE else spec.effects):
             objs = tuple(step.args[a] for a in atom.args)
@@ -278,9 +344,56 @@ class Executor(Recovery):
             except KitkbError:
                 holds = False
             atoms.append(AtomCheck(atom.predicate, objs, atom.negated, holds))
-        check = Check(i, phase, atoms, time.perf_counter())
-        self.record.checks.append(check)
-        return check
+        return atoms
+
+    def _record_failure(self, i: int, step: Step, phase: str, violated: list[AtomCheck], diag) -> FailureRecord:  # noqa: ANN001
+        """:meth:`Recovery._record_failure <kb.execution.recovery.Recovery._record_failure>`, and
+        with a noisy sensor how sure the failure is: certain when every violated atom is violated
+        with twice the noise margin too and the diagnosis there is the same; else uncertain."""
+        failure = super()._record_failure(i, step, phase, violated, diag)
+        if self.looks.active:
+            failure.certainty = "certain" if not self.noisy or self._sure(step, phase, violated, diag.name) \
+                else "uncertain"
+        return failure
+
+    def _sure(self, step: Step, phase: str, violated: list[AtomCheck], mode: str) -> bool:
+        placed = np.flatnonzero(~np.isnan(self.belief.poses[:, 0, 0]))
+        exact = Evaluator(self.defs, self.belief.scene(), self.looks.wide(self.looks.tolerance_of(placed)))
+        for a in violated:
+            try:
+                holds = exact.holds(a.predicate, *a.args)
+            except KitkbError:
+                holds = False
+            if holds != a.holds:
+                return False
+        return diagnose(self.failures, exact, step.action, phase, {a.predicate for a in violated},
+                        step.args).name == mode
+
+    def _look_for_targets(self, step: Step) -> None:
+        """With noise: enough looks of the objects the action's motion targets are computed from
+        (:mod:`.looks`) before they are computed."""
+        if not self.noisy:
+            return
+        names = [step.args[p] for p in self._targets_read(step.action) if p in step.args]
+        idx = [self.belief.index[n] for n in names if n in self.belief.index]
+        if idx:
+            changed = self.looks.until(idx, self.looks.capture_looks)
+            if changed and self.store is not None:
+                self.store.poses_changed({n: self.belief.pose(n) for n in changed if self.belief.placed(n)})
+
+    def _targets_read(self, action: str) -> tuple[str, ...]:
+        """The parameters named in the targets of the action's program."""
+        if action not in self._target_args:
+            program = self.failures.programs.get(action)
+            params: dict[str, None] = {}
+            for s in program.steps if program is not None else ():
+                if s.target is not None:
+                    try:
+                        params.update(dict.fromkeys(a for a in parse_target(s.target)[1] if not _number(a)))
+                    except ValueError:
+                        continue
+            self._target_args[action] = tuple(params)
+        return self._target_args[action]
 
     def _inspect(self, step: Step, i: int, queue: deque) -> str | None:
         """Inspect the part to take (look-for-part): a defective one is replaced, never taken."""
@@ -334,6 +447,8 @@ class Executor(Recovery):
                 out.append(Dwell(float(s.duration or 0.0)))
             elif s.target is not None:
                 pose = self.targets.compute(s.target, step.args)
+                if self.noisy and s.target.lstrip().startswith("place("):  # released above where it goes
+                    pose = raised(pose, RELEASE)
                 out.append(COMMANDS[s.command](Pose.from_matrix(pose)))
                 self.targets.tip = pose
                 if s.target.startswith("grasp(") and step.action == "take-part":
@@ -349,7 +464,8 @@ class Executor(Recovery):
         t = self.targets
         if command == "CloseToolChanger":
             near = [e for e in self.belief.of_class(str(KTW.EndEffector)) if self.belief.placed(e)
-                    and np.linalg.norm(self.belief.pose(e)[:3, 3] - t.tip[:3, 3]) < 0.005]
+                    and np.linalg.norm(self.belief.pose(e)[:3, 3] - t.tip[:3, 3])
+                    < 0.005 + 5 * self.belief.sigma(self.belief.index[e])]
             if near:
                 t.mounted = near[0]
                 t.tip = t.tip @ _along(float(self.belief.box(near[0])[1][2]))
@@ -375,8 +491,12 @@ class Executor(Recovery):
         self._say(f"  {i:>3} {step.line()}  ok")
 
     def _sense_all(self) -> None:
-        obs = self.cell.sense("SolidObject", by="class")
-        self.belief.observe(obs, asked=[n for n in self.belief.of_class(SOLID) if self.belief.placed(n)])
+        placed = [n for n in self.belief.of_class(SOLID) if self.belief.placed(n)]
+        obs = self.looks.sense_class("SolidObject", placed) if self.looks.active else \
+            self.cell.sense("SolidObject", by="class")
+        self.belief.observe(obs, asked=placed)
+        if self.belief.claims:
+            self.looks.confirm()
 
     def goal_holds(self) -> bool:
         """The goal of the problem, checked from the sensed geometry now."""
@@ -397,6 +517,14 @@ class Executor(Recovery):
     def _say(self, text: str) -> None:
         if self.progress is not None:
             self.progress(text)
+
+
+def _number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
 
 
 def _along(d: float) -> np.ndarray:

@@ -45,6 +45,9 @@ class Check:
     phase: str  # "precondition" or "effect"
     atoms: list[AtomCheck]
     time: float
+    #: with a noisy sensor: atoms violated at the noise tolerance but not at the exact one even
+    #: after more looks, so noise makes them undecidable; the check does not fail on them
+    undecidable: list[AtomCheck] = field(default_factory=list)
 
     @property
     def ok(self) -> bool:
@@ -82,6 +85,9 @@ class FailureRecord:
     time: float = 0.0
     considered: list[str] = field(default_factory=list)
     kit: str | None = None  # the kit the failed action worked for
+    #: with a noisy sensor, how sure the failure is: "certain" (every violated atom violated at
+    #: the exact tolerance and at the noise tolerance) or "uncertain"; None: an exact sensor
+    certainty: str | None = None
 
     @property
     def objects(self) -> list[str]:
@@ -101,7 +107,8 @@ class FailureRecord:
             exp = "unknown" if s.expected is None else "(%.3f, %.3f, %.3f)" % s.expected
             seen = "not seen" if s.seen is None else "(%.3f, %.3f, %.3f)" % s.seen
             lines.append(f"  {local(s.name)}: expected at {exp}, seen at {seen}")
-        lines.append(f"  diagnosis: {self.mode}" + (f" ({self.consequence})" if self.consequence else ""))
+        lines.append(f"  diagnosis: {self.mode}" + (f" ({self.consequence})" if self.consequence else "")
+                     + (f", {self.certainty}" if self.certainty else ""))
         lines.append(f"  recovery: {self.recovery} -> {self.outcome}")
         return "\n".join(lines)
 
@@ -144,6 +151,11 @@ class RunRecord:
     tip_start: tuple[float, float, float] | None = None  # the tool tip at the start (m)
     #: the objects as the report draws them: name, class, box, initial and final pose
     scene: dict[str, Any] | None = None
+    #: with a noisy sensor: its accuracy as the executor assumed it (SI), the looks taken, the
+    #: undecidable atoms; None with an exact one (the report then has no "sensor" key)
+    sensor: dict[str, Any] | None = None
+    #: what a simulated sensor did wrong (misdetections, misclassifications), like ``injected``
+    sensor_errors: list[dict[str, Any]] | None = None
 
     @property
     def succeeded(self) -> bool:
@@ -193,12 +205,15 @@ class RunRecord:
                           "kit": local(f.kit) if f.kit else None,
                           "objects": [local(o) for o in f.objects], "phase": f.phase,
                           "violated": [a.text() for a in f.violated], "recovery": f.recovery,
-                          "outcome": f.outcome} for f in self.failures],
+                          "outcome": f.outcome, **({"certainty": f.certainty} if f.certainty else {})}
+                         for f in self.failures],
             "time_s": round(self.ended - self.started, 3),
             "metrics": self.metrics(),
             "kits": [k.as_dict() for k in self.kits],
             "violations": self.violations, "tip_start": list(self.tip_start) if self.tip_start else None,
             "scene": self.scene, "path": self.path(), "timeline": self.timeline(),
+            **({"sensor": self.sensor} if self.sensor is not None else {}),
+            **({"sensor_errors": self.sensor_errors} if self.sensor_errors is not None else {}),
         }
 
 
