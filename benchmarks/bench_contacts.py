@@ -345,8 +345,10 @@ def render(r: dict[str, Any]) -> str:
     lines.append("")
     if "fcl" in t:
         lines.append(f"kitkb's method is **{t['fcl'] / t['numpy']:.0f} times faster** than python-fcl's over the run "
-                     f"({t['fcl_narrow'] / t['numpy']:.1f} times faster than FCL's narrow phase alone). The "
-                     f"correct plan makes no contact (numpy {a['numpy_contacts_plan']}, FCL {a['fcl_contacts_plan']}); "
+                     f"({t['fcl_narrow'] / t['numpy']:.1f} times faster than FCL's narrow phase alone). On the "
+                     f"correct plan's checks both find the same {a['numpy_contacts_plan']} contacts (numpy) and "
+                     f"{a['fcl_contacts_plan']} (FCL), all of them with what the tip starts or ends on or an "
+                     "effector's holder, which the simulator then leaves out (the run records none); "
                      f"with every path lowered by {r['lower'] * 100:g} cm, numpy finds {a['numpy_contacts_lowered']:,} "
                      f"(moving box, object) contacts and FCL {a['fcl_contacts_lowered']:,}, "
                      f"{a['checks_disagreeing_lowered']} of {r['checks']:,} checks disagreeing: "
