@@ -7,9 +7,10 @@ Three parts:
   this process after a first one (which plans and imports), under cProfile; the seconds per
   trial by stage: the real placement (trays drawn, its scene), the executor's own work, the
   simulated cell (robot, sensor, contact sweeps), the report (metrics, kit scores);
-* ``scaling``: ``kitkb testmethod basic --parts 10 --trials N`` (``--trials``, default 100) on a
-  LocalCluster of 1 worker, then of 2 (``kb.testmethod.run_campaign`` in this process, each
-  campaign in a fresh folder and with a fresh cluster); trials per second over the whole
+* ``scaling``: ``kitkb testmethod basic --parts 10 --trials N`` (``--trials``, default 60) on a
+  LocalCluster of 1 worker and of 2 (``kb.testmethod.run_campaign`` in this process, each
+  campaign in a fresh folder and with a fresh cluster), ``--repeat`` pairs (default 3, which
+  of the two goes first alternating), medians; trials per second over the whole
   campaign (cluster start, imports and each worker's plan included) and over the steady part
   (from the first trial's row to the last); the ratio of the two workers' rate to the one
   worker's; and whether the rows are the same (``kb.testmethod.comparable``: timings left out);
@@ -33,6 +34,7 @@ import datetime as dt
 import json
 import os
 import pstats
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -50,7 +52,7 @@ from kb.testmethod import Options, comparable, jobs, run_campaign  # noqa: E402
 
 SECTION = "Test method campaigns"
 RESULTS = ROOT / "benchmarks" / "results" / "testmethod.json"
-KITKB = ROOT / ".venv" / "bin" / "kitkb"
+KITKB = [sys.executable, "-m", "kb.cli"]  # the kb/ on sys.path (PYTHONPATH: a checkout exported elsewhere)
 
 
 def load() -> float:
@@ -160,14 +162,32 @@ def campaign(parts: int, trials: int, workers: int, folder: Path) -> tuple[dict[
     return out, [comparable(r) for r in c.rows]
 
 
-def scaling(parts: int, trials: int) -> dict[str, Any]:
+def scaling(parts: int, trials: int, repeat: int) -> dict[str, Any]:
+    """``repeat`` pairs of campaigns (1 worker, 2 workers; which goes first alternates, so that a
+    change of the machine's load falls on both alike); the median of each figure."""
+    runs: dict[int, list[dict[str, Any]]] = {1: [], 2: []}
+    same = True
     with tempfile.TemporaryDirectory(prefix="kitkb-bench-tm-") as tmp:
-        one, rows1 = campaign(parts, trials, 1, Path(tmp) / "one")
-        two, rows2 = campaign(parts, trials, 2, Path(tmp) / "two")
-    ratio = two["trials_per_s"] / one["trials_per_s"]
+        for r in range(repeat):
+            rows: dict[int, list] = {}
+            for workers in ((1, 2) if r % 2 == 0 else (2, 1)):
+                figures, rows[workers] = campaign(parts, trials, workers, Path(tmp) / f"r{r}w{workers}")
+                runs[workers].append(figures)
+                print(json.dumps(figures), flush=True)
+            same = same and rows[1] == rows[2]
+    one, two = (_median(runs[w]) for w in (1, 2))
     steady = two["steady_trials_per_s"] / one["steady_trials_per_s"] if one["steady_trials_per_s"] else None
-    return {"parts": parts, "trials": trials, "one": one, "two": two, "ratio": round(ratio, 3),
-            "steady_ratio": round(steady, 3) if steady else None, "same_rows": rows1 == rows2}
+    return {"parts": parts, "trials": trials, "repeat": repeat, "one": one, "two": two,
+            "ratio": round(two["trials_per_s"] / one["trials_per_s"], 3),
+            "steady_ratio": round(steady, 3) if steady else None, "same_rows": same, "runs": runs}
+
+
+def _median(runs: list[dict[str, Any]]) -> dict[str, Any]:
+    out = dict(runs[0])
+    for key, value in runs[0].items():
+        if isinstance(value, (int, float)) and key not in ("workers", "trials"):
+            out[key] = round(statistics.median(r[key] for r in runs), 4)
+    return out
 
 
 # --- a thousand trials -------------------------------------------------------------------------
@@ -176,7 +196,7 @@ def thousand(parts: int, trials: int) -> dict[str, Any]:
     with tempfile.TemporaryDirectory(prefix="kitkb-bench-tm-") as tmp:
         started = load()
         t = time.perf_counter()
-        proc = subprocess.run([str(KITKB), "testmethod", "basic", "--parts", str(parts), "--trials", str(trials),
+        proc = subprocess.run([*KITKB, "testmethod", "basic", "--parts", str(parts), "--trials", str(trials),
                                "--workers", "2", "--out", str(Path(tmp) / "c"), "--format", "json", "-q"],
                               capture_output=True, text=True, cwd=tmp)
         wall = time.perf_counter() - t
@@ -205,8 +225,9 @@ def render(run: dict[str, Any]) -> str:
                   ""]
     s = run.get("scaling")
     if s:
-        lines += [f"**1 and 2 workers** (basic, {s['parts']}-part kit, {s['trials']} trials each, a LocalCluster "
-                  "started for each campaign):", "",
+        lines += [f"**1 and 2 workers** (basic, {s['parts']}-part kit, {s['trials']} trials a campaign, a LocalCluster "
+                  f"started for each; medians of {s.get('repeat', 1)} pairs of campaigns, the order alternating; "
+                  "load: the median at their starts):", "",
                   "| workers | load | wall s | trials/s (whole) | trials/s (steady) | first row s | median trial s "
                   "| kits built |", "|---|---|---|---|---|---|---|---|"]
         for key in ("one", "two"):
@@ -233,9 +254,11 @@ def main() -> int:
     ap.add_argument("--parts-of-run", nargs="+", choices=["profile", "scaling", "thousand"],
                     default=["profile", "scaling", "thousand"])
     ap.add_argument("--parts", type=int, default=10, help="parts of the basic kit (default 10)")
-    ap.add_argument("--trials", type=int, default=100, help="trials of each scaling campaign (default 100)")
+    ap.add_argument("--trials", type=int, default=60, help="trials of each scaling campaign (default 60)")
+    ap.add_argument("--repeat", type=int, default=3, help="pairs of scaling campaigns (default 3; medians)")
     ap.add_argument("--profile-trials", type=int, default=10)
     ap.add_argument("--thousand", type=int, default=1000, help="trials of the big campaign (default 1000)")
+    ap.add_argument("--checkout", help="what was measured, for the doc (default: git HEAD of the checkout)")
     ap.add_argument("--no-doc", action="store_true")
     ap.add_argument("--render", action="store_true", help="rewrite the doc section from the latest results")
     ap.add_argument("--note", action="append", default=[], help="a line for the doc section")
@@ -245,13 +268,13 @@ def main() -> int:
         common.write_doc(SECTION, render(history[-1]))
         return 0
     head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, cwd=ROOT)
-    run: dict[str, Any] = {"date": dt.date.today().isoformat(), "checkout": head.stdout.strip(),
+    run: dict[str, Any] = {"date": dt.date.today().isoformat(), "checkout": args.checkout or head.stdout.strip(),
                            "machine": common.cpu_model(), "cores": os.cpu_count(), "notes": args.note}
     if "profile" in args.parts_of_run:
         run["profile"] = profile(args.parts, args.profile_trials)
         print(json.dumps(run["profile"]), flush=True)
     if "scaling" in args.parts_of_run:
-        run["scaling"] = scaling(args.parts, args.trials)
+        run["scaling"] = scaling(args.parts, args.trials, args.repeat)
         print(json.dumps(run["scaling"]), flush=True)
     if "thousand" in args.parts_of_run:
         run["thousand"] = thousand(args.parts, args.thousand)
