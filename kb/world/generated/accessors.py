@@ -15,7 +15,7 @@ from sqlalchemy.dialects import mysql
 from sqlalchemy.orm import DeclarativeBase, Mapped, foreign, mapped_column, relationship, remote
 
 #: Fingerprint of the schema; a database stamped with another one is refused.
-SCHEMA_VERSION = '0c543112951042b8'
+SCHEMA_VERSION = 'e80ca7bc7faa21c5'
 #: (ontology IRI, owl:versionInfo) of the ontologies the schema was made from.
 ONTOLOGIES = (('https://w3id.org/kitkb/kitting', '0.1.0'), ('https://w3id.org/kitkb/soap', '0.1.0'))
 
@@ -338,6 +338,13 @@ ktw_had_by_secondary_location_solid_object = Table(
     Column("subject_id", Integer, _ref('ktw_physical_location'), primary_key=True, autoincrement=False),
     Column("value_id", Integer, _ref('ktw_solid_object'), primary_key=True),
     info={'iri': 'https://w3id.org/kitkb/kitting#hadBySecondaryLocation_SolidObject', 'kind': 'object', 'link': True},
+)
+
+ktw_had_by_sensor_kitting_workstation = Table(
+    'ktw_had_by_sensor_kitting_workstation', Base.metadata,
+    Column("subject_id", Integer, _ref('ktw_pose_sensor'), primary_key=True, autoincrement=False),
+    Column("value_id", Integer, _ref('ktw_kitting_workstation'), primary_key=True),
+    info={'iri': 'https://w3id.org/kitkb/kitting#hadBySensor_KittingWorkstation', 'kind': 'object', 'link': True},
 )
 
 ktw_had_by_sku_kitting_workstation = Table(
@@ -1112,6 +1119,25 @@ class Point(DataThing):
     had_by_point_pose_location: Mapped[list[PoseLocation]] = relationship('PoseLocation', secondary=lambda: ktw_had_by_point_pose_location, primaryjoin=lambda: Point.__table__.c.id == ktw_had_by_point_pose_location.c.subject_id, secondaryjoin=lambda: PoseLocation.__table__.c.id == ktw_had_by_point_pose_location.c.value_id, info={'iri': 'https://w3id.org/kitkb/kitting#hadByPoint_PoseLocation'})
 
 
+class PoseSensor(DataThing):
+    """The sensor that reports the poses and stock keeping units of the objects of a kitting workstation, with its accuracy: the standard deviation of a look's position and orientation errors, of a per-object position offset that further looks do not average out, and the chances that an object is not reported or reported with another SKU. A property not given is 0 (exact). Not in the NIST model: kitkb's, for verification under sensor noise.
+
+    Class <https://w3id.org/kitkb/kitting#PoseSensor>.
+    """
+
+    __tablename__ = 'ktw_pose_sensor'
+    __table_args__ = {'info': {'iri': 'https://w3id.org/kitkb/kitting#PoseSensor', 'parent': 'ktw_data_thing'}, 'comment': "The sensor that reports the poses and stock keeping units of the objects of a kitting workstation, with its accuracy: the standard deviation of a look's position and orientation errors, of a per-object position offset that further looks do not average out, and the chances that an object is not reported or reported with another SKU. A property not given is 0 (exact). Not in the NIST model: kitkb's, for verification under sensor noise."}
+
+    id: Mapped[int] = mapped_column(ForeignKey('ktw_data_thing.id', deferrable=True, initially="DEFERRED"), primary_key=True, autoincrement=False)
+    __mapper_args__ = {"polymorphic_identity": 'https://w3id.org/kitkb/kitting#PoseSensor', "inherit_condition": id.column == DataThing.__table__.c.id}
+    misclassification_rate: Mapped[float | None] = mapped_column(_DECIMAL, nullable=True, info={'iri': 'https://w3id.org/kitkb/kitting#hasPoseSensor_MisclassificationRate', 'kind': 'data', 'value': 'decimal', 'datatype': 'http://www.w3.org/2001/XMLSchema#decimal'})
+    misdetection_rate: Mapped[float | None] = mapped_column(_DECIMAL, nullable=True, info={'iri': 'https://w3id.org/kitkb/kitting#hasPoseSensor_MisdetectionRate', 'kind': 'data', 'value': 'decimal', 'datatype': 'http://www.w3.org/2001/XMLSchema#decimal'})
+    orientation_accuracy: Mapped[float | None] = mapped_column(_DECIMAL, nullable=True, info={'iri': 'https://w3id.org/kitkb/kitting#hasPoseSensor_OrientationAccuracy', 'kind': 'data', 'value': 'decimal', 'datatype': 'http://www.w3.org/2001/XMLSchema#decimal'})
+    position_accuracy: Mapped[float | None] = mapped_column(_DECIMAL, nullable=True, info={'iri': 'https://w3id.org/kitkb/kitting#hasPoseSensor_PositionAccuracy', 'kind': 'data', 'value': 'decimal', 'datatype': 'http://www.w3.org/2001/XMLSchema#decimal'})
+    position_bias: Mapped[float | None] = mapped_column(_DECIMAL, nullable=True, info={'iri': 'https://w3id.org/kitkb/kitting#hasPoseSensor_PositionBias', 'kind': 'data', 'value': 'decimal', 'datatype': 'http://www.w3.org/2001/XMLSchema#decimal'})
+    had_by_sensor_kitting_workstation: Mapped[list[KittingWorkstation]] = relationship('KittingWorkstation', secondary=lambda: ktw_had_by_sensor_kitting_workstation, primaryjoin=lambda: PoseSensor.__table__.c.id == ktw_had_by_sensor_kitting_workstation.c.subject_id, secondaryjoin=lambda: KittingWorkstation.__table__.c.id == ktw_had_by_sensor_kitting_workstation.c.value_id, info={'iri': 'https://w3id.org/kitkb/kitting#hadBySensor_KittingWorkstation'})
+
+
 class ShapeDesign(DataThing):
     """Abstract: the shape of an object, with a description and an optional grasp pose.
 
@@ -1675,6 +1701,8 @@ class KittingWorkstation(NoSkuObject):
     length_unit: Mapped[str] = mapped_column(_IRI, nullable=False, info={'iri': 'https://w3id.org/kitkb/kitting#hasKittingWorkstation_LengthUnit', 'kind': 'data', 'value': 'text'})
     robot_id: Mapped[int] = mapped_column(Integer, _ref('ktw_robot'), unique=True, info={'iri': 'https://w3id.org/kitkb/kitting#hasKittingWorkstation_Robot', 'kind': 'object'})
     robot: Mapped[Robot] = relationship('Robot', primaryjoin=lambda: foreign(KittingWorkstation.__table__.c.robot_id) == remote(Robot.__table__.c.id), foreign_keys=lambda: [KittingWorkstation.__table__.c.robot_id])
+    sensor_id: Mapped[int | None] = mapped_column(Integer, _ref('ktw_pose_sensor'), unique=True, info={'iri': 'https://w3id.org/kitkb/kitting#hasKittingWorkstation_Sensor', 'kind': 'object'})
+    sensor: Mapped[PoseSensor | None] = relationship('PoseSensor', primaryjoin=lambda: foreign(KittingWorkstation.__table__.c.sensor_id) == remote(PoseSensor.__table__.c.id), foreign_keys=lambda: [KittingWorkstation.__table__.c.sensor_id])
     weight_unit: Mapped[str] = mapped_column(_IRI, nullable=False, info={'iri': 'https://w3id.org/kitkb/kitting#hasKittingWorkstation_WeightUnit', 'kind': 'data', 'value': 'text'})
     kit_design: Mapped[list[KitDesign]] = relationship('KitDesign', secondary=lambda: ktw_has_kitting_workstation_kit_design, primaryjoin=lambda: KittingWorkstation.__table__.c.id == ktw_has_kitting_workstation_kit_design.c.subject_id, secondaryjoin=lambda: KitDesign.__table__.c.id == ktw_has_kitting_workstation_kit_design.c.value_id, info={'iri': 'https://w3id.org/kitkb/kitting#hasKittingWorkstation_KitDesign'})
     object: Mapped[list[SolidObject]] = relationship('SolidObject', secondary=lambda: ktw_has_kitting_workstation_object, primaryjoin=lambda: KittingWorkstation.__table__.c.id == ktw_has_kitting_workstation_object.c.subject_id, secondaryjoin=lambda: SolidObject.__table__.c.id == ktw_has_kitting_workstation_object.c.value_id, info={'iri': 'https://w3id.org/kitkb/kitting#hasKittingWorkstation_Object'})
@@ -2855,6 +2883,7 @@ CLASSES: dict[str, type[Base]] = {
     'ktw_part_ref_and_pose': PartRefAndPose,
     'ktw_physical_location': PhysicalLocation,
     'ktw_point': Point,
+    'ktw_pose_sensor': PoseSensor,
     'ktw_shape_design': ShapeDesign,
     'ktw_slot': Slot,
     'ktw_stock_keeping_unit': StockKeepingUnit,
