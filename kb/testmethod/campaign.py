@@ -4,8 +4,8 @@
 (:func:`kb.testmethod.methods.jobs`) with ``Client.map``: on a ``LocalCluster`` of one worker
 process per core (``workers``), or on the scheduler of a real cluster (``scheduler``). The
 scheduling, the retries (``retries=``: a trial that raised is run again) and the recovery from
-a worker that died (the scheduler gives its trial to another worker; a trial that kills
-:data:`ALLOWED_FAILURES` workers is given up as lost) are Dask's. A trial's row depends on its
+a worker that died (the scheduler gives its trial to another worker; a trial that has been
+on more than :data:`ALLOWED_FAILURES` workers that died is given up as lost) are Dask's. A trial's row depends on its
 job alone, so 1 worker, N workers and a cluster give the same rows.
 
 The campaign folder (the contract with ``kitkb report``)::
@@ -40,7 +40,7 @@ from kb.testmethod.summary import summarize
 
 #: times Dask runs a trial again after it raised
 RETRIES = 2
-#: workers a trial may take down with it before it is given up as lost (Dask's allowed-failures)
+#: worker deaths a trial may be part of before it is given up as lost (Dask's allowed-failures)
 ALLOWED_FAILURES = 3
 CAMPAIGN_FILE = "campaign.json"
 TRIALS = "trials"
