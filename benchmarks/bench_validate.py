@@ -26,6 +26,15 @@ and peak memory (``ru_maxrss`` of that child, from ``os.wait4``); median of 3 ru
 
 Measurements accumulate in ``benchmarks/results/validate.json`` (keyed by data set, size and
 engine); each run rewrites the "## Validation" section of ``docs/benchmarks.md`` from it.
+
+Against a baseline checkout (``--baseline DIR``, e.g. ``git worktree add /tmp/kitkb-before
+REV``): the same end-to-end ``kitkb validate`` of each ``--baseline-sizes`` file by both
+checkouts, taking turns (``--baseline-runs`` each, after one warm-up), with this checkout also
+given a users' shapes file (``--shapes``, the cost of issue 20's new option), and the W3C SHACL
+test suite (``tests/data/w3c-shacl``) counted for both checkouts and pySHACL; rewrites the
+section "## SHACL conformance and users' shapes" only::
+
+    .venv/bin/python benchmarks/bench_validate.py --baseline /tmp/kitkb-before --baseline-sizes 10000
 """
 
 from __future__ import annotations
@@ -194,15 +203,18 @@ with tempfile.TemporaryFile("w+") as out:
 """
 
 
-def run_e2e(data: str) -> dict:
+def run_e2e(data: str, command: list[str] | None = None, extra: list[str] | None = None) -> dict:
     """Run ``kitkb validate DATA`` once: wall and CPU seconds, peak MB, exit code, report lines.
 
-    The command is started by a small launcher process: a process forked from this one (big
-    after generating the data) would inherit its peak RSS (Linux keeps ``ru_maxrss`` across
-    fork and exec), and the peak memory would be this benchmark's, not kitkb's.
+    ``command``: how to start kitkb (default :func:`kitkb_command`; :func:`tree_command` for a
+    checkout); ``extra``: more arguments. The command is started by a small launcher process:
+    a process forked from this one (big after generating the data) would inherit its peak RSS
+    (Linux keeps ``ru_maxrss`` across fork and exec), and the peak memory would be this
+    benchmark's, not kitkb's.
     """
-    done = subprocess.run([sys.executable, "-c", _LAUNCHER, json.dumps([*kitkb_command(), "validate", data]),
-                           str(ROOT)], capture_output=True, text=True, check=True)
+    cmd = [*(command or kitkb_command()), "validate", data, *(extra or [])]
+    done = subprocess.run([sys.executable, "-c", _LAUNCHER, json.dumps(cmd), str(ROOT)],
+                          capture_output=True, text=True, check=True)
     got = json.loads(done.stdout)
     if got["code"] not in (0, 1):
         raise RuntimeError(f"kitkb validate failed ({got['code']}):\n{got['stderr']}")
@@ -210,7 +222,16 @@ def run_e2e(data: str) -> dict:
     return {"wall_s": got["wall_s"], "cpu_s": got["cpu_s"], "maxrss_mb": got["maxrss_kb"] / 1024,
             "exit": got["code"], "diagnostics": max(0, len(lines) - 1),
             "with_line": sum(1 for line in lines[:-1] if re.match(r"^[^:]+:\d+: ", line)),
-            "summary": lines[-1] if lines else ""}
+            "summary": lines[-1] if lines else "", "report": got["stdout"]}
+
+
+_TREE_RUN = "import sys; sys.path.insert(0, sys.argv.pop(1)); from kb.cli import run; run()"
+
+
+def tree_command(tree: Path) -> list[str]:
+    """kitkb of checkout ``tree`` (its ``kb`` first on the path; this interpreter and packages),
+    started as the console script is (``kb.cli.run``)."""
+    return [sys.executable, "-c", _TREE_RUN, str(tree)]
 
 
 # ---------------------------------------------------------------- child processes
@@ -478,6 +499,193 @@ def save(store: dict, mine: dict) -> dict:
     return current
 
 
+# ---------------------------------------------------------------- against a baseline checkout
+
+BASELINE_SECTION = "SHACL conformance and users' shapes"
+#: Users' shapes for the ``--shapes`` runs: a pattern on every part's serial number, a count on
+#: every parts vessel, a SPARQL rule per kit tray (what a plant's naming rules look like).
+PLANT_SHAPES = """@prefix sh: <http://www.w3.org/ns/shacl#> .
+@prefix ktw: <https://w3id.org/kitkb/kitting#> .
+@prefix plant: <https://example.org/plant#> .
+plant:SerialNumbers a sh:NodeShape ; sh:targetClass ktw:Part ;
+    sh:property [ sh:path ktw:hasPart_SerialNumber ; sh:pattern "^[a-z0-9_]+$" ;
+                  sh:message "serial numbers are lower-case letters, digits and _" ] .
+plant:VesselSize a sh:NodeShape ; sh:targetClass ktw:PartsVessel ;
+    sh:property [ sh:path ktw:hasPartsVessel_Part ; sh:maxCount 100000 ] .
+plant:KitTraySku a sh:NodeShape ; sh:targetClass ktw:KitTray ;
+    sh:sparql [ sh:message "a kit tray without a SKU" ;
+                sh:select "SELECT $this WHERE { FILTER NOT EXISTS { $this ktw:hasSkuObject_Sku ?s } }" ] .
+"""
+
+_W3C_CHILD = """
+import json, logging, sys, warnings
+sys.path.insert(0, sys.argv[1])
+warnings.simplefilter("ignore")
+logging.disable(logging.CRITICAL)
+from pathlib import Path
+from collections import Counter
+from rdflib import Graph, BNode, Namespace, RDF
+from rdflib.collection import Collection
+MF = Namespace("http://www.w3.org/2001/sw/DataAccess/tests/test-manifest#")
+SHT = Namespace("http://www.w3.org/ns/shacl-test#")
+SH = Namespace("http://www.w3.org/ns/shacl#")
+root, engine = Path(sys.argv[2]), sys.argv[3]
+def parse(p):
+    return Graph().parse(p, format="turtle", publicID=p.as_uri())
+def entries(m):
+    g = parse(m)
+    for inc in g.objects(None, MF.include):
+        yield from entries(Path(str(inc)[7:]))
+    for head in g.objects(None, MF.entries):
+        for e in Collection(g, head):
+            if (e, RDF.type, SHT.Validate) in g:
+                yield g, e
+def row(values):
+    return tuple("_:" if isinstance(v, BNode) else v for v in values)
+passed, total = Counter(), Counter()
+for g, e in entries(root / "manifest.ttl"):
+    section = str(e)[len(root.as_uri()) + 1:].split("/")[0]
+    total[section] += 1
+    act, res = g.value(e, MF.action), g.value(e, MF.result)
+    data, shapes = parse(Path(str(g.value(act, SHT.dataGraph))[7:])), parse(Path(str(g.value(act, SHT.shapesGraph))[7:]))
+    keys = (SH.focusNode, SH.resultPath, SH.value, SH.sourceShape, SH.sourceConstraintComponent, SH.resultSeverity)
+    try:
+        if engine == "pyshacl":
+            import pyshacl
+            from kb.shacl.fallback import results_from_report
+            _, report, _ = pyshacl.validate(data, shacl_graph=shapes, inference="none", advanced=True, allow_warnings=True)
+            results = results_from_report(report)
+        else:
+            from kb.shacl import validate_graph
+            results = validate_graph(data, shapes)
+        got = Counter(row((r.focus, r.path, r.value, r.source_shape, r.component, r.severity)) for r in results)
+    except Exception:
+        got = None
+    if res == SHT.Failure:
+        passed[section] += got is None
+    elif got is not None:
+        want = Counter(row([g.value(r, k) for k in keys]) for r in g.objects(res, SH.result))
+        passed[section] += got == want and (not got) == bool(g.value(res, SH.conforms).value)
+print(json.dumps({"total": dict(total), "passed": dict(passed)}))
+"""
+
+
+def w3c_counts(tree: Path, engine: str = "kitkb") -> dict:
+    """Entries of the W3C SHACL suite passed per section by checkout ``tree``'s engine (or
+    pySHACL): the same comparison as tests/test_w3c_shacl.py, on rdflib graphs."""
+    suite = ROOT / "tests" / "data" / "w3c-shacl" / "tests"
+    done = subprocess.run([sys.executable, "-c", _W3C_CHILD, str(tree), str(suite), engine],
+                          capture_output=True, text=True, check=True, cwd=ROOT)
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def baseline_run(baseline: Path, sizes: list[int], runs: int, workdir: Path) -> dict:
+    """Both checkouts on the same files, taking turns; the W3C suite counted for both."""
+    store: dict = {"baseline": str(baseline), "baseline_rev": _rev(baseline), "rev": _rev(ROOT),
+                   "date": dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+                   "load_average": round(os.getloadavg()[0], 1), "machine": machine(), "sizes": {}}
+    shapes = workdir / "plant-shapes.ttl"
+    workdir.mkdir(parents=True, exist_ok=True)
+    shapes.write_text(PLANT_SHAPES)
+    sides = {"before": (tree_command(baseline), []), "after": (tree_command(ROOT), []),
+             "after, --shapes": (tree_command(ROOT), ["--shapes", str(shapes)])}
+    for n in sizes:
+        out = workdir / f"e2e-{n}"
+        out.mkdir(parents=True, exist_ok=True)
+        spec = make_e2e(n, out)
+        print(f"\n{n} parts: {spec['data']}")
+        for command, extra in sides.values():  # warm-up: byte-compiled modules, file cache
+            run_e2e(spec["data"], command, extra)
+        got: dict[str, list[dict]] = {side: [] for side in sides}
+        for i in range(runs):
+            order = list(sides) if i % 2 == 0 else list(reversed(sides))
+            for side in order:
+                r = run_e2e(spec["data"], *sides[side])
+                got[side].append(r)
+                print(f"  {side}: wall {r['wall_s']:.2f} s, CPU {r['cpu_s']:.2f} s, {r['summary']}")
+        row = {"triples": spec["triples"], "bytes": spec["bytes"]}
+        for side, rs in got.items():
+            row[side] = {k: statistics.median(r[k] for r in rs) for k in ("wall_s", "cpu_s", "maxrss_mb")}
+            row[side]["all_wall_s"] = [round(r["wall_s"], 2) for r in rs]
+            row[side]["summary"] = rs[0]["summary"]
+        row["same_report"] = all(r["report"] == got["before"][0]["report"] for side in ("before", "after")
+                                 for r in got[side])
+        store["sizes"][str(n)] = row
+    print("\nW3C SHACL suite ...")
+    store["w3c"] = {"before": w3c_counts(baseline), "after": w3c_counts(ROOT), "pyshacl": w3c_counts(ROOT, "pyshacl")}
+    return store
+
+
+def _rev(tree: Path) -> str:
+    try:
+        return subprocess.run(["git", "-C", str(tree), "rev-parse", "--short", "HEAD"], capture_output=True,
+                              text=True, check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "?"
+
+
+def render_baseline(store: dict) -> str:
+    m = store["machine"]
+    w = store["w3c"]
+    lines = [
+        f"## {BASELINE_SECTION}",
+        "",
+        "Issue 20: kitkb's SHACL engine on the W3C SHACL test suite, and users' shapes files",
+        "(`kitkb validate --shapes`, `kitkb shacl`), without making `kitkb validate` slower. Command:",
+        f"`.venv/bin/python benchmarks/bench_validate.py --baseline DIR --baseline-sizes ...` with DIR a",
+        f"worktree of the commit the work started from (`{store['baseline_rev']}`; after: `{store['rev']}` plus",
+        "the files of the run). Run " + f"{store['date']}, load average {store['load_average']} at the start;",
+        f"{m['nproc']} cores, {m['memory_gb']} GB, {m['cpu']}; Python {m['python']}, rdflib {m['rdflib']}, "
+        f"pySHACL {m['pyshacl']}, pyoxigraph {m['pyoxigraph']}.",
+        "",
+        "W3C SHACL test suite (`tests/data/w3c-shacl`, every `sht:Validate` entry; the comparison of",
+        "tests/test_w3c_shacl.py on rdflib graphs: `sh:conforms` and the results' focus, path, value,",
+        "source shape, component and severity, blank nodes loosely; a `sht:Failure` entry passes when",
+        "the shapes are refused):",
+        "",
+        "| section | entries | pySHACL | kitkb before | kitkb after |",
+        "|---|---:|---:|---:|---:|",
+    ]
+    for section, total in w["after"]["total"].items():
+        lines.append(f"| {section} | {total} | {w['pyshacl']['passed'].get(section, 0)} "
+                     f"| {w['before']['passed'].get(section, 0)} | {w['after']['passed'].get(section, 0)} |")
+    lines += [
+        "",
+        "`kitkb validate INIT.ttl` end to end (the files of the Validation section: one kit, ~1%",
+        "injected violations, N-Triples), whole process as the console script starts it, the two",
+        "checkouts taking turns after one warm-up each; \"after, --shapes\" adds a users' shapes file",
+        "(a pattern on every part, a count on every parts vessel, a SPARQL rule per kit tray). Median",
+        "wall and CPU seconds (CPU of the process and its helpers: the steadier figure on a shared",
+        "machine); \"same report\": before and after print the same report, byte for byte.",
+        "",
+        "| parts | triples | before: wall s (CPU s) | after: wall s (CPU s) | after / before, wall (CPU) "
+        "| after, --shapes: wall s (CPU s) | same report | runs (wall s: before; after) |",
+        "|---:|---:|---:|---:|---:|---:|---|---|",
+    ]
+    for n, row in sorted(store["sizes"].items(), key=lambda kv: int(kv[0])):
+        b, a, u = row["before"], row["after"], row["after, --shapes"]
+        lines.append(
+            f"| {int(n):,} | {row['triples']:,} | {b['wall_s']:.2f} ({b['cpu_s']:.2f}) | {a['wall_s']:.2f} "
+            f"({a['cpu_s']:.2f}) | {a['wall_s'] / b['wall_s']:.2f} ({a['cpu_s'] / b['cpu_s']:.2f}) "
+            f"| {u['wall_s']:.2f} ({u['cpu_s']:.2f}) | {'yes' if row['same_report'] else '**no**'} "
+            f"| {', '.join(f'{x:.1f}' for x in b['all_wall_s'])}; {', '.join(f'{x:.1f}' for x in a['all_wall_s'])} |")
+    notes = store.get("note")
+    if notes:
+        lines += ["", notes]
+    return "\n".join(lines) + "\n"
+
+
+def write_section(title: str, section: str) -> None:
+    """Replace (or append) the section ``## title`` of docs/benchmarks.md."""
+    text = DOC.read_text() if DOC.exists() else "# Benchmarks\n"
+    pattern = re.compile(rf"^## {re.escape(title)}\n.*?(?=^## |\Z)", re.S | re.M)
+    if pattern.search(text):
+        text = pattern.sub(lambda _: section + "\n", text)
+    else:
+        text = text.rstrip("\n") + "\n\n" + section
+    DOC.write_text(text.rstrip("\n") + "\n")
+
+
 # ---------------------------------------------------------------- main
 
 
@@ -495,6 +703,13 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--e2e-sizes", type=int, nargs="*", default=[1000, 10000, 50000],
                     help="sizes for the end-to-end `kitkb validate` runs (none: skip them)")
     ap.add_argument("--only-e2e", action="store_true", help="only the end-to-end runs")
+    ap.add_argument("--baseline", type=Path, metavar="DIR",
+                    help="compare with this checkout (a git worktree of an earlier commit) and count the W3C "
+                         "SHACL suite; only the section \"SHACL conformance and users' shapes\" is rewritten")
+    ap.add_argument("--baseline-sizes", type=int, nargs="+", default=[10000], help="parts (default 10000)")
+    ap.add_argument("--baseline-runs", type=int, default=5, help="runs per checkout and size (default 5)")
+    ap.add_argument("--baseline-note", metavar="TEXT",
+                    help="with --render-only: a paragraph under the baseline section's tables (kept in the results)")
     ap.add_argument("--child", choices=["kitkb", "pyshacl"], help=argparse.SUPPRESS)
     ap.add_argument("--spec", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
@@ -502,7 +717,23 @@ def main(argv: list[str] | None = None) -> None:
         child_main(args.child, args.spec)
         return
     if args.render_only:
-        write_doc(render(json.loads(RESULTS.read_text()), machine()))
+        store = json.loads(RESULTS.read_text())
+        if "baseline-comparison" in store:
+            if args.baseline_note:
+                store["baseline-comparison"]["note"] = args.baseline_note
+                save({}, {"baseline-comparison": store["baseline-comparison"]})
+            write_section(BASELINE_SECTION, render_baseline(store["baseline-comparison"]))
+            store = {k: v for k, v in store.items() if k != "baseline-comparison"}
+        write_doc(render(store, machine()))
+        return
+    if args.baseline is not None:
+        found = baseline_run(args.baseline.resolve(), args.baseline_sizes, args.baseline_runs, args.workdir)
+        saved = save({}, {"baseline-comparison": found})["baseline-comparison"]
+        section = render_baseline(saved)
+        print("\n" + section)
+        if not args.no_doc:
+            write_section(BASELINE_SECTION, section)
+            print(f"wrote {DOC}")
         return
     real = not args.synthetic and (ROOT / "kb" / "scenario.py").exists() and (ROOT / "shapes" / "kitting-shapes.ttl").exists()
     dataset = "real" if real else "synthetic"

@@ -10,10 +10,10 @@ specification defines it: substitution into the whole query, :class:`kb.shacl.pr
 a blank focus node, which cannot be written into a query, is bound by pyoxigraph's
 ``substitutions`` (:func:`kb.shacl.prebind.for_blank_nodes`), or where the query does not
 project ``$this`` or hands it on in an expression, by rdflib's evaluator (``initBindings``,
-as pySHACL does, with its departures: see tests/test_shacl_prebind.py). Queries the specification forbids
-(MINUS, VALUES, SERVICE, ``AS $this``, nested SELECTs not returning ``$this``) and queries that
-do not parse are refused with a :class:`kb.shacl.shape.ShapeError`. Simple groups get a cheap
-join order first (:mod:`kb.shacl.reorder`). The pyoxigraph store holds only the triples whose
+as pySHACL does, with its departures: see tests/test_shacl_prebind.py). Queries the
+specification forbids (MINUS, VALUES, SERVICE, ``AS $this``, nested SELECTs not returning
+``$this``) and queries that do not parse are refused with a :class:`kb.shacl.shape.ShapeError`.
+Simple groups get a cheap join order first (:mod:`kb.shacl.reorder`). The pyoxigraph store holds only the triples whose
 predicates the queries mention (all triples when one uses a variable predicate, a negated
 path, or a ``*``/``?`` path between two variables).
 
@@ -258,14 +258,10 @@ def compile_sparql(g: Graph, prefixes: dict[str, str], s: Shape, cnode: Node) ->
     return c, None
 
 
-#: Pre-bound in the validators of every custom constraint component (SHACL 6.2.3), besides
-#: the component's parameters; ASK validators also have ``$value``.
-VALIDATOR_VARIABLES = CONSTRAINT_VARIABLES
-
-
 def check_validators(g: Graph, prefixes: dict[str, str], shape: Node, component: Node) -> None:
     """Refuse (:class:`ShapeError`) a custom constraint component used by ``shape`` whose
-    validator queries do not parse or break SHACL's rules for pre-bound variables."""
+    validator queries do not parse or break SHACL's rules for pre-bound variables: those of a
+    constraint, the component's parameters (by local name) and, in ASK validators, ``$value``."""
     params = {str(path).replace("#", "/").rsplit("/", 1)[-1]
               for p in g.objects(component, SH.parameter) for path in g.objects(p, SH.path)}
     for pred in (SH.validator, SH.nodeValidator, SH.propertyValidator):
@@ -274,7 +270,7 @@ def check_validators(g: Graph, prefixes: dict[str, str], shape: Node, component:
                 for body in g.objects(v, key):
                     text = _PATH_VAR.sub(r"\g<1><urn:kitkb:path>", str(body))
                     checked_query(_prefix_block(g, prefixes, v, text) + text, shape, v,
-                                  VALIDATOR_VARIABLES | params | extra, "validator")
+                                  CONSTRAINT_VARIABLES | params | extra, "validator")
 
 
 def ox_key(term: Any) -> str:
@@ -301,6 +297,7 @@ class SparqlRunner:
         self._stats: dict[str, tuple[int, int, int]] | None = None
         self._texts: dict[tuple[int, frozenset[str]], str] = {}
         self._templates: dict[int, Template] = {}
+        self._blank_texts: dict[int, str] = {}
         self._grouped: dict[int, tuple[dict[str, list[dict[str, str]]], list[dict[str, str]]]] = {}
         self._bnodes: dict[str, ox.BlankNode] = {}
         self._pending: Any = None  # the background thread of prefetch(), until joined
@@ -435,7 +432,10 @@ class SparqlRunner:
         if focus is None:
             res = self.store().query(self._query_text(c, frozenset()))
         elif blank:  # no query text can name a blank node: pyoxigraph binds it
-            res = self.store().query(for_blank_nodes(c.text), substitutions={ox.Variable("this"): self.ox_term(focus)})
+            text = self._blank_texts.get(id(c))
+            if text is None:
+                text = self._blank_texts[id(c)] = for_blank_nodes(c.text)
+            res = self.store().query(text, substitutions={ox.Variable("this"): self.ox_term(focus)})
         else:
             res = self.store().query(self._template(c).fill({"this": focus, **c.fixed}))
         names = [v.value for v in res.variables]

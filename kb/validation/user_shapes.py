@@ -80,7 +80,7 @@ class ShapesFiles:
             raise InputError(f"no shape has a target{others} (sh:targetClass, sh:targetNode, "
                              "sh:targetSubjectsOf, sh:targetObjectsOf or a shape that is a class): "
                              "the shapes would check nothing", sources[0].path)
-        graph = sources[0].graph if len(sources) == 1 else _union(s.graph for s in sources)
+        graph = sources[0].graph if len(sources) == 1 else union([s.graph for s in sources])
         found = cls(sources, graph)
         with found.located():  # compiled now: a shape SHACL forbids is refused before any work
             shacl.check_shapes(graph)
@@ -116,7 +116,9 @@ def _line(src: Source, node: Node) -> int | None:
         return None
 
 
-def _union(graphs: "Iterator[Graph] | Sequence[Graph]") -> Graph:
+def union(graphs: Sequence[Graph]) -> Graph:
+    """One graph of ``graphs``, their prefixes bound (SPARQL constraints may use a file's
+    prefixes without sh:prefixes, as pySHACL lets them)."""
     out = Graph()
     for g in graphs:
         for prefix, ns in g.namespaces():

@@ -326,7 +326,7 @@ def _shapes(model: OwlModel, shapes_files: Sequence[str | Path] | None, user: Sh
         graphs.append(user.graph)
     key = tuple(id(g) for g in graphs)
     if key not in _merged:
-        _merged[key] = _merge(*graphs) if len(graphs) > 1 else generated
+        _merged[key] = user_shapes.union(graphs) if len(graphs) > 1 else generated
     return _merged[key]
 
 
