@@ -55,6 +55,10 @@ HANDLERS = {
     "report": "kb.cli.report:report",
 }
 DIALECTS = ["sqlite", "postgresql", "mysql"]
+SENSOR_NOISE_HELP = ("the pose sensor's errors per look, over the state file's sensor (ktw:PoseSensor): "
+                     "position=1mm,orientation=0.5deg (Gaussian sigmas, with units m, cm, mm, in, deg, rad), "
+                     "bias=0.5mm (a per-object offset), misdetection=0.01 and misclass=0.5%% (chances per object "
+                     "and look); docs/execution.md")
 DB_HELP = "SQLite file or SQLAlchemy URL such as postgresql://user@host/db (default kitkb.sqlite)"
 DEFAULT_DB = "kitkb.sqlite"
 
@@ -229,6 +233,9 @@ def _add_run(sub: Any) -> None:
                         "failures, metrics, kit scores, timeline; docs/report.md)")
     p.add_argument("--cell", metavar="HOST:PORT", help="drive a cell server (kitkb sim serve) instead of the "
                                                         "in-process simulator")
+    p.add_argument("--sensor-noise", metavar="KEY=VALUE,...", help=SENSOR_NOISE_HELP + "; the simulated cell's "
+                   "sensor has it and the checks allow for it (with --cell: what the executor assumes of the cell's "
+                   "sensor)")
     p.add_argument("--match-names", action="store_true",
                    help="match the goal's individuals to the initial state's by local name (NIST's files)")
 
@@ -324,8 +331,8 @@ def _add_sim(sub: Any) -> None:
                         "comma-separated (kinds: missed-grasp, dropped-part, part-moved, part-missing, "
                         "defective-part, wrong-sku, kit-tray-moved)")
     g.add_argument("--seed", type=int, default=0, help="seed of the faults and the sensor noise (default 0)")
-    g.add_argument("--noise", metavar="POS_SIGMA,ANGLE_SIGMA",
-                   help="Gaussian sensor noise: position sigma in metres, angle sigma in radians (default none)")
+    g.add_argument("--sensor-noise", metavar="KEY=VALUE,...", help=SENSOR_NOISE_HELP)
+    g.add_argument("--noise", metavar="POS_SIGMA,ANGLE_SIGMA", help=argparse.SUPPRESS)  # refused: --sensor-noise
     g.add_argument("--sensor-port", type=int, default=3989, metavar="P",
                    help="sensor port (default 3989, USARTruth's; 0: any free port)")
     g.add_argument("--command-port", type=int, default=3990, metavar="P",

@@ -47,7 +47,7 @@ from kb.world.lock import hold
 
 def run(files: list[str], output: str, faults: str | None, seed: int, db: str | None, report: str | None,
         cell: str | None, match_names: bool, out: Output, domain: list[str] | None = None,
-        replace: bool = False, report_html: str | None = None) -> int:
+        replace: bool = False, report_html: str | None = None, sensor_noise: str | None = None) -> int:
     """``kitkb run [INIT GOAL]``: the closed loop on the files, or the main job on every shipped
     scenario; a line per stage and action on standard output (with ``--quiet`` only the problems
     found; with ``--format json`` the report instead, the problems on standard error)."""
@@ -56,7 +56,13 @@ def run(files: list[str], output: str, faults: str | None, seed: int, db: str | 
     if db and not files:
         raise InputError("--db takes one scenario (kitkb run INIT GOAL --db URL); the main job writes "
                          "out/<scenario>/world.sqlite for each")
-    options = RunOptions(faults, seed, db, cell, match_names, domain, replace)
+    if sensor_noise is not None:  # refused before any work
+        from kb.sim.noise import SensorNoise
+        try:
+            SensorNoise.parse(sensor_noise)
+        except ValueError as exc:
+            raise InputError(f"--sensor-noise: {exc}") from None
+    options = RunOptions(faults, seed, db, cell, match_names, domain, replace, sensor_noise)
     show = _Show(display=out.tracker, problems=_Current("stderr") if out.is_json else None,
                  on_report=(lambda data: print(json.dumps(data, indent=1), file=out.results, flush=True))
                  if out.is_json else None, html=report_html)
@@ -112,6 +118,7 @@ class RunOptions:
     match_names: bool = False
     domain: list[str] | None = None  # domain files (failure modes, remediations) instead of the shipped one
     replace: bool = False  # --db may replace what the database holds
+    sensor_noise: str | None = None  # the sensor's accuracy, over the state file's (--sensor-noise)
 
 
 class _Progress:
@@ -273,7 +280,8 @@ def _execute(name: str, init: Path, goal: Path, plan: list[str], progress: _Prog
     store = RunStore(db)
     cell = RemoteCell.from_address(options.cell) if options.cell else None
     where = f"the cell at {options.cell}" if options.cell else "the simulated cell" + (
-        f" (faults {options.faults}, seed {options.seed})" if options.faults else "")
+        f" (faults {options.faults}, seed {options.seed})" if options.faults else "") + (
+        f" (sensor noise {options.sensor_noise})" if options.sensor_noise else "")
     progress.say(f"  execute in {where}:")
     try:
         with progress.display.task(f"{name}: executing the plan", total=len(plan), unit="actions") as task:
@@ -281,7 +289,7 @@ def _execute(name: str, init: Path, goal: Path, plan: list[str], progress: _Prog
             run = run_plan(plan, init, goal, cell=cell, faults=options.faults, seed=options.seed,
                            match_names=options.match_names, domain_files=options.domain, progress=actions.line,
                            notifier=lambda who, text: progress.say(f"      notify {who}: {text}"), name=name,
-                           store=store, plan_time=plan_time)
+                           store=store, plan_time=plan_time, sensor_noise=options.sensor_noise)
     finally:
         store.close()
         if cell is not None:

@@ -12,6 +12,8 @@ from typing import Callable
 from kb.cli.output import Output
 from kb.core.errors import InputError
 from kb.sim import CellServer, FaultSpec, SimulatedCell
+from kb.sim.noise import SensorNoise
+from kb.spatial.scene import Scene
 
 
 class _Stop(Exception):
@@ -19,11 +21,11 @@ class _Stop(Exception):
 
 
 def serve(init: str, goal: str | None, faults: str | None, seed: int, noise: str | None,
-          sensor_port: int, command_port: int, out: Output) -> int:
+          sensor_port: int, command_port: int, out: Output, sensor_noise: str | None = None) -> int:
     """Serve a :class:`SimulatedCell` of ``init`` (with the individuals only ``goal`` names)
     on 127.0.0.1; print one line with the bound ports; 0 when stopped by SIGINT or SIGTERM."""
     with out.progress(f"building the simulated cell of {Path(init).name}"):
-        cell = _cell(init, goal, faults, seed, noise)
+        cell = _cell(init, goal, faults, seed, noise, sensor_noise)
     with CellServer(cell, sensor_port=sensor_port, command_port=command_port) as server:
         address = f"{server.host}:{server.sensor_port},{server.command_port}"
         line = (f"kitkb: serving {init}: sensor port {server.sensor_port}, command port {server.command_port} on "
@@ -36,27 +38,39 @@ def serve(init: str, goal: str | None, faults: str | None, seed: int, noise: str
     return 0
 
 
-def _cell(init: str, goal: str | None, faults: str | None, seed: int, noise: str | None) -> SimulatedCell:
+def _cell(init: str, goal: str | None, faults: str | None, seed: int, noise: str | None,
+          sensor_noise: str | None = None) -> SimulatedCell:
+    if noise is not None:
+        raise InputError(_replaced(noise))
     try:
         spec = FaultSpec.parse(faults or "", seed=seed)
     except ValueError as exc:
         raise InputError(f"--faults: {exc}") from None
-    sigmas = _noise(noise) if noise else (0.0, 0.0)
+    scene = Scene.from_files([init], [Path(goal)] if goal else ())
     try:
-        return SimulatedCell(init, faults=spec, noise=sigmas, seed=seed, declared=[Path(goal)] if goal else ())
+        base = SensorNoise.from_scene(scene)
+    except ValueError as exc:
+        raise InputError(str(exc), init) from None
+    try:
+        sensor = SensorNoise.parse(sensor_noise, base) if sensor_noise is not None else base
+    except ValueError as exc:
+        raise InputError(f"--sensor-noise: {exc}") from None
+    try:
+        return SimulatedCell(scene, faults=spec, noise=sensor or SensorNoise(), seed=seed)
     except ValueError as exc:
         raise InputError(str(exc), init) from None
 
 
-def _noise(text: str) -> tuple[float, float]:
-    """(position sigma, angle sigma) of ``--noise POS_SIGMA,ANGLE_SIGMA``."""
+def _replaced(text: str) -> str:
+    """Why ``--noise POS_SIGMA,ANGLE_SIGMA`` is refused, with its new spelling where it reads."""
     try:
         pos, angle = (float(s) for s in text.split(","))
+        spelled = SensorNoise(position=pos, orientation=angle).text()
+        hint = f" (--noise {text} is --sensor-noise {spelled if spelled != 'none' else 'position=0mm'})"
     except ValueError:
-        raise InputError(f"--noise: expected POS_SIGMA,ANGLE_SIGMA (metres, radians), not {text!r}") from None
-    if not (pos >= 0 and angle >= 0):
-        raise InputError(f"--noise: sigmas must be >= 0, not {text!r}")
-    return pos, angle
+        hint = ""
+    return ("--noise is replaced by --sensor-noise KEY=VALUE,... with units, e.g. position=1mm,orientation=0.5deg"
+            + hint)
 
 
 def _until_signal(ready: Callable[[], None]) -> None:

@@ -198,7 +198,10 @@ def _accuracy(scene: Scene, sensor_noise: Any) -> Any:
     if sensor_noise is None and SENSOR_OF not in scene.facts and not any(
             "PoseSensor" in str(c) for cs in scene.classes for c in cs):
         return None
-    base = SensorNoise.from_scene(scene)
+    try:
+        base = SensorNoise.from_scene(scene)
+    except ValueError as exc:
+        raise InputError(str(exc), scene.path) from None
     if isinstance(sensor_noise, str):
         try:
             return SensorNoise.parse(sensor_noise, base)

@@ -30,7 +30,7 @@ import re
 from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
 
-from kb.core.namespaces import KTW
+from kb.core.namespaces import KTW, local_name
 
 #: length unit symbol -> metres
 LENGTHS: dict[str, float] = {"m": 1.0, "cm": 0.01, "mm": 0.001, "in": 0.0254}
@@ -132,8 +132,14 @@ class SensorNoise:
         for prop, name in PROPERTIES.items():
             v = scene.values.get(prop, {}).get(sensors[0])
             if v is not None:
-                found[name] = float(v)  # type: ignore[arg-type]
-        return cls(**found)
+                try:
+                    found[name] = float(v)  # type: ignore[arg-type]
+                except (TypeError, ValueError):
+                    raise ValueError(f"sensor {local_name(sensors[0])}: {local_name(prop)} {v!r} is not a number") from None
+        try:
+            return cls(**found)
+        except ValueError as exc:
+            raise ValueError(f"sensor {local_name(sensors[0])}: {exc}") from None
 
     def text(self) -> str:
         """The option's spelling (millimetres and degrees), the zero values left out ("none"
