@@ -178,9 +178,9 @@ def run_plan(plan: Sequence[str], init: str | Path, goal: str | Path, *, cell: C
     if injected is not None:
         record.injected = [{"kind": x.kind, "action_index": x.action_index, "objects": [local(o) for o in x.objects],
                             "detail": x.detail} for x in injected]
-    sensor = getattr(sim if sim is not None else cell, "sensor", None)  # what a simulated sensor did wrong
-    if accuracy is not None and not accuracy.zero and sensor is not None:
-        record.sensor_errors = [e.as_dict() for e in sensor.errors]
+    errors = getattr(getattr(sim if sim is not None else cell, "sensor", None), "errors", None)
+    if accuracy is not None and not accuracy.zero and isinstance(errors, list):  # what a simulated sensor did wrong
+        record.sensor_errors = [e.as_dict() for e in errors]
     violations = getattr(sim if sim is not None else cell, "violations", None)  # the same, of constraints
     if violations is not None:
         record.violations = [_as_data(v) for v in violations]
