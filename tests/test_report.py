@@ -11,12 +11,15 @@ from typing import Any
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from kb.cli import main
 from kb.report import campaign_page, run_page, write_report
-from kb.report.campaign import distribution_figures, failed_because
+from kb.report.campaign import distribution_figures, failed_because, trial_page
 from kb.report.html import plotly_js
 from kb.report.scene import CLASS_COLOURS, corners, scene_figure
+from kb.report.source import normalise
 from kb.report.timeline import timeline_figure
 from test_report_inputs import run_report, with_metrics, write_campaign
 
@@ -113,6 +116,39 @@ def test_everything_from_the_files_is_escaped(report: dict[str, Any]) -> None:
     texts = [h for t in figures["run-scene"] for h in t.get("hovertext") or []]
     assert any("&lt;/script&gt;&lt;script&gt;alert(2)" in h for h in texts)
     assert "&lt;/script&gt;&lt;script&gt;alert(2)&lt;/script&gt; (1)" in page  # the colour key
+
+
+def _paths(value: Any, prefix: tuple = ()) -> list[tuple]:
+    """Paths to the values of a report (the first 2 items of each list)."""
+    out = [prefix] if prefix else []
+    items = value.items() if isinstance(value, dict) else enumerate(value[:2]) if isinstance(value, list) else ()
+    for key, item in items:
+        out += _paths(item, prefix + (key,))
+    return out
+
+
+JSON = st.recursive(st.none() | st.booleans() | st.integers() | st.floats() | st.text(max_size=5),
+                    lambda inner: st.lists(inner, max_size=3) | st.dictionaries(st.text(max_size=3), inner, max_size=3),
+                    max_leaves=6)
+
+
+@settings(max_examples=15, derandomize=True, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(data=st.data())
+def test_any_json_anywhere_in_a_report_still_gives_a_page(report: dict[str, Any], data: st.DataObject) -> None:
+    report = json.loads(json.dumps(report))
+    report["trial"] = {"index": 3, "seed": 1, "error": None}
+    paths = _paths(report)
+    for _ in range(data.draw(st.integers(1, 3))):
+        path = data.draw(st.sampled_from(paths))
+        target = report
+        try:
+            for key in path[:-1]:
+                target = target[key]
+            target[path[-1]] = data.draw(JSON)
+        except (KeyError, IndexError, TypeError):
+            pass  # an earlier change replaced what this path went through
+    assert run_page(report).endswith("</html>\n") and trial_page(report).endswith("</html>\n")
+    distribution_figures([normalise(report)])
 
 
 def test_several_runs_on_one_page(report: dict[str, Any]) -> None:

@@ -12,7 +12,7 @@ from kb.metrics import METRICS, NAMES
 from kb.report.html import esc, figure, note, page, section, table, value_html, yes_no
 from kb.report.run import run_page
 from kb.report.scene import recovered
-from kb.report.source import Campaign, read_campaign
+from kb.report.source import Campaign, normalise, read_campaign
 from kb.report.tables import EXECUTION_NAMES, unit_of
 
 #: The file name of trial ``index``'s page (beside the others in ``DIR/report/``).
@@ -152,7 +152,7 @@ TRIAL_HEADERS = ["trial", "seed", "design", "goal holds", "failures", "kit score
 def campaign_body(campaign: Campaign, href: Callable[[int], str] | None = _default_href) -> str:
     """The body of a campaign's page; ``href(index)``: the link to trial ``index``'s page."""
     meta = campaign.meta
-    trials = [r for _, r in campaign.trials]
+    trials = [normalise(r) for _, r in campaign.trials]
     failed = [r for r in trials if failed_because(r)]
     facts = table(["", "value"], [("method", meta.get("method")), ("seed", meta.get("seed")),
                                   ("trials asked", meta.get("trials")), ("trials found", len(trials)),
@@ -199,6 +199,7 @@ def trial_extra(report: dict[str, Any]) -> str:
 
 def trial_page(report: dict[str, Any], *, back: str | None = None, script_src: str | None = None) -> str:
     """The page of one trial: its run's page with the trial's facts and a link ``back`` to the campaign."""
+    report = normalise(report)
     links = f'<nav><a href="{esc(back)}">&larr; campaign</a></nav>' if back else ""
     title = f"Trial {trial_index(report)}: {report.get('scenario')}"
     return run_page(report, script_src=script_src, links=links, extra=trial_extra(report), title=title)

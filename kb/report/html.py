@@ -9,6 +9,7 @@ and ``/`` inside the script.
 from __future__ import annotations
 
 import html
+import json
 import math
 from functools import lru_cache
 from typing import Any, Iterable, Sequence
@@ -61,18 +62,26 @@ def yes_no(value: Any, yes: str = "yes", no: str = "no") -> str:
     return f'<span class="ok">{yes}</span>' if value else f'<span class="bad">{no}</span>'
 
 
-def cell(value: Any) -> str:
+#: How deep :func:`value_html` nests tables before it shows the rest as JSON text.
+MAX_DEPTH = 6
+
+
+def cell(value: Any, depth: int = 0) -> str:
     """A table cell for any JSON value (objects and lists of objects as nested tables)."""
     if isinstance(value, bool):
         return f"<td>{yes_no(value)}</td>"
     if isinstance(value, (int, float)):
         return f'<td class="num">{number(value)}</td>'
-    return f"<td>{value_html(value)}</td>"
+    return f"<td>{value_html(value, depth)}</td>"
 
 
-def value_html(value: Any) -> str:
+def value_html(value: Any, depth: int = 0) -> str:
     """Any JSON value as HTML: scalars as text, objects as a nested key / value table, lists of
-    scalars joined with commas, lists of objects as a nested table with a column per key."""
+    scalars joined with commas, lists of objects as a nested table with a column per key;
+    below :data:`MAX_DEPTH` levels, JSON text (cut at 200 characters)."""
+    if depth > MAX_DEPTH and isinstance(value, (dict, list)):
+        text = json.dumps(value, default=str)
+        return f"<code>{esc(text[:200] + ('...' if len(text) > 200 else ''))}</code>"
     if value is None:
         return "&ndash;"
     if isinstance(value, bool):
@@ -82,23 +91,24 @@ def value_html(value: Any) -> str:
     if isinstance(value, dict):
         if not value:
             return "&ndash;"
-        rows = "".join(f"<tr><th>{esc(k)}</th>{cell(v)}</tr>" for k, v in value.items())
+        rows = "".join(f"<tr><th>{esc(k)}</th>{cell(v, depth + 1)}</tr>" for k, v in value.items())
         return f'<table class="nested">{rows}</table>'
     if isinstance(value, list):
         if value and all(isinstance(v, dict) for v in value):
             keys = list(dict.fromkeys(k for v in value for k in v))
-            return table(keys, ([v.get(k) for k in keys] for v in value), css="nested")
-        return ", ".join(value_html(v) for v in value) or "&ndash;"
+            return table(keys, ([v.get(k) for k in keys] for v in value), css="nested", depth=depth + 1)
+        return ", ".join(value_html(v, depth + 1) for v in value) or "&ndash;"
     return esc(value)
 
 
 def table(headers: Sequence[str], rows: Iterable[Sequence[Any]], *, css: str = "", caption: str = "",
-          raw: Sequence[bool] | None = None, row_css: Sequence[str] | None = None, tid: str = "") -> str:
+          raw: Sequence[bool] | None = None, row_css: Sequence[str] | None = None, tid: str = "",
+          depth: int = 0) -> str:
     """An HTML table; ``raw[i]`` True: column ``i`` is HTML already (links), else a JSON value."""
     head = "".join(f"<th>{esc(h)}</th>" for h in headers)
     body = []
     for n, row in enumerate(rows):
-        cells = "".join(f"<td>{v}</td>" if raw and raw[i] else cell(v) for i, v in enumerate(row))
+        cells = "".join(f"<td>{v}</td>" if raw and raw[i] else cell(v, depth) for i, v in enumerate(row))
         cls = f' class="{row_css[n]}"' if row_css and row_css[n] else ""
         body.append(f"<tr{cls}>{cells}</tr>")
     attrs = (f' class="{css}"' if css else "") + (f' id="{tid}"' if tid else "")

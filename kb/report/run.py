@@ -7,6 +7,7 @@ from typing import Any
 
 from kb.report.html import esc, figure, note, page, section, table, yes_no
 from kb.report.scene import scene_figure
+from kb.report.source import normalise
 from kb.report.tables import failures_table, injected_table, kits_table, metrics_table, run_facts
 from kb.report.timeline import timeline_figure
 
@@ -77,5 +78,6 @@ def _sum(runs: list[dict[str, Any]], key: str) -> float:
 def run_page(report: dict[str, Any], *, script_src: str | None = None, links: str = "", extra: str = "",
              title: str = "") -> str:
     """The HTML page of a run report (plotly.js inlined unless ``script_src`` names a copy)."""
+    report = normalise(report)
     head = f"kitkb report: {title or report.get('scenario') or 'runs'}"
     return page(head, run_body(report, links=links, extra=extra, title=title), script_src=script_src)

@@ -71,7 +71,7 @@ def read_run(path: str | Path) -> dict[str, Any]:
     if not is_run_report(data):
         raise InputError("not a kitkb run report (a JSON object with scenario, goal_holds and failures, "
                          "as kitkb run --report writes)", path)
-    return data
+    return normalise(data)
 
 
 def read_campaign(directory: str | Path) -> Campaign:
@@ -90,6 +90,7 @@ def read_campaign(directory: str | Path) -> Campaign:
         if not is_run_report(data):
             raise InputError("not a kitkb trial report (a run report with scenario, goal_holds and failures)",
                              path)
+        data = normalise(data)
         data.setdefault("trial", {}).setdefault("index", number)
         trials.append((path, data))
     return Campaign(folder, meta, trials)
@@ -114,3 +115,45 @@ def read_source(source: str | Path) -> dict[str, Any] | Campaign:
     if not p.exists():
         raise InputError("no such file or folder", p)
     return read_run(p)
+
+
+#: The sections of a run report that hold lists of objects, and the list fields of those objects.
+_LISTS = {"failures": ("objects", "violated"), "injected": ("objects",), "kits": ("lost",), "path": ("points",),
+          "timeline": ("args", "objects")}
+#: The sections that hold one object.
+_OBJECTS = ("metrics", "scene", "trial", "units")
+
+
+def _records(value: Any, lists: tuple[str, ...]) -> list[dict[str, Any]]:
+    """The objects of a list (anything else left out), their list fields lists."""
+    out = []
+    for item in value if isinstance(value, list) else []:
+        if isinstance(item, dict):
+            out.append({**item, **{k: item[k] if isinstance(item.get(k), list) else [] for k in lists if k in item}})
+    return out
+
+
+def normalise(report: dict[str, Any]) -> dict[str, Any]:
+    """``report`` with every section the page draws of the shape it expects: a section of
+    another shape left out (it is then said to be missing), list items that are not objects
+    dropped, list fields that are not lists emptied. The page never fails on a report that
+    is well-formed JSON, whatever its values."""
+    out = dict(report)
+    for key, lists in _LISTS.items():
+        if key in out:
+            if isinstance(out[key], list):
+                out[key] = _records(out[key], lists)
+            else:
+                del out[key]
+    for kit in out.get("kits", []):
+        kit["lost"] = _records(kit.get("lost"), ("objects",))
+    for key in _OBJECTS:
+        if key in out and not isinstance(out[key], dict):
+            del out[key]
+    if "scene" in out:
+        out["scene"] = {**out["scene"], "objects": _records(out["scene"].get("objects"), ())}
+    if isinstance(out.get("metrics", {}).get("static"), (list, str, int, float)):
+        out["metrics"] = {k: v for k, v in out["metrics"].items() if k != "static"}
+    if isinstance(out.get("runs"), list):
+        out["runs"] = [normalise(r) for r in out["runs"] if isinstance(r, dict)]
+    return out
