@@ -210,6 +210,14 @@ def test_kitkb_report_writes_the_page(tmp_path: Path, report: dict[str, Any], ca
     assert data["command"] == "report" and data["kind"] == "campaign" and data["trials"] == 3
 
 
+def test_a_report_in_memory_is_written_too(tmp_path: Path, report: dict[str, Any]) -> None:
+    """``kitkb run --report-html`` hands the report over without a file."""
+    facts = write_report(report, tmp_path / "run.html")
+    assert facts["kind"] == "run" and facts["scene"] and (tmp_path / "run.html").read_text().endswith("</html>\n")
+    with pytest.raises(ValueError):
+        write_report({"not": "a report"}, tmp_path / "x.html")
+
+
 @pytest.mark.parametrize("name, content, message", [
     ("run.json", "{\n  \"scenario\": \"x\",\n  oops\n}", r"run\.json:3: error: not JSON: Expecting property name"),
     ("run.json", "[1, 2]", r"run\.json: error: not a kitkb run report"),

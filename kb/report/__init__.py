@@ -26,7 +26,7 @@ from kb.core.files import atomic_paths
 from kb.report.campaign import TRIAL_PAGE, campaign_page, failed_because, trial_index, trial_page
 from kb.report.html import plotly_js
 from kb.report.run import run_page
-from kb.report.source import Campaign, is_run_report, read_campaign, read_run, read_source
+from kb.report.source import Campaign, is_run_report, normalise, read_campaign, read_run, read_source
 
 #: The folder, under a campaign's, that gets the trial pages and their shared plotly.js.
 PAGES_DIR = "report"
@@ -50,10 +50,13 @@ def _write(pages: dict[Path, str]) -> int:
     return size
 
 
-def write_report(source: str | Path, output: str | Path) -> dict[str, Any]:
-    """Write the page of ``source`` (a run report file, or a campaign folder) to ``output``; a
-    campaign also gets a page per trial in ``SOURCE/report/``. The facts of what was written."""
-    data = read_source(source)
+def write_report(source: str | Path | dict[str, Any], output: str | Path) -> dict[str, Any]:
+    """Write the page of ``source`` (a run report file, a campaign folder, or a run report
+    already in memory: ``kitkb run --report-html``) to ``output``; a campaign also gets a page
+    per trial in ``SOURCE/report/``. The facts of what was written."""
+    if isinstance(source, dict) and not is_run_report(source):
+        raise ValueError("not a kitkb run report: it needs scenario, goal_holds and failures")
+    data = normalise(source) if isinstance(source, dict) else read_source(source)
     out = Path(output)
     if isinstance(data, dict):
         runs = data["runs"] if isinstance(data.get("runs"), list) else [data]
