@@ -34,6 +34,7 @@ import datetime as dt
 import json
 import os
 import pstats
+import resource
 import statistics
 import subprocess
 import sys
@@ -92,7 +93,7 @@ def profile(parts: int, trials: int) -> dict[str, Any]:
     batch = jobs(Options("basic", trials=trials + 1, seed=0, parts=(parts,)))
     run_trial(batch[0])  # imports and the plan
     stages = {"placement": 0.0, "simulated cell": 0.0, "executor": 0.0, "report": 0.0}
-    t_all = time.perf_counter()
+    t_all, cpu_all = time.perf_counter(), time.process_time()
     for job in batch[1:]:
         prep = prepared(job.spec)
         t0 = time.perf_counter()
@@ -107,7 +108,7 @@ def profile(parts: int, trials: int) -> dict[str, Any]:
         stages["simulated cell"] += timed.seconds
         stages["executor"] += t2 - t1 - timed.seconds
         stages["report"] += t3 - t2
-    wall = (time.perf_counter() - t_all) / trials
+    wall, cpu = (time.perf_counter() - t_all) / trials, (time.process_time() - cpu_all) / trials
     prof = cProfile.Profile()
     prof.enable()
     for job in batch[1:]:
@@ -116,6 +117,7 @@ def profile(parts: int, trials: int) -> dict[str, Any]:
     stats = pstats.Stats(prof)
     top = sorted(stats.stats.items(), key=lambda kv: -kv[1][2])[:8]  # type: ignore[attr-defined]
     return {"parts": parts, "trials": trials, "load": started, "seconds_per_trial": round(wall, 4),
+            "cpu_s_per_trial": round(cpu, 4),
             "stages": {k: round(v / trials, 4) for k, v in stages.items()},
             "top_own_time": [{"function": f"{Path(path).name}:{func}", "seconds_per_trial": round(tt / trials, 4)}
                              for (path, _line, func), (_cc, _nc, tt, _ct, _callers) in top]}
@@ -151,15 +153,25 @@ def campaign(parts: int, trials: int, workers: int, folder: Path) -> tuple[dict[
     options = Options("basic", trials=trials, seed=0, parts=(parts,))
     clock = _Clock()
     started = load()
+    cpu = _cpu()
     t = time.perf_counter()
     c = run_campaign(options, folder, workers=workers, progress=clock)
     wall = time.perf_counter() - t
+    own, workers_cpu = (b - a for a, b in zip(cpu, _cpu()))
     steady = (len(clock.times) - 1) / (clock.times[-1] - clock.times[0]) if len(clock.times) > 1 else None
     out = {"workers": workers, "trials": trials, "load": started, "wall_s": round(wall, 2),
            "trials_per_s": round(trials / wall, 4), "steady_trials_per_s": round(steady, 4) if steady else None,
            "first_row_s": round(clock.times[0] - t, 2) if clock.times else None,
-           "kits_built": c.summary["kits_built"], "median_trial_s": c.summary["metrics"]["trial.time_s"]["median"]}
+           "kits_built": c.summary["kits_built"], "median_trial_s": c.summary["metrics"]["trial.time_s"]["median"],
+           "worker_cpu_s_per_trial": round(workers_cpu / trials, 4), "client_cpu_s_per_trial": round(own / trials, 4)}
     return out, [comparable(r) for r in c.rows]
+
+
+def _cpu() -> tuple[float, float]:
+    """CPU seconds (user + system) of this process, and of its children that have ended (the
+    Dask workers, once their cluster is closed)."""
+    me, kids = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return me.ru_utime + me.ru_stime, kids.ru_utime + kids.ru_stime
 
 
 def scaling(parts: int, trials: int, repeat: int) -> dict[str, Any]:
@@ -195,13 +207,16 @@ def _median(runs: list[dict[str, Any]]) -> dict[str, Any]:
 def thousand(parts: int, trials: int) -> dict[str, Any]:
     with tempfile.TemporaryDirectory(prefix="kitkb-bench-tm-") as tmp:
         started = load()
+        cpu = _cpu()[1]
         t = time.perf_counter()
         proc = subprocess.run([*KITKB, "testmethod", "basic", "--parts", str(parts), "--trials", str(trials),
                                "--workers", "2", "--out", str(Path(tmp) / "c"), "--format", "json", "-q"],
                               capture_output=True, text=True, cwd=tmp)
         wall = time.perf_counter() - t
+        cpu = _cpu()[1] - cpu
         summary = json.loads(proc.stdout)["summary"] if proc.stdout.strip() else {}
     return {"parts": parts, "trials": trials, "load": started, "exit": proc.returncode, "wall_s": round(wall, 1),
+            "cpu_s": round(cpu, 1), "load_after": load(),
             "kits_built": summary.get("kits_built"), "errors": summary.get("errors"),
             "median_trial_s": ((summary.get("metrics") or {}).get("trial.time_s") or {}).get("median"),
             "stderr": proc.stderr[-400:] if proc.returncode not in (0, 1) else ""}
@@ -217,7 +232,8 @@ def render(run: dict[str, Any]) -> str:
     p = run.get("profile")
     if p:
         lines += [f"**Where a trial's time goes** (basic, {p['parts']}-part kit, {p['trials']} trials in one "
-                  f"process after the first; load {p['load']}): {p['seconds_per_trial']} s a trial: "
+                  f"process after the first; load {p['load']}): {p['seconds_per_trial']} s a trial "
+                  f"({p.get('cpu_s_per_trial', '-')} CPU s): "
                   + ", ".join(f"{k} {v} s" for k, v in p["stages"].items())
                   + ". The plan, the nominal scene and the domain are made once per design and worker, not per "
                   "trial. Most own time under cProfile (s a trial): "
@@ -229,11 +245,12 @@ def render(run: dict[str, Any]) -> str:
                   f"started for each; medians of {s.get('repeat', 1)} pairs of campaigns, the order alternating; "
                   "load: the median at their starts):", "",
                   "| workers | load | wall s | trials/s (whole) | trials/s (steady) | first row s | median trial s "
-                  "| kits built |", "|---|---|---|---|---|---|---|---|"]
+                  "| worker CPU s / trial | client CPU s / trial | kits built |", "|---|---|---|---|---|---|---|---|---|---|"]
         for key in ("one", "two"):
             r = s[key]
             lines.append(f"| {r['workers']} | {r['load']} | {r['wall_s']} | {r['trials_per_s']} | "
                          f"{r['steady_trials_per_s']} | {r['first_row_s']} | {r['median_trial_s']} | "
+                         f"{r.get('worker_cpu_s_per_trial', '-')} | {r.get('client_cpu_s_per_trial', '-')} | "
                          f"{r['kits_built']} |")
         lines += ["", f"2 workers / 1 worker: {s['ratio']}x over the whole campaign, {s['steady_ratio']}x steady "
                   f"(goal: at least 1.7x); the rows are {'the same' if s['same_rows'] else 'NOT the same'} "
@@ -241,9 +258,11 @@ def render(run: dict[str, Any]) -> str:
     t = run.get("thousand")
     if t:
         verdict = "under" if t["wall_s"] < 300 else "over"
+        cpu = f", {t['cpu_s']} CPU s ({t['cpu_s'] / t['trials']:.3f} a trial)" if t.get("cpu_s") else ""
         lines += [f"**{t['trials']:,} trials** of the {t['parts']}-part basic kit on 2 workers, `kitkb testmethod` as "
-                  f"a whole process (load {t['load']}): {t['wall_s']} s, {verdict} the 5-minute goal; exit "
-                  f"{t['exit']}, kits built {t['kits_built']}, median trial {t['median_trial_s']} s.", ""]
+                  f"a whole process (load {t['load']} at the start, {t.get('load_after', '-')} at the end): "
+                  f"{t['wall_s']} s{cpu}, {verdict} the 5-minute goal; exit {t['exit']}, kits built "
+                  f"{t['kits_built']}, median trial {t['median_trial_s']} s.", ""]
     for note in run.get("notes", []):
         lines += [note, ""]
     return "\n".join(lines)
