@@ -184,6 +184,19 @@ def test_the_real_placement_differs_from_the_nominal_one():
     assert [d for k, d in real_run.log if k == "begin"] == [d for k, d in nominal_run.log if k == "begin"]
 
 
+def test_a_trial_that_cannot_run_is_a_row_saying_why(monkeypatch):
+    from kb.core.errors import NotSolvableError
+    from kb.report.source import is_run_report
+    from kb.testmethod import trial
+
+    def no_plan(spec):  # noqa: ANN001, ANN202
+        raise NotSolvableError("no plan: the goal cannot be reached")
+    monkeypatch.setattr(trial, "prepared", no_plan)
+    row = trial.run_trial(jobs(SMALL, [0])[0])
+    assert row["trial"]["error"] == "no plan: the goal cannot be reached" and row["executed"] is False
+    assert is_run_report(row)  # kitkb report draws it among the failed trials
+
+
 # ------------------------------------------------------------------ campaigns on Dask
 
 

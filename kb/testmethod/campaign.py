@@ -35,7 +35,7 @@ from typing import Any, Iterator
 from kb.core.errors import InputError
 from kb.core.files import write_atomic
 from kb.core.progress import SILENT, Progress
-from kb.testmethod.methods import Job, Options, jobs, trial_seed
+from kb.testmethod.methods import Job, Options, jobs, not_executed, trial_seed
 from kb.testmethod.summary import summarize
 
 #: times Dask runs a trial again after it raised
@@ -190,8 +190,7 @@ def _results(client: Any, batch: list[Job]) -> Iterator[tuple[int, dict[str, Any
 def _error_row(job: Job, exc: BaseException) -> dict[str, Any]:
     """The row of a trial that raised each time it ran (a fault of kitkb's: it says which)."""
     message = f"internal error: {type(exc).__name__}: {exc}"
-    return {"scenario": job.spec.name, "seed": job.seed, "executed": False, "goal_holds": False, "stopped": None,
-            "reason": message,
+    return {**not_executed(job, message),
             "trial": {"index": job.index, "seed": job.seed, "method": job.method, "design": " ".join(job.order),
                       "designs": list(job.order), "layout": None, "time_s": None, "error": message}}
 

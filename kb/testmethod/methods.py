@@ -107,6 +107,12 @@ class Job:
     order: tuple[str, ...] = field(default=())  # the designs of the kits, in the order asked
 
 
+def not_executed(job: Job, reason: str) -> dict[str, Any]:
+    """The report of a trial whose run did not take place (as ``kitkb run``'s not executed)."""
+    return {"scenario": job.spec.name, "seed": job.seed, "executed": False, "reason": reason, "goal_holds": False,
+            "stopped": None, "injected": [], "failures": []}
+
+
 def trial_seed(seed: int, index: int) -> int:
     """The seed of trial ``index`` of a campaign of ``seed`` (32 bits, from SHA-256)."""
     return int.from_bytes(hashlib.sha256(f"kitkb-testmethod/{seed}/{index}".encode()).digest()[:4], "big")

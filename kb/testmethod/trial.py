@@ -49,7 +49,7 @@ from kb.scenario.spec import ScenarioSpec
 from kb.sim import FaultSpec, SimulatedCell
 from kb.spatial.scene import Scene, scene_boxes
 from kb.spatial.transforms import pose_matrix
-from kb.testmethod.methods import Job
+from kb.testmethod.methods import Job, not_executed
 
 #: designs whose preparation a worker keeps (a campaign has one, multi a few orders of them)
 KEEP = 32
@@ -198,8 +198,7 @@ def run_trial(job: Job) -> dict[str, Any]:
     try:
         report = _run(job, facts)
     except KitkbError as e:
-        report = {"scenario": job.spec.name, "seed": job.seed, "executed": False, "goal_holds": False,
-                  "stopped": None, "reason": str(e)}
+        report = not_executed(job, str(e))
         facts["error"] = str(e)
     facts.setdefault("error", None)
     facts["time_s"] = round(time.perf_counter() - t, 3)
