@@ -57,7 +57,12 @@ class Browser:
         self.log = self.profile / "chromium.log"  # a file, not a pipe: a full pipe would stop Chromium
         with open(self.log, "w") as log:
             self.proc = subprocess.Popen(args, stdin=subprocess.DEVNULL, stdout=log, stderr=log)
-        self.ws = websocket.create_connection(self._address(), timeout=LOAD_TIMEOUT, suppress_origin=True)
+        try:
+            self.ws = websocket.create_connection(self._address(), timeout=LOAD_TIMEOUT, suppress_origin=True)
+        except BaseException:
+            self.proc.kill()
+            self.proc.wait()
+            raise
         self.ids = itertools.count(1)
         self.events: list[dict[str, Any]] = []
 

@@ -43,33 +43,34 @@ def corners(lo: Sequence[float], hi: Sequence[float], pose: Any) -> np.ndarray:
     return local @ m[:3, :3].T + m[:3, 3]
 
 
-def _pose(value: Any) -> np.ndarray | None:
-    try:
-        m = np.asarray(value, float)
-    except (TypeError, ValueError):
-        return None
-    return m if m.shape == (4, 4) and np.isfinite(m).all() else None
+def _numbers(value: Any, n: int) -> bool:
+    return (isinstance(value, list) and len(value) == n
+            and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value))
 
 
-def _box(obj: dict[str, Any], state: str) -> np.ndarray | None:
-    pose = _pose(obj.get(state))
-    try:
-        lo, hi = np.asarray(obj.get("lo"), float), np.asarray(obj.get("hi"), float)
-    except (TypeError, ValueError):
-        return None
-    if pose is None or lo.shape != (3,) or hi.shape != (3,) or not (np.isfinite(lo).all() and np.isfinite(hi).all()):
-        return None
-    return corners(lo, hi, pose)
+def _placed(obj: Any, state: str) -> bool:
+    """Whether ``obj`` has a box and a 4x4 pose in ``state``, all numbers."""
+    if not isinstance(obj, dict) or not (_numbers(obj.get("lo"), 3) and _numbers(obj.get("hi"), 3)):
+        return False
+    pose = obj.get(state)
+    return isinstance(pose, list) and len(pose) == 4 and all(_numbers(row, 4) for row in pose)
 
 
 def boxes(scene: dict[str, Any], state: str) -> dict[str, list[tuple[str, np.ndarray]]]:
-    """Class -> [(object name, its 8 corners)] of the objects placed in ``state`` (initial, final)."""
+    """Class -> [(object name, its 8 corners)] of the objects placed in ``state`` (initial, final),
+    all boxes placed by their poses at once."""
+    objs = [o for o in scene.get("objects") or [] if _placed(o, state)]
+    if not objs:
+        return {}
+    lo = np.array([o["lo"] for o in objs], float)
+    hi = np.array([o["hi"] for o in objs], float)
+    poses = np.array([o[state] for o in objs], float)
+    local = lo[:, None, :] + _CORNERS[None, :, :] * (hi - lo)[:, None, :]
+    world = np.einsum("kij,kcj->kci", poses[:, :3, :3], local) + poses[:, None, :3, 3]
+    ok = np.isfinite(world).all(axis=(1, 2))
     out: dict[str, list[tuple[str, np.ndarray]]] = {}
-    for obj in scene.get("objects") or []:
-        if not isinstance(obj, dict):
-            continue
-        box = _box(obj, state)
-        if box is not None:
+    for obj, box, good in zip(objs, world, ok):
+        if good:
             out.setdefault(str(obj.get("class") or "object"), []).append((str(obj.get("name", "")), box))
     return out
 
@@ -89,7 +90,7 @@ def mesh_trace(label: str, items: list[tuple[str, str, np.ndarray]], state: str,
     coloured by its object's class (one trace for many classes: WebGL set-up is per trace)."""
     pts = np.concatenate([c for _, _, c in items])
     tri = np.concatenate([_TRIANGLES + 8 * n for n in range(len(items))])
-    names = [f"{esc(name)}<br>{esc(cls)} ({state})" for cls, name, _ in items for _ in range(8)]
+    names = [label for cls, name, _ in items for label in [f"{esc(name)}<br>{esc(cls)} ({state})"] * 8]
     faces = [colours[cls] for cls, _, _ in items for _ in range(len(_TRIANGLES))]
     return {"type": "mesh3d", "name": f"{label} ({len(items)})", "legendgroup": state,
             "legendgrouptitle": {"text": f"{state} state"}, "x": _r(pts[:, 0]), "y": _r(pts[:, 1]),
@@ -99,17 +100,16 @@ def mesh_trace(label: str, items: list[tuple[str, str, np.ndarray]], state: str,
 
 
 def edge_trace(all_boxes: list[np.ndarray], state: str) -> dict[str, Any]:
-    """The boxes' edges as one line trace (None between segments)."""
-    xs: list[float | None] = []
-    ys: list[float | None] = []
-    zs: list[float | None] = []
-    for box in all_boxes:
-        for a, b in _EDGES:
-            for v, out in ((0, xs), (1, ys), (2, zs)):
-                out.extend((round(float(box[a, v]), 5), round(float(box[b, v]), 5), None))
-    return {"type": "scatter3d", "mode": "lines", "x": xs, "y": ys, "z": zs, "name": f"edges ({state})",
-            "legendgroup": state, "showlegend": False, "hoverinfo": "skip",
-            "line": {"color": "rgba(40,40,40,0.45)", "width": 1}}
+    """The boxes' edges as one line trace (a gap, null, between segments)."""
+    seg = np.stack(all_boxes)[:, _EDGES]  # (K, 12, 2, 3)
+    gap = np.full(seg.shape[:2] + (1, 3), np.nan)
+    pts = np.round(np.concatenate([seg, gap], axis=2).reshape(-1, 3), 5)
+
+    def column(v: np.ndarray) -> list[float | None]:
+        return [None if x != x else x for x in v.tolist()]
+    return {"type": "scatter3d", "mode": "lines", "x": column(pts[:, 0]), "y": column(pts[:, 1]),
+            "z": column(pts[:, 2]), "name": f"edges ({state})", "legendgroup": state, "showlegend": False,
+            "hoverinfo": "skip", "line": {"color": "rgba(40,40,40,0.45)", "width": 1}}
 
 
 def _r(values: np.ndarray) -> list[float]:
@@ -200,15 +200,16 @@ def scene_figure(report: dict[str, Any]) -> dict[str, Any] | str:
     if not isinstance(scene, dict) or not isinstance(scene.get("objects"), list):
         return ("This report has no scene (the objects' boxes and poses): it was written before kitkb "
                 "recorded them, or by a run that did not execute.")
-    states = [s for s in ("final", "initial") if boxes(scene, s)]
+    by_state = {state: boxes(scene, state) for state in ("initial", "final")}
+    states = [s for s in ("final", "initial") if by_state[s]]
     if not states:
         return "The report's scene places no object with a box, so there is nothing to draw."
     order: list[str] = []
-    colours = {cls: colour(cls, order) for cls in sorted({c for st in states for c in boxes(scene, st)})}
+    colours = {cls: colour(cls, order) for cls in sorted({c for st in states for c in by_state[st]})}
     traces, visible_in = [], []
     where: dict[str, np.ndarray] = {}
     for state in ("initial", "final"):
-        by_class = boxes(scene, state)
+        by_class = by_state[state]
         items = [(cls, name, box) for cls in sorted(by_class) for name, box in by_class[cls]]
         for label, faint in (("objects", False), ("tables, boxes, stations", True)):
             part = [x for x in items if (x[0] in _FAINT) == faint]
@@ -221,14 +222,14 @@ def scene_figure(report: dict[str, Any]) -> dict[str, Any] | str:
         if state == "initial":
             where.update({name: box for _, name, box in items})
     if not where:
-        where = {name: box for items in boxes(scene, "final").values() for name, box in items}
+        where = {name: box for items in by_state["final"].values() for name, box in items}
     extra = [t for t in (path_trace(report.get("path") or [], report.get("tip_start")), failure_trace(report.get("failures") or [], where))
              if t is not None]
     shown = states[0]
     for t, state in zip(traces, visible_in):
         t["visible"] = state == shown
     data = traces + extra
-    key = [(cls, colours[cls], max(len(boxes(scene, st).get(cls, [])) for st in states)) for cls in colours]
+    key = [(cls, colours[cls], max(len(by_state[st].get(cls, [])) for st in states)) for cls in colours]
     return {"data": data, "layout": _layout(states, visible_in, len(extra)), "key": key}
 
 
