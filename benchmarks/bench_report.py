@@ -117,6 +117,16 @@ def time_loading(url: str, repeat: int) -> dict[str, Any]:
             "chromium": subprocess.run([binary, "--version"], capture_output=True, text=True).stdout.strip()}
 
 
+def floors(folder: Path, repeat: int) -> dict[str, Any]:
+    """What any such page costs: plotly.js alone (no figure), and a one-point 3-D figure (WebGL
+    set-up), made with kb.report's own page and figure."""
+    from kb.report.html import figure, page
+    (folder / "plotly-only.html").write_text(page("plotly.js only", "<p>no figure</p>"))
+    one = {"data": [{"type": "scatter3d", "x": [0], "y": [0], "z": [0]}], "layout": {"height": 620}}
+    (folder / "one-point-3d.html").write_text(page("one point in 3-D", figure(one, "one")))
+    return {name: time_loading((folder / f"{name}.html").as_uri(), repeat) for name in ("plotly-only", "one-point-3d")}
+
+
 def campaign(folder: Path, trials: int, repeat: int) -> dict[str, Any]:
     """Write and load the page of a campaign folder of ``trials`` copies of the small-kit run."""
     from test_report_inputs import run_report, write_campaign
@@ -141,6 +151,7 @@ def measure(args: argparse.Namespace) -> dict[str, Any]:
         page = folder / "run.html"
         result["writing"] = time_writing(source, page, args.repeat)
         result["loading"] = time_loading(page.as_uri(), args.repeat)
+        result["floors"] = floors(folder, args.repeat)
         if args.campaign_trials:
             result["campaign"] = campaign(folder, args.campaign_trials, args.repeat)
     result["load_average_end"] = round(os.getloadavg()[0], 2)
@@ -176,6 +187,12 @@ def render(r: dict[str, Any]) -> str:
                   f"{lo['first']['drawn_ms'] / 1000:.2f} |"]
     lines += ["", f"The page: {w['page_bytes'] / 1e6:.1f} MB (plotly.js is {4.7:.1f} MB of it), "
               f"{lo.get('figures', '?')} figures, console errors: {len(lo.get('errors', [])) or 'none'}."]
+    fl = r.get("floors")
+    if fl and all("error" not in v for v in fl.values()):
+        lines += ["", "What any page drawn this way costs in the same browser (medians, seconds from navigation "
+                  f"start to drawn): plotly.js alone, no figure: {fl['plotly-only']['drawn_s']:.2f}; a one-point "
+                  f"3-D figure (WebGL set-up, software rendering here): {fl['one-point-3d']['drawn_s']:.2f}. The "
+                  f"rest of the {lo.get('drawn_s', float('nan')):.2f} s is the run's own figures."]
     c = r.get("campaign")
     if c:
         cw, cl = c["writing"], c["loading"]
