@@ -47,15 +47,10 @@ def read(path: str | Path) -> Source:
     return read_source(str(p), mtime)
 
 
-def shape_nodes(g: Graph) -> set[Node]:
-    """Everything ``g`` declares a shape or gives a target."""
-    found = set(g.subjects(RDF.type, SH.NodeShape)) | set(g.subjects(RDF.type, SH.PropertyShape))
-    return found | shacl.targeted_shapes(g)
-
-
 def require_shapes(g: Graph, where: str) -> None:
     """InputError naming ``where`` when ``g`` holds no shape at all."""
-    if not shape_nodes(g):
+    typed = any(True for kind in (SH.NodeShape, SH.PropertyShape) for _ in g.subjects(RDF.type, kind))
+    if not typed and not shacl.targeted_shapes(g):
         raise InputError("no SHACL shapes found (is the sh: prefix right?); refusing to validate "
                          "against an empty shapes graph", where)
 
