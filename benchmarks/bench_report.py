@@ -110,8 +110,12 @@ def time_loading(url: str, repeat: int) -> dict[str, Any]:
             browser.close()
     rest = loads[1:]
     keys = ("paint_ms", "load_ms", "drawn_ms")
-    return {"first": {k: round(loads[0][k]) for k in keys},
-            **{k.replace("_ms", "_s"): median([f[k] / 1000 for f in rest]) for k in keys},
+
+    def seconds(key: str) -> float | None:  # None where the browser recorded no such time
+        values = [f[key] / 1000 for f in rest if isinstance(f.get(key), (int, float))]
+        return median(values) if values else None
+    return {"first": {k: round(loads[0][k]) if isinstance(loads[0].get(k), (int, float)) else None for k in keys},
+            **{k.replace("_ms", "_s"): seconds(k) for k in keys},
             "drawn_best_s": round(min(f["drawn_ms"] for f in rest) / 1000, 3),
             "errors": sorted({e for f in loads for e in f["errors"]}), "figures": len(loads[0]["figures"]),
             "chromium": subprocess.run([binary, "--version"], capture_output=True, text=True).stdout.strip()}

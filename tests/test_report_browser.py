@@ -196,7 +196,7 @@ FACTS = """(() => ({
   tables: Object.fromEntries([...document.querySelectorAll('table[id]')].map(t => [t.id, t.querySelectorAll('tbody tr').length])),
   links: [...document.querySelectorAll('a[href]')].map(a => a.getAttribute('href')),
   text: document.body.innerText,
-  paint_ms: (performance.getEntriesByName('first-contentful-paint')[0] || {}).startTime,
+  paint_ms: (performance.getEntriesByName('first-contentful-paint')[0] || {startTime: null}).startTime,
   load_ms: performance.getEntriesByType('navigation')[0].loadEventEnd,
   drawn_ms: Number(document.body.dataset.drawnMs),
 }))()"""
