@@ -78,8 +78,8 @@ class DataIndex:
                 key = key_of(term)  # type: ignore[arg-type]
                 if ILL_TYPED not in key:  # an ill-typed literal equals its well-typed twin
                     cache[term] = key
-            elif ILL_TYPED in key or (type(term) is Literal and term.ill_typed):
-                key = key_of(term)  # type: ignore[arg-type]
+            elif type(term) is Literal and term.ill_typed:  # its well-typed twin was cached
+                key = key_of(term)
             return key
 
         for s, p, o in graph.triples((None, None, None)):

@@ -14,7 +14,8 @@ pre-bound variable, and nested SELECTs that do not return every pre-bound variab
 * :class:`Template`: the query text with the pre-bound variables cut out, filled with a
   focus node's term per evaluation (the path for every other query); a blank focus node,
   which no query text can name, is bound by pyoxigraph's ``substitutions`` instead
-  (:func:`for_blank_nodes` mends the two places where that falls short).
+  (:func:`for_blank_nodes` mends ``bound($this)``, :func:`hands_on` finds the queries those
+  substitutions do not reach).
 """
 
 from __future__ import annotations
