@@ -466,7 +466,7 @@ def run() -> None:
     ``os._exit`` once the output is flushed (the database is committed and closed by then).
     """
     args = build_parser().parse_args()
-    fast = args.command in ("validate", "db load", "db dump")
+    fast = args.command in ("validate", "shacl", "db load", "db dump")
     if fast:
         gc.disable()
     code = _dispatch(args)

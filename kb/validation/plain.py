@@ -128,8 +128,26 @@ def validate_files(data: Sequence[str | Path], shapes: Sequence[str | Path],
         with user.located():
             results = shacl.start(graph, user.graph)()
         step.update(description="finding the lines of the results")
+        _prepare_lines(sources, results)
         placed = sorted((_place(r, sources) for r in results), key=_order)
     return ShaclReport(placed, [str(s.path) for s in sources], user, fallback, time.perf_counter() - started)
+
+
+def _prepare_lines(sources: list[Source], results: list[ShaclResult]) -> None:
+    """Index the statements of the results' focus nodes in one pass over each big file
+    (else each look-up reads the file again), and of the nodes that refer to a focus node
+    stated only as an object."""
+    for src in sources:
+        view = src.view()
+        wanted = {r.focus for r in results if (r.focus, None, None) in view}
+        wanted.update(next(iter(view.subjects(None, r.focus)), None) for r in results
+                      if r.focus not in wanted and (None, None, r.focus) in view)
+        wanted.discard(None)
+        if wanted:
+            try:
+                src.prepare_lines(wanted)
+            except Exception:  # only an optimisation: line_of looks up one by one
+                pass
 
 
 def _place(r: ShaclResult, sources: list[Source]) -> Placed:
