@@ -206,6 +206,16 @@ def render(r: dict[str, Any]) -> str:
                   f"{cw['facts']['bytes'] / 1e6:.1f} MB in all); Chromium draws the campaign page "
                   f"({cl.get('figures', '?')} figures) in {cl.get('drawn_s', float('nan')):.2f} s, first paint "
                   f"{cl.get('paint_s', float('nan')):.2f} s."]
+    if fl and all("error" not in v for v in fl.values()) and "error" not in lo:
+        lines += ["", "Reading it: the text and the tables show at the first paint; plotly.js (evaluated at the end "
+                  "of the page) and the figures follow, the 3-D view last. In this browser, on this machine shared "
+                  "with other jobs and drawing WebGL in software (SwiftShader), plotly.js alone takes "
+                  f"{fl['plotly-only']['drawn_s']:.2f} s and the first 3-D figure's WebGL set-up "
+                  f"{max(0.0, fl['one-point-3d']['drawn_s'] - fl['plotly-only']['drawn_s']):.2f} s more, before "
+                  "any of the run's data; a desktop browser with a GPU on an idle machine does both far faster. "
+                  "What the page controls: one copy of plotly.js, the figures drawn after the text, and few 3-D "
+                  "traces (per state one mesh of the objects and one of the furniture, coloured by class face by "
+                  "face, instead of one per class: each trace costs WebGL set-up)."]
     write_ok = w["process_s"] < GOAL_S
     load_ok = "error" not in lo and lo["drawn_s"] < GOAL_S
     lines += ["", f"Goals (a {r['parts']}-part run's report written in under {GOAL_S:g} s and loaded by the browser "
