@@ -26,6 +26,9 @@ from kb.spatial.scene import Scene, scene_boxes
 SKU_OF, KIT_TRAY = str(KTW.hasSkuObject_Sku), str(KTW.hasKit_KitTray)
 #: a look within this many sigmas of the belief is of the same pose (per coordinate, per angle)
 GATE = 5.0
+#: the pose of an object is rewritten when the mean of its looks has moved more than this many
+#: sigmas from it (so a still object's belief settles and its checks are not decided anew)
+STEADY = 0.25
 _LEVEL = 1e-9  # roll and pitch below this: level
 
 
@@ -69,6 +72,12 @@ class Belief:
         an exact one: take every look as it is."""
         self.noise = noise if noise is not None and noise.poses else None
         self._confirm = bool(noise is not None and noise.misclassification)
+        if self.noise is not None:  # each object's mean look (x, y, z, roll, pitch, yaw), the one
+            # its pose was written from, and whether it is believed level
+            self._mean = np.concatenate([self.poses[:, :3, 3], _rpy(self.poses)], axis=1)
+            self._written = self._mean.copy()
+            self._level = np.isnan(self.poses[:, 0, 0]) | (
+                (np.abs(self.poses[:, 2, 0]) < _LEVEL) & (np.abs(self.poses[:, 2, 1]) < _LEVEL))
 
     def _stand_in_boxes(self) -> None:
         """A kit not yet placed takes its tray's box (for when the sensor first reports it)."""
@@ -118,30 +127,33 @@ class Belief:
         return changed
 
     def _filtered(self, observations: list[Observation], asked: Iterable[str]) -> list[str]:
-        """:meth:`observe` with a noisy sensor: each look averaged into its object's belief or,
-        outside the gate, taken as the object having moved (module docstring)."""
+        """:meth:`observe` with a noisy sensor: each object's looks (several when it was asked
+        for several times in one query: simultaneous frames) averaged into its belief or, outside
+        the gate, taken as the object having moved (module docstring)."""
         changed: dict[str, None] = {}
         moved: dict[str, None] = {}
-        seen = set()
-        batches: list[list[tuple[int, Observation]]] = []  # an object's k-th look goes in batch k
-        count: dict[int, int] = {}
-        for obs in observations:
+        rows: dict[int, list[int]] = {}  # object -> its observations' positions
+        for k, obs in enumerate(observations):
             i = self.index.get(obs.name)
             if i is None:
                 continue
-            seen.add(obs.name)
-            k = count.get(i, 0)
-            count[i] = k + 1
-            if k == len(batches):
-                batches.append([])
-            batches[k].append((i, obs))
+            rows.setdefault(i, []).append(k)
             if obs.sku:
                 self._recognised(obs.name, obs.sku)
-        for batch in batches:
-            idx = np.array([i for i, _ in batch], np.int64)
-            xyz = np.array([o.location for _, o in batch], float)
-            rpy = np.array([o.orientation for _, o in batch], float)
-            new, went = self._merge(idx, xyz, rpy)
+        seen = {self.names[i] for i in rows}
+        if rows:
+            idx = np.fromiter(rows, np.int64, len(rows))
+            xyz = np.array([o.location for o in observations], float)
+            rpy = np.array([o.orientation for o in observations], float)
+            if all(len(ks) == 1 for ks in rows.values()):  # one look each (the usual case)
+                order = [ks[0] for ks in rows.values()]
+                m, xyz, rpy = np.ones(len(idx)), xyz[order], rpy[order]
+            else:  # the mean of each object's looks (angles about its first look's)
+                m = np.array([len(ks) for ks in rows.values()], float)
+                first = rpy[[ks[0] for ks in rows.values()]]
+                xyz = np.array([xyz[ks].mean(axis=0) for ks in rows.values()])
+                rpy = first + np.array([_wrap(rpy[ks] - first[j]).mean(axis=0) for j, ks in enumerate(rows.values())])
+            new, went = self._merge(idx, xyz, rpy, m)
             for j, i in enumerate(idx):
                 if new[j]:
                     changed[self.names[i]] = None
@@ -151,6 +163,8 @@ class Belief:
             i = self.index.get(name)
             if name not in seen and i is not None and not np.isnan(self.poses[i, 0, 0]):
                 self.poses[i] = np.nan
+                self._mean[i] = self._written[i] = np.nan
+                self._level[i] = True  # an object seen again after it was gone: level if it looks it
                 self.looks[i] = 0
                 changed[name] = None
                 moved[name] = None
@@ -160,46 +174,63 @@ class Belief:
         self.last_moved = list(moved)
         return list(changed)
 
-    def _merge(self, idx: np.ndarray, xyz: np.ndarray, rpy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Take one look of each object ``idx`` (distinct): (pose changed, moved) per object."""
+    def _merge(self, idx: np.ndarray, xyz: np.ndarray, rpy: np.ndarray, m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Take the mean of ``m`` looks of each object ``idx`` (distinct): (pose changed, moved)
+        per object. The mean of all the looks is kept exactly; the pose is rewritten when it
+        moves away from the written one by more than :data:`STEADY` sigmas (a still object's
+        belief settles)."""
         nz = self.noise
-        old = self.poses[idx]
+        mean = self._mean[idx]
         n = self.looks[idx]
-        known = ~np.isnan(old[:, 0, 0]) & (n > 0)
-        prior_level = np.isnan(old[:, 0, 0]) | ((np.abs(old[:, 2, 0]) < _LEVEL) & (np.abs(old[:, 2, 1]) < _LEVEL))
-        spread = np.sqrt(1.0 + 1.0 / np.maximum(n, 1))
-        tilt_gate = GATE * nz.orientation * spread + _LEVEL
-        level = prior_level & (np.abs(rpy[:, 0]) <= tilt_gate) & (np.abs(rpy[:, 1]) <= tilt_gate)
-        rpy = rpy.copy()
-        rpy[level, :2] = 0.0
-        old_xyz = old[:, :3, 3]
-        old_rpy = _rpy(old)
-        d_xyz = xyz - old_xyz
-        d_rpy = _wrap(rpy - old_rpy)
-        inside = known & np.all(np.abs(d_xyz) <= (GATE * nz.position * spread + _LEVEL)[:, None], axis=1) \
-            & np.all(np.abs(d_rpy) <= (GATE * nz.orientation * spread + _LEVEL)[:, None], axis=1)
-        w = np.where(inside, 1.0 / (n + 1.0), 1.0)[:, None]
-        new_xyz = np.where(inside[:, None], old_xyz + d_xyz * w, xyz)
-        new_rpy = np.where(inside[:, None], _wrap(old_rpy + d_rpy * w), rpy)
-        poses = _poses(new_xyz, new_rpy)
-        self.looks[idx] = np.where(inside, n + 1, 1)
-        changed = ~np.all(np.abs(poses - np.nan_to_num(old, nan=np.inf)) <= 1e-12, axis=(1, 2))
-        self.poses[idx[changed]] = poses[changed]
-        return changed, ~inside
+        spread = np.sqrt(1.0 / m + 1.0 / np.maximum(n, 1))
+        d_xyz = xyz - mean[:, :3]
+        still = (n > 0) & (np.abs(d_xyz).max(axis=1) <= GATE * nz.position * spread + _LEVEL)
+        gate_o = GATE * nz.orientation * spread + _LEVEL
+        # believed level, or moved (objects come to rest level), and the look tilts within the gate
+        level = (self._level[idx] | ~still) & (np.abs(rpy[:, 0]) <= gate_o) & (np.abs(rpy[:, 1]) <= gate_o)
+        if level.any():
+            rpy = rpy.copy()
+            rpy[level, :2] = 0.0
+        d_rpy = _wrap(rpy - mean[:, 3:])
+        inside = still & (np.abs(d_rpy).max(axis=1) <= gate_o)
+        w = (m / (n + m))[:, None]
+        new = np.where(inside[:, None], mean + np.concatenate([d_xyz, d_rpy], axis=1) * w,
+                       np.concatenate([xyz, rpy], axis=1))
+        new[:, 3:] = _wrap(new[:, 3:])
+        self._mean[idx] = new
+        self._level[idx] = (np.abs(new[:, 3]) < _LEVEL) & (np.abs(new[:, 4]) < _LEVEL)
+        self.looks[idx] = np.where(inside, n + m, m).astype(np.int64)
+        drift = np.abs(new - self._written[idx])
+        take = ~inside | (drift[:, :3].max(axis=1) > STEADY * nz.position) | (drift[:, 3:].max(axis=1) > STEADY * nz.orientation)
+        rows = idx[take]
+        if len(rows):
+            self.poses[rows] = _poses(new[take, :3], new[take, 3:])
+            self._written[rows] = new[take]
+        return take, ~inside
 
-    def sigma(self, i: int) -> float:
+    def sigma(self, i: int, looks: int | None = None) -> float:
         """The standard deviation (m) of object ``i``'s believed position, per coordinate, from
-        its looks (the bias of a look does not average out); 0 with an exact sensor, or for an
-        object not looked at yet (its pose is the state file's)."""
+        its looks (the bias of a look does not average out), with that of its corners from its
+        orientation's (yaw turns a long object's ends: its error times half the diagonal; a
+        level object's tilt is 0), the two independent; 0 with an exact sensor, or for an object
+        not looked at yet (its pose is the state file's). ``looks``: after that many looks."""
+        n = int(self.looks[i]) if looks is None else looks
+        return float(self._sigmas(np.array([i]), np.array([n]))[0])
+
+    def sigmas(self, indices: np.ndarray) -> np.ndarray:
+        """:meth:`sigma` of the objects ``indices`` (NaN rows for objects not placed)."""
+        idx = np.asarray(indices, np.int64)
+        return self._sigmas(idx, self.looks[idx])
+
+    def _sigmas(self, idx: np.ndarray, n: np.ndarray) -> np.ndarray:
         nz = self.noise
-        n = int(self.looks[i])
-        if nz is None or n == 0:
-            return 0.0
-        s = math.hypot(nz.position / math.sqrt(n), nz.bias)
-        if nz.orientation and not np.isnan(self.poses[i, 0, 0]) and not (
-                abs(self.poses[i, 2, 0]) < _LEVEL and abs(self.poses[i, 2, 1]) < _LEVEL):
-            s += nz.orientation / math.sqrt(n) * float(np.linalg.norm(self.local_hi[i] - self.local_lo[i]))
-        return s
+        if nz is None:
+            return np.zeros(len(idx))
+        size = self.local_hi[idx] - self.local_lo[idx]
+        reach = np.where(self._level[idx], np.hypot(size[:, 0], size[:, 1]), np.linalg.norm(size, axis=1)) / 2
+        looks = np.maximum(n, 1)
+        out = np.sqrt(nz.position ** 2 / looks + nz.bias ** 2 + (nz.orientation * np.nan_to_num(reach)) ** 2 / looks)
+        return np.where(n > 0, out, 0.0)
 
     def confirm_sku(self, name: str, sku_local: str | None) -> None:
         """Settle a SKU claim: ``sku_local`` is the SKU further looks agreed on (None: they did not)."""

@@ -67,6 +67,8 @@ log = logging.getLogger("kitkb.execution")
 SOLID = str(KTW.SolidObject)
 #: sensings of a neighbourhood before it is given up for the whole cell
 NEIGHBOURHOOD_ROUNDS = 4
+#: target functions whose object a gripper or tool changer must meet within its capture
+CAPTURED = frozenset({"grasp", "mount"})
 
 
 def log_notifier(recipient: str, message: str) -> None:
@@ -110,9 +112,11 @@ class Executor(Recovery):
         self.looks = Looks(self.cell, self.belief, self.accuracy, self.tolerance)
         self.noisy = self.looks.poses  # poses are not exact: filtered, looked at again, wider tolerances
         self.focus = Focus(self.defs, self.actions, self.belief.classes, WIDEST if self.noisy else self.tolerance)
+        if self.noisy:  # what stands level with an object, as the checks see it
+            self.targets.tolerance = WIDEST
         self._target_args: dict[str, tuple[str, ...]] = {}  # action -> parameters its targets read
         if self.looks.active:
-            self.record.sensor = {"accuracy": self.accuracy.as_dict(), "looks": 0, "undecidable": 0}
+            self.record.sensor = {"accuracy": self.accuracy.as_dict(), "queries": 0, "undecidable": 0}
         self._near: np.ndarray | None = None  # the neighbourhood sensed last (None: the whole cell)
         self.targets.mounted = self._mounted()
         self.record.tip_start = tuple(round(float(v), 6) for v in self.targets.tip[:3, 3])  # type: ignore[assignment]
@@ -149,7 +153,7 @@ class Executor(Recovery):
             rec.goal_holds = False
         rec.ended = time.perf_counter()
         if rec.sensor is not None:
-            rec.sensor["looks"] = self.looks.count
+            rec.sensor["queries"] = self.looks.count
             rec.sensor["undecidable"] = sum(len(c.undecidable) for c in rec.checks)
         try:  # on the cell as sensed for the goal
             rec.kits = score_kits(kit_goals(self.belief, self.spec, self.by_name), self.evaluator())
@@ -189,7 +193,6 @@ class Executor(Recovery):
             if rebound is not None:
                 act.status = "rebound"
                 return rebound
-        self._look_for_targets(step)
         approach = self._program(step, act, approach=True)
         if approach:  # the transit to where the action happens; the check is made on arrival
             self._send(approach)
@@ -292,19 +295,19 @@ class Executor(Recovery):
     def evaluator(self) -> Evaluator:
         """The predicates on the whole belief (with noise: at the tolerance its looks allow,
         after more looks when it is wider than :data:`~kb.execution.looks.WIDEST`)."""
-        tol = self.tolerance
-        if self.noisy:
-            tol = self.looks.narrow(np.flatnonzero(~np.isnan(self.belief.poses[:, 0, 0])))
-        return Evaluator(self.defs, self.belief.scene(), tol)
+        if not self.noisy:
+            return Evaluator(self.defs, self.belief.scene(), self.tolerance)
+        tol = self.looks.narrow(np.flatnonzero(~np.isnan(self.belief.poses[:, 0, 0])))
+        return self.looks.evaluator(self.defs, self.belief.scene(), tol)
 
     def _check(self, i: int, step: Step, phase: str) -> Check:
         """The action's preconditions or effects, decided on its neighbourhood when it was sensed
         as one (the same truth as on the whole belief: :mod:`.focus`), else on the whole belief.
         With noise: at the tolerance the objects' looks allow; a violated check is looked at
         again (:data:`~kb.execution.looks.RECHECK` more looks of its objects) and decided anew,
-        and each atom still violated is decided with twice the noise margin too
-        (:meth:`Looks.wide <kb.execution.looks.Looks.wide>`): violated at both, it fails the
-        check; at the check's tolerance only, noise can explain it: it is undecidable."""
+        and each atom still violated is decided at the exact tolerance and with twice the noise
+        margin too (:meth:`Looks.wide <kb.execution.looks.Looks.wide>`): violated at all three,
+        it fails the check; else the tolerance decides it, so noise can: it is undecidable."""
         if not self.noisy:
             atoms = self._atoms(step, phase, self.tolerance)
             check = Check(i, phase, atoms, time.perf_counter())
@@ -321,10 +324,11 @@ class Executor(Recovery):
             tol = self.looks.tolerance_of(objects)
             atoms = self._atoms(step, phase, tol)
             if not all(a.ok for a in atoms):
-                wide = {(a.predicate, a.args): a for a in self._atoms(step, phase, self.looks.wide(tol))}
+                wide = {(a.predicate, a.args): a.ok for a in self._atoms(step, phase, self.looks.wide(tol))}
+                exact = {(a.predicate, a.args): a.ok for a in self._atoms(step, phase, self.tolerance)}
                 for k, a in enumerate(atoms):
-                    if not a.ok and wide[(a.predicate, a.args)].ok:  # noise can make it so
-                        undecidable.append(a)
+                    if not a.ok and (wide[(a.predicate, a.args)] or exact[(a.predicate, a.args)]):
+                        undecidable.append(a)  # the tolerance decides it: noise can make it so
                         atoms[k] = AtomCheck(a.predicate, a.args, a.negated, not a.negated)  # not failing
         check = Check(i, phase, atoms, time.perf_counter(), undecidable)
         self.record.checks.append(check)
@@ -334,8 +338,12 @@ class Executor(Recovery):
 
     def _atoms(self, step: Step, phase: str, tolerance: float) -> list[AtomCheck]:
         spec = self.actions[step.action]
-        ev = self.evaluator() if self._near is None and not self.noisy else Evaluator(
-            self.defs, self.belief.scene() if self._near is None else self.belief.subscene(self._near), tolerance)
+        if not self.noisy:
+            ev = self.evaluator() if self._near is None else \
+                Evaluator(self.defs, self.belief.subscene(self._near), tolerance)
+        else:
+            ev = self.looks.evaluator(self.defs, self.belief.scene() if self._near is None else
+                                      self.belief.subscene(self._near), tolerance)
         atoms = []
         for atom in (spec.pre if phase == PRE else spec.effects):
             objs = tuple(step.args[a] for a in atom.args)
@@ -349,7 +357,8 @@ class Executor(Recovery):
     def _record_failure(self, i: int, step: Step, phase: str, violated: list[AtomCheck], diag) -> FailureRecord:  # noqa: ANN001
         """:meth:`Recovery._record_failure <kb.execution.recovery.Recovery._record_failure>`, and
         with a noisy sensor how sure the failure is: certain when every violated atom is violated
-        with twice the noise margin too and the diagnosis there is the same; else uncertain."""
+        at the exact tolerance and with twice the noise margin too (:meth:`_check` lets no other
+        fail) and the diagnosis is the same with twice the noise margin; else uncertain."""
         failure = super()._record_failure(i, step, phase, violated, diag)
         if self.looks.active:
             failure.certainty = "certain" if not self.noisy or self._sure(step, phase, violated, diag.name) \
@@ -358,16 +367,18 @@ class Executor(Recovery):
 
     def _sure(self, step: Step, phase: str, violated: list[AtomCheck], mode: str) -> bool:
         placed = np.flatnonzero(~np.isnan(self.belief.poses[:, 0, 0]))
-        exact = Evaluator(self.defs, self.belief.scene(), self.looks.wide(self.looks.tolerance_of(placed)))
-        for a in violated:
-            try:
-                holds = exact.holds(a.predicate, *a.args)
-            except KitkbError:
-                holds = False
-            if holds != a.holds:
-                return False
-        return diagnose(self.failures, exact, step.action, phase, {a.predicate for a in violated},
-                        step.args).name == mode
+        wide = self.looks.wide(self.looks.tolerance_of(placed))
+        for ev in (Evaluator(self.defs, self.belief.scene(), self.tolerance),
+                   self.looks.evaluator(self.defs, self.belief.scene(), wide)):
+            for a in violated:
+                try:
+                    holds = ev.holds(a.predicate, *a.args)
+                except KitkbError:
+                    holds = False
+                if holds != a.holds:
+                    return False
+        ev = self.looks.evaluator(self.defs, self.belief.scene(), wide)
+        return diagnose(self.failures, ev, step.action, phase, {a.predicate for a in violated}, step.args).name == mode
 
     def _look_for_targets(self, step: Step) -> None:
         """With noise: enough looks of the objects the action's motion targets are computed from
@@ -382,16 +393,21 @@ class Executor(Recovery):
                 self.store.poses_changed({n: self.belief.pose(n) for n in changed if self.belief.placed(n)})
 
     def _targets_read(self, action: str) -> tuple[str, ...]:
-        """The parameters named in the targets of the action's program."""
+        """The parameters whose pose a gripper or tool changer must meet: the objects of the
+        action program's ``grasp`` and ``mount`` targets (a part is released above its place,
+        an effector stowed with room in its holder, an approach only passes by)."""
         if action not in self._target_args:
             program = self.failures.programs.get(action)
             params: dict[str, None] = {}
             for s in program.steps if program is not None else ():
-                if s.target is not None:
-                    try:
-                        params.update(dict.fromkeys(a for a in parse_target(s.target)[1] if not _number(a)))
-                    except ValueError:
-                        continue
+                if s.target is None or s.approach:
+                    continue
+                try:
+                    name, args = parse_target(s.target)
+                except ValueError:
+                    continue
+                if name in CAPTURED:
+                    params.update(dict.fromkeys(a for a in args[:1] if not _number(a)))
             self._target_args[action] = tuple(params)
         return self._target_args[action]
 

@@ -151,8 +151,9 @@ class RunRecord:
     tip_start: tuple[float, float, float] | None = None  # the tool tip at the start (m)
     #: the objects as the report draws them: name, class, box, initial and final pose
     scene: dict[str, Any] | None = None
-    #: with a noisy sensor: its accuracy as the executor assumed it (SI), the looks taken, the
-    #: undecidable atoms; None with an exact one (the report then has no "sensor" key)
+    #: with a sensor that is not exact: its accuracy as the executor assumed it (SI), the sensor
+    #: queries made, the undecidable atoms; None with an exact one (the report then has no
+    #: "sensor" key)
     sensor: dict[str, Any] | None = None
     #: what a simulated sensor did wrong (misdetections, misclassifications), like ``injected``
     sensor_errors: list[dict[str, Any]] | None = None

@@ -85,6 +85,9 @@ class Targets:
         self.b = belief
         self.robot = robot
         self.mounted: str | None = None
+        #: how far (m) an object's bottom may lie above another's and still count as level with it
+        #: (what stands at a place, what is around a held object); wider with a noisy sensor
+        self.tolerance = 1e-3
         flange = belief.pose(robot)
         lo, hi = belief.box(robot)
         self.tip = flange @ _along_z(float(hi[2]))
@@ -153,7 +156,7 @@ class Targets:
         scene = self.b.scene()
         slo, shi = self._frame(scene, yaw)
         tops = [float(shi[j, 2]) for j in range(len(scene)) if self.b.names[j] != x and scene.placed[j]
-                and slo[j, 2] <= bottom + 1e-3  # at the place (a box, a table, a kit and its parts)
+                and slo[j, 2] <= bottom + self.tolerance  # at the place (a box, a table, a kit and its parts)
                 and np.all(slo[j, :2] < fhi[0, :2]) and np.all(shi[j, :2] > flo[0, :2])]
         rise = max([d] + [t + d - bottom for t in tops])
         return raised(tip, rise)
@@ -192,7 +195,7 @@ class Targets:
             return self.lift(d)
         slo, shi = self._frame(scene, _heading(scene.poses[i]))
         lo, hi = slo[i], shi[i]
-        tol = 1e-3
+        tol = self.tolerance
         below = [float(shi[j, 2]) for j in range(len(scene)) if j != i and scene.placed[j]
                  and slo[j, 2] <= lo[2] + tol  # under x or around it (a tray, a box, a holder)
                  and np.all(slo[j, :2] <= hi[:2] + tol) and np.all(shi[j, :2] >= lo[:2] - tol)

@@ -136,28 +136,30 @@ class Sensor:
     def report(self, world: World, chosen: Sequence[int], time: float,
                sku_of: Callable[[int], str | None]) -> list[Observation]:
         """The observations of objects ``chosen`` (indices, placed), in that order, with the
-        sensor's errors: pose noise drawn for every object in order (location then orientation,
-        as ever), then each object missed or misclassified at its rate."""
+        sensor's errors: pose noise drawn for every object (locations, then orientations), then
+        each object missed or misclassified at its rate."""
         n = self.noise
-        sp, so = n.position, n.orientation
-        locs = world.poses[list(chosen), :3, 3].astype(float)
-        oris = _rpy_many(world.poses[list(chosen)])
+        rows = list(chosen)
+        locs = world.poses[rows, :3, 3].astype(float)
+        oris = _rpy_many(world.poses[rows])
+        if n.position:
+            locs += self.rng.normal(0.0, n.position, locs.shape)
+        if n.orientation:
+            oris += self.rng.normal(0.0, n.orientation, oris.shape)
+        if n.bias:
+            locs += np.array([self.bias(world.names[i]) for i in rows])
+        missed = self._detect.random(len(rows)) < n.misdetection if n.misdetection else np.zeros(len(rows), bool)
+        wrong = self._detect.random(len(rows)) < n.misclassification if n.misclassification \
+            else np.zeros(len(rows), bool)
         out = []
-        for k, i in enumerate(chosen):
-            loc, ori = locs[k], oris[k]
-            if sp:
-                loc = loc + self.rng.normal(0.0, sp, 3)
-            if so:
-                ori = ori + self.rng.normal(0.0, so, 3)
-            if n.bias:
-                loc = loc + self.bias(world.names[i])
+        for k, i in enumerate(rows):
             name = world.names[i]
-            if n.misdetection and self._detect.random() < n.misdetection:
+            if missed[k]:
                 self.errors.append(SensorError("misdetection", self.action, (name,),
                                                f"{local_name(name)} was not reported", float(time)))
                 continue
             sku = sku_of(i)
-            if n.misclassification and sku and self._detect.random() < n.misclassification:
+            if wrong[k] and sku:
                 other = self._other_sku(world, i, sku, sku_of)
                 if other is not None:
                     self.errors.append(SensorError("misclassification", self.action, (name,),
@@ -165,7 +167,7 @@ class Sensor:
                                                    f"{local_name(sku)}", float(time)))
                     sku = other
             out.append(Observation(name, most_specific(world.classes[i]), float(time),
-                                   tuple(loc.tolist()), tuple(ori.tolist()),  # type: ignore[arg-type]
+                                   tuple(locs[k].tolist()), tuple(oris[k].tolist()),  # type: ignore[arg-type]
                                    local_name(sku) if sku else None))
         return out
 
