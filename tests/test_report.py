@@ -18,7 +18,7 @@ from kb.cli import main
 from kb.report import campaign_page, run_page, write_report
 from kb.report.campaign import distribution_figures, failed_because, trial_page
 from kb.report.html import plotly_js
-from kb.report.scene import CLASS_COLOURS, corners, scene_figure
+from kb.report.scene import CLASS_COLOURS, corners, recovered, scene_figure
 from kb.report.source import normalise
 from kb.report.timeline import timeline_figure
 from test_report_inputs import run_report, with_metrics, write_campaign
@@ -91,6 +91,18 @@ def test_the_timeline_has_actions_failures_and_recoveries(report: dict[str, Any]
     assert actions["x"] == sorted(actions["x"]) and failures["y"] == [6]
     retry = min((t, i) for t, i in zip(actions["x"], actions["y"]) if t >= failures["x"][0])  # the action after it
     assert (recoveries["x"][0], recoveries["y"][0]) == retry and "retry" in recoveries["hovertext"][0]
+
+
+def test_recovered_as_the_run_metrics_count_it(report: dict[str, Any]) -> None:
+    failure = report["failures"][0]  # a missed grasp, retried: the same take-part was then done
+    assert recovered(failure, report) and report["metrics"]["recovered"] == 1
+    failed = [e for e in report["timeline"] if e["kind"] == "action" and e["index"] == 6][0]
+    gone = dict(report, timeline=[e for e in report["timeline"]
+                                  if not (e["kind"] == "action" and e["index"] > 6 and e["args"] == failed["args"])])
+    assert not recovered(failure, gone)  # the retried grasp never done
+    assert recovered(dict(failure, recovery="rebind", outcome="recovered: bound part_a_2"), gone)
+    old = {k: v for k, v in report.items() if k != "timeline"}
+    assert recovered(failure, old) and not recovered(dict(failure, outcome="gave up"), old)
 
 
 def test_an_old_report_says_what_it_lacks() -> None:

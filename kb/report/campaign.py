@@ -116,7 +116,7 @@ def modes_figure(trials: list[dict[str, Any]]) -> dict[str, Any] | None:
     for report in trials:
         for f in report.get("failures") or []:
             if isinstance(f, dict):
-                (done if recovered(f) else lost)[str(f.get("mode"))] += 1
+                (done if recovered(f, report) else lost)[str(f.get("mode"))] += 1
     modes = sorted(set(done) | set(lost))
     if not modes:
         return None

@@ -11,10 +11,12 @@ both. A few traces, not one per class: each trace costs WebGL set-up when the pa
 
 from __future__ import annotations
 
+from types import SimpleNamespace
 from typing import Any, Sequence
 
 import numpy as np
 
+from kb.metrics.execution import recovered as recovered_by_metrics
 from kb.report.html import esc
 
 #: Colours of the classes a workstation has, others from :data:`PALETTE` in order of appearance.
@@ -141,14 +143,12 @@ def path_trace(path: list[Any], start: Any = None) -> dict[str, Any] | None:
             "hovertext": [f"action {esc(i)}" if i != "start" else "start" for i in idx], "hoverinfo": "text+x+y+z"}
 
 
-def failure_trace(failures: list[Any], where: dict[str, np.ndarray]) -> dict[str, Any] | None:
+def failure_trace(report: dict[str, Any], where: dict[str, np.ndarray]) -> dict[str, Any] | None:
     """A marker above the first of each failure's objects that the scene places, with the
     failure's mode, action, violated predicates and recovery as hover text."""
     xs, ys, zs, text, colours, labels = [], [], [], [], [], []
     stacked: dict[str, int] = {}
-    for n, f in enumerate(failures or []):
-        if not isinstance(f, dict):
-            continue
+    for n, f in enumerate(report.get("failures") or []):
         point = _failure_point(f, where)
         if point is None:
             continue
@@ -157,7 +157,7 @@ def failure_trace(failures: list[Any], where: dict[str, np.ndarray]) -> dict[str
         stacked[key] = stacked.get(key, 0) + 1
         xs.append(point[0]), ys.append(point[1]), zs.append(point[2] + 0.04 + lift)
         text.append(failure_text(n + 1, f))
-        colours.append("#e67e22" if recovered(f) else "#c0392b")
+        colours.append("#e67e22" if recovered(f, report) else "#c0392b")
         labels.append(f"F{n + 1}")
     if not xs:
         return None
@@ -178,10 +178,24 @@ def _failure_point(f: dict[str, Any], where: dict[str, np.ndarray]) -> tuple[flo
     return None
 
 
-def recovered(f: dict[str, Any]) -> bool:
-    """Whether a failure's recovery worked (its outcome names no giving up or stop)."""
+def recovered(f: dict[str, Any], report: dict[str, Any]) -> bool:
+    """Whether a failure (of ``failures`` or of the ``timeline``) was recovered from, by the rule
+    of the run's metrics (:func:`kb.metrics.execution.recovered`: an outcome ``recovered: ...``,
+    or a retry after which the same action was done), on the report's timeline; a report
+    without a timeline: an outcome that names no giving up or stop."""
+    actions = [SimpleNamespace(index=e.get("index"), action=e.get("action"), args=tuple(map(str, e.get("args") or ())),
+                               status=e.get("status")) for e in report.get("timeline") or [] if e.get("kind") == "action"]
     outcome = str(f.get("outcome") or "")
-    return bool(outcome) and not any(w in outcome for w in ("gave up", "stopped", "failed", "unrecovered"))
+    if not actions:
+        return bool(outcome) and not any(w in outcome for w in ("gave up", "stopped", "failed", "unrecovered"))
+    index = f.get("action_index", f.get("index"))
+    failed = next((a for a in actions if a.index == index and a.action == f.get("action")), None)
+    failure = SimpleNamespace(outcome=outcome, recovery=f.get("recovery"), action_index=index, action=f.get("action"),
+                              args=failed.args if failed else ())
+    try:
+        return recovered_by_metrics(failure, actions)
+    except TypeError:  # an index that is no number
+        return False
 
 
 def failure_text(number: int, f: dict[str, Any]) -> str:
@@ -223,7 +237,7 @@ def scene_figure(report: dict[str, Any]) -> dict[str, Any] | str:
             where.update({name: box for _, name, box in items})
     if not where:
         where = {name: box for items in by_state["final"].values() for name, box in items}
-    extra = [t for t in (path_trace(report.get("path") or [], report.get("tip_start")), failure_trace(report.get("failures") or [], where))
+    extra = [t for t in (path_trace(report.get("path") or [], report.get("tip_start")), failure_trace(report, where))
              if t is not None]
     shown = states[0]
     for t, state in zip(traces, visible_in):

@@ -32,13 +32,13 @@ def action_trace(actions: list[dict[str, Any]]) -> dict[str, Any]:
             "marker": {"size": 7, "color": [STATUS_COLOURS.get(str(a.get("status")), "#2e86de") for a in actions]}}
 
 
-def failure_trace(failures: list[dict[str, Any]]) -> dict[str, Any]:
+def failure_trace(failures: list[dict[str, Any]], report: dict[str, Any]) -> dict[str, Any]:
     """The failures where they were found (red: not recovered, orange: recovered)."""
     return {"type": "scatter", "mode": "markers", "name": "failures", "x": [f["t"] for f in failures],
             "y": [f.get("index") for f in failures],
             "hovertext": [failure_text(n + 1, {**f, "action_index": f.get("index")}) for n, f in enumerate(failures)],
             "hoverinfo": "text",
-            "marker": {"size": 13, "symbol": "x", "color": ["#e67e22" if recovered(f) else "#c0392b" for f in failures]}}
+            "marker": {"size": 13, "symbol": "x", "color": ["#e67e22" if recovered(f, report) else "#c0392b" for f in failures]}}
 
 
 def recovery_trace(failures: list[dict[str, Any]], actions: list[dict[str, Any]]) -> dict[str, Any] | None:
@@ -72,7 +72,7 @@ def timeline_figure(report: dict[str, Any]) -> dict[str, Any] | str:
         return "The run carried out no action."
     data = [action_trace(actions)] if actions else []
     if failures:
-        data.append(failure_trace(failures))
+        data.append(failure_trace(failures, report))
     recov = recovery_trace(failures, actions)
     if recov is not None:
         data.append(recov)
