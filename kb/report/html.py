@@ -76,8 +76,10 @@ def cell(value: Any, depth: int = 0) -> str:
 
 
 def value_html(value: Any, depth: int = 0) -> str:
-    """Any JSON value as HTML: scalars as text, objects as a nested key / value table, lists of
-    scalars joined with commas, lists of objects as a nested table with a column per key;
+    """Any JSON value as HTML: scalars as text, objects as a nested key / value table (an object
+    of flat objects, such as a summary's statistics per metric, as one table with a row per
+    name and a column per key), lists of scalars joined with commas, lists of objects as a
+    nested table with a column per key;
     below :data:`MAX_DEPTH` levels, JSON text (cut at 200 characters)."""
     if depth > MAX_DEPTH and isinstance(value, (dict, list)):
         text = json.dumps(value, default=str)
@@ -91,6 +93,11 @@ def value_html(value: Any, depth: int = 0) -> str:
     if isinstance(value, dict):
         if not value:
             return "&ndash;"
+        if len(value) > 1 and all(isinstance(v, dict) and v and all(not isinstance(x, (dict, list)) for x in v.values())
+                                  for v in value.values()):  # {name: {stat: number}}: a row per name
+            keys = list(dict.fromkeys(k for v in value.values() for k in v))
+            return table(["", *keys], ([name, *(v.get(k) for k in keys)] for name, v in value.items()),
+                         css="nested", depth=depth + 1)
         rows = "".join(f"<tr><th>{esc(k)}</th>{cell(v, depth + 1)}</tr>" for k, v in value.items())
         return f'<table class="nested">{rows}</table>'
     if isinstance(value, list):
