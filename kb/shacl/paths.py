@@ -32,14 +32,7 @@ def read(g: Graph, node: Node, key: Callable[[Node], str], depth: int = 0) -> Pa
         return None
     preds = set(g.predicates(node))
     if RDF.first in preds:
-        try:
-            members = list(Collection(g, node))
-        except Exception:
-            return None
-        steps = [read(g, m, key, depth + 1) for m in members]
-        if len(steps) < 2 or any(s is None for s in steps):
-            return None
-        return ("seq", tuple(steps))
+        return _list_path("seq", g, node, key, depth)
     if len(preds) != 1:
         return None
     (pred,) = preds
@@ -47,17 +40,22 @@ def read(g: Graph, node: Node, key: Callable[[Node], str], depth: int = 0) -> Pa
     if len(objs) != 1:
         return None
     if pred == SH.alternativePath:
-        try:
-            members = list(Collection(g, objs[0]))
-        except Exception:
-            return None
-        steps = [read(g, m, key, depth + 1) for m in members]
-        if len(steps) < 2 or any(s is None for s in steps):
-            return None
-        return ("alt", tuple(steps))
+        return _list_path("alt", g, objs[0], key, depth)
     kind = _UNARY.get(pred)  # type: ignore[call-overload]
     inner = read(g, objs[0], key, depth + 1) if kind else None
     return (kind, inner) if inner is not None else None
+
+
+def _list_path(kind: str, g: Graph, head: Node, key: Callable[[Node], str], depth: int) -> Path | None:
+    """A sequence or alternative path of the paths listed at ``head`` (two at least)."""
+    try:
+        members = list(Collection(g, head))
+    except Exception:  # a malformed list
+        return None
+    steps = [read(g, m, key, depth + 1) for m in members]
+    if len(steps) < 2 or any(s is None for s in steps):
+        return None
+    return (kind, tuple(steps))
 
 
 def values(index: DataIndex, path: Path, node: str) -> list[str]:
