@@ -84,6 +84,16 @@ def test_the_option_overrides_the_files_sensor_key_by_key() -> None:
     assert (n.position, n.orientation, n.misdetection) == (0.001, 0.01, 0.05)
 
 
+def test_a_sweep_of_one_key() -> None:
+    base = SensorNoise.parse("orientation=0.5deg,misdetection=1%")
+    levels = SensorNoise.sweep("position=0mm:5mm:6", base)
+    assert [round(n.position * 1000, 9) for n in levels] == [0, 1, 2, 3, 4, 5]
+    assert all(n.orientation == base.orientation and n.misdetection == 0.01 for n in levels)
+    for bad in ("position=0mm:5mm", "position=0:5mm:6", "position=0mm:5mm:1", "position=0mm:5mm:x"):
+        with pytest.raises(ValueError):
+            SensorNoise.sweep(bad)
+
+
 @pytest.mark.parametrize("text,words", [
     ("position=1", ["bare length", "item 1"]),
     ("position=1mm,orientation=0.5", ["bare angle", "item 2", "deg"]),

@@ -136,7 +136,7 @@ def run_plan(plan: Sequence[str], init: str | Path, goal: str | Path, *, cell: C
     paper's "the actual location of the kit tray and parts supplies will not be known before
     runtime"); the executor starts from ``init``, the nominal layout, and finds the objects by
     sensing. ``plan_time``: the seconds the plan took to make (a metric of the run).
-    ``sensor_noise``: the sensor's accuracy (a :class:`kb.sim.SensorNoise` or its text,
+    ``sensor_noise``: the sensor's accuracy (a :class:`kb.sim.noise.SensorNoise` or its text,
     ``"position=1mm,orientation=0.5deg,misdetection=0.01"``), over the sensor individual of
     ``init`` (:meth:`SensorNoise.from_scene <kb.sim.noise.SensorNoise.from_scene>`): the
     simulated cell's sensor has it, and the executor verifies with it (docs/execution.md,

@@ -14,7 +14,6 @@ predicates are evaluated on.
 from __future__ import annotations
 
 import copy
-import math
 from typing import Any, Iterable
 
 import numpy as np

@@ -119,6 +119,27 @@ class SensorNoise:
             raise ValueError(f"{exc} ({text!r})") from None
 
     @classmethod
+    def sweep(cls, text: str, base: "SensorNoise | None" = None) -> list["SensorNoise"]:
+        """The levels of ``"KEY=FROM:TO:N"`` (``position=0mm:5mm:6``: 0, 1, ... 5 mm), each
+        ``base`` with that key replaced; FROM and TO carry their units as in :meth:`parse`, N
+        is the number of levels (at least 2). A ValueError names what is wrong."""
+        key, eq, spec = text.partition("=")
+        parts = spec.split(":")
+        if not eq or len(parts) != 3:
+            raise ValueError(f"{text!r}: expected KEY=FROM:TO:N, e.g. position=0mm:5mm:6")
+        try:
+            n = int(parts[2])
+        except ValueError:
+            raise ValueError(f"{text!r}: the number of levels {parts[2]!r} is not a whole number") from None
+        if n < 2:
+            raise ValueError(f"{text!r}: a sweep needs at least 2 levels, not {n}")
+        lo = cls.parse(f"{key}={parts[0]}")
+        hi = cls.parse(f"{key}={parts[1]}")
+        name = KEYS.get(key.strip().lower(), (key, ""))[0]
+        a, b = getattr(lo, name), getattr(hi, name)
+        return [replace(base or cls(), **{name: a + (b - a) * k / (n - 1)}) for k in range(n)]
+
+    @classmethod
     def from_scene(cls, scene: Any) -> "SensorNoise | None":
         """The accuracy of the workstation's pose sensor in a :class:`~kb.spatial.scene.Scene`
         (its values already in SI): the sensor its workstation names, else the only one; None
