@@ -28,7 +28,8 @@ GATE = 5.0
 #: the pose of an object is rewritten when the mean of its looks has moved more than this many
 #: sigmas from it (so a still object's belief settles and its checks are not decided anew)
 STEADY = 0.25
-_LEVEL = 1e-9  # roll and pitch below this: level
+_LEVEL = 1e-9  # roll and pitch this near a quarter turn: level (z up or down: a tool points down)
+_QUARTER = np.pi / 2
 
 
 class Belief:
@@ -75,8 +76,10 @@ class Belief:
             # its pose was written from, and whether it is believed level
             self._mean = np.concatenate([self.poses[:, :3, 3], _rpy(self.poses)], axis=1)
             self._written = self._mean.copy()
-            self._level = np.isnan(self.poses[:, 0, 0]) | (
-                (np.abs(self.poses[:, 2, 0]) < _LEVEL) & (np.abs(self.poses[:, 2, 1]) < _LEVEL))
+            self._level = np.isnan(self.poses[:, 0, 0]) | _square(self._mean[:, 3:5])
+            nz = self.noise
+            self._sigma6 = np.array([nz.position] * 3 + [nz.orientation] * 3)  # the gate per coordinate
+            self._steady = STEADY * self._sigma6
 
     def _stand_in_boxes(self) -> None:
         """A kit not yet placed takes its tray's box (for when the sensor first reports it)."""
@@ -129,82 +132,77 @@ class Belief:
         """:meth:`observe` with a noisy sensor: each object's looks (several when it was asked
         for several times in one query: simultaneous frames) averaged into its belief or, outside
         the gate, taken as the object having moved (module docstring)."""
-        changed: dict[str, None] = {}
-        moved: dict[str, None] = {}
+        index, names = self.index, self.names
         rows: dict[int, list[int]] = {}  # object -> its observations' positions
-        for k, obs in enumerate(observations):
-            i = self.index.get(obs.name)
+        looks = []
+        for obs in observations:
+            i = index.get(obs.name)
             if i is None:
                 continue
-            rows.setdefault(i, []).append(k)
-            if obs.sku:
+            rows.setdefault(i, []).append(len(looks))
+            looks.append(obs.location + obs.orientation)
+            if obs.sku and self._sku_local.get(obs.name) != obs.sku:
                 self._recognised(obs.name, obs.sku)
-        seen = {self.names[i] for i in rows}
+        changed: list[str] = []
+        moved: list[str] = []
         if rows:
             idx = np.fromiter(rows, np.int64, len(rows))
-            xyz = np.array([o.location for o in observations], float)
-            rpy = np.array([o.orientation for o in observations], float)
-            if all(len(ks) == 1 for ks in rows.values()):  # one look each (the usual case)
-                order = [ks[0] for ks in rows.values()]
-                m, xyz, rpy = np.ones(len(idx)), xyz[order], rpy[order]
+            look = np.array(looks, float)
+            if len(looks) == len(rows):  # one look each (the usual case)
+                m = np.ones(len(idx))
             else:  # the mean of each object's looks (angles about its first look's)
-                m = np.array([len(ks) for ks in rows.values()], float)
-                first = rpy[[ks[0] for ks in rows.values()]]
-                xyz = np.array([xyz[ks].mean(axis=0) for ks in rows.values()])
-                rpy = first + np.array([_wrap(rpy[ks] - first[j]).mean(axis=0) for j, ks in enumerate(rows.values())])
-            new, went = self._merge(idx, xyz, rpy, m)
-            for j, i in enumerate(idx):
-                if new[j]:
-                    changed[self.names[i]] = None
-                if went[j]:
-                    moved[self.names[i]] = None
+                groups = list(rows.values())
+                m = np.array([len(ks) for ks in groups], float)
+                first = look[[ks[0] for ks in groups]]
+                look = np.array([np.concatenate([look[ks, :3].mean(axis=0),
+                                                 first[j, 3:] + _wrap(look[ks, 3:] - first[j, 3:]).mean(axis=0)])
+                                 for j, ks in enumerate(groups)])
+            new, went = self._merge(idx, look, m)
+            changed = [names[i] for i in idx[new]]
+            moved = [names[i] for i in idx[went]]
         for name in asked:
-            i = self.index.get(name)
-            if name not in seen and i is not None and not np.isnan(self.poses[i, 0, 0]):
+            i = index.get(name)
+            if i is not None and i not in rows and not np.isnan(self.poses[i, 0, 0]):
                 self.poses[i] = np.nan
                 self._mean[i] = self._written[i] = np.nan
                 self._level[i] = True  # an object seen again after it was gone: level if it looks it
                 self.looks[i] = 0
-                changed[name] = None
-                moved[name] = None
+                changed.append(name)
+                moved.append(name)
         if changed:
             self._scene = None
-            self._stale.update(self.index[n] for n in changed)
-        self.last_moved = list(moved)
-        return list(changed)
+            self._stale.update(index[n] for n in changed)
+        self.last_moved = moved
+        return changed
 
-    def _merge(self, idx: np.ndarray, xyz: np.ndarray, rpy: np.ndarray, m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Take the mean of ``m`` looks of each object ``idx`` (distinct): (pose changed, moved)
-        per object. The mean of all the looks is kept exactly; the pose is rewritten when it
-        moves away from the written one by more than :data:`STEADY` sigmas (a still object's
-        belief settles)."""
-        nz = self.noise
-        mean = self._mean[idx]
+    def _merge(self, idx: np.ndarray, look: np.ndarray, m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Take the mean ``look`` (x, y, z, roll, pitch, yaw) of ``m`` looks of each object
+        ``idx`` (distinct): (pose changed, moved) per object. A roll or pitch within the gate of
+        a quarter turn is that quarter turn (the levelling prior). The mean of all the looks is
+        kept exactly; the pose is rewritten when it moves away from the written one by more than
+        :data:`STEADY` sigmas (a still object's belief settles)."""
         n = self.looks[idx]
-        spread = np.sqrt(1.0 / m + 1.0 / np.maximum(n, 1))
-        d_xyz = xyz - mean[:, :3]
-        still = (n > 0) & (np.abs(d_xyz).max(axis=1) <= GATE * nz.position * spread + _LEVEL)
-        gate_o = GATE * nz.orientation * spread + _LEVEL
-        # believed level, or moved (objects come to rest level), and the look tilts within the gate
-        level = (self._level[idx] | ~still) & (np.abs(rpy[:, 0]) <= gate_o) & (np.abs(rpy[:, 1]) <= gate_o)
-        if level.any():
-            rpy = rpy.copy()
-            rpy[level, :2] = 0.0
-        d_rpy = _wrap(rpy - mean[:, 3:])
-        inside = still & (np.abs(d_rpy).max(axis=1) <= gate_o)
-        w = (m / (n + m))[:, None]
-        new = np.where(inside[:, None], mean + np.concatenate([d_xyz, d_rpy], axis=1) * w,
-                       np.concatenate([xyz, rpy], axis=1))
-        new[:, 3:] = _wrap(new[:, 3:])
+        known = n > 0
+        gate = np.outer(GATE * np.sqrt(1.0 / m + 1.0 / np.maximum(n, 1)), self._sigma6) + _LEVEL
+        rp = look[:, 3:5]  # a view: levelled in place
+        square = np.round(rp / _QUARTER) * _QUARTER
+        np.copyto(rp, square, where=np.abs(rp - square) <= gate[:, 3:5])
+        mean = self._mean[idx]
+        if not known.all():
+            mean[~known] = look[~known]
+        d = look - mean
+        d[:, 3:] = (d[:, 3:] + np.pi) % (2 * np.pi) - np.pi
+        inside = known & (np.abs(d) <= gate).all(axis=1)
+        new = mean + d * np.where(inside, m / (n + m), 1.0)[:, None]
+        new[:, 3:] = (new[:, 3:] + np.pi) % (2 * np.pi) - np.pi
         self._mean[idx] = new
-        self._level[idx] = (np.abs(new[:, 3]) < _LEVEL) & (np.abs(new[:, 4]) < _LEVEL)
-        self.looks[idx] = np.where(inside, n + m, m).astype(np.int64)
-        drift = np.abs(new - self._written[idx])
-        take = ~inside | (drift[:, :3].max(axis=1) > STEADY * nz.position) | (drift[:, 3:].max(axis=1) > STEADY * nz.orientation)
+        self.looks[idx] = np.where(inside, n + m, m)
+        take = ~inside | (np.abs(new - self._written[idx]) > self._steady).any(axis=1)
         rows = idx[take]
         if len(rows):
             self.poses[rows] = _poses(new[take, :3], new[take, 3:])
             self._written[rows] = new[take]
+            self._level[rows] = _square(new[take, 3:5])
         return take, ~inside
 
     def sigma(self, i: int, looks: int | None = None) -> float:
@@ -341,6 +339,11 @@ def _rpy(m: np.ndarray) -> np.ndarray:
     roll = np.where(regular, np.arctan2(m[:, 2, 1], m[:, 2, 2]), 0.0)
     yaw = np.where(regular, np.arctan2(m[:, 1, 0], m[:, 0, 0]), np.arctan2(-m[:, 0, 1], m[:, 1, 1]))
     return np.stack([roll, pitch, yaw], axis=1)
+
+
+def _square(rp: np.ndarray) -> np.ndarray:
+    """(K,) whether each roll, pitch pair is axis-aligned (a multiple of a quarter turn each)."""
+    return np.abs(rp - np.round(rp / _QUARTER) * _QUARTER).max(axis=1) < _LEVEL
 
 
 def _wrap(a: np.ndarray) -> np.ndarray:

@@ -26,9 +26,10 @@ executor looks again where one look is not enough (:mod:`.looks`): the belief fi
 looks (:mod:`.belief`), the objects a motion target is computed from get enough looks first,
 a check is decided with a tolerance derived from the accuracy and the looks, a violated check
 is looked at again before it fails, and a failure says how sure it is (``certainty``); an
-atom violated at the noise tolerance but not at the exact one is undecidable and does not fail
-its check. An object not seen is looked for again before it is believed gone, a new SKU
-confirmed by further looks. With an exact sensor (the default) every run is as before.
+atom that the exact tolerance, the check's and twice its margin decide differently is
+undecidable and does not fail its check. An object not seen is looked for again before it is
+believed gone, a new SKU confirmed by further looks. With an exact sensor (the default) every
+run is as before.
 """
 
 from __future__ import annotations
@@ -67,8 +68,10 @@ log = logging.getLogger("kitkb.execution")
 SOLID = str(KTW.SolidObject)
 #: sensings of a neighbourhood before it is given up for the whole cell
 NEIGHBOURHOOD_ROUNDS = 4
-#: target functions whose object a gripper or tool changer must meet within its capture
-CAPTURED = frozenset({"grasp", "mount"})
+#: target functions -> their arguments whose pose must be known within what a gripper or tool
+#: changer captures: the object grasped or mounted; where a held object is put down (it is
+#: released just above it, and must not end up more than the capture above it either)
+CAPTURED = {"grasp": slice(0, 1), "mount": slice(0, 1), "place": slice(1, 2)}
 
 
 def log_notifier(recipient: str, message: str) -> None:
@@ -393,9 +396,10 @@ class Executor(Recovery):
                 self.store.poses_changed({n: self.belief.pose(n) for n in changed if self.belief.placed(n)})
 
     def _targets_read(self, action: str) -> tuple[str, ...]:
-        """The parameters whose pose a gripper or tool changer must meet: the objects of the
-        action program's ``grasp`` and ``mount`` targets (a part is released above its place,
-        an effector stowed with room in its holder, an approach only passes by)."""
+        """The parameters whose pose a gripper or tool changer must meet (:data:`CAPTURED`: the
+        objects of the action program's ``grasp`` and ``mount`` targets, where its ``place``
+        puts something; an effector is stowed with room in its holder, an approach only passes
+        by)."""
         if action not in self._target_args:
             program = self.failures.programs.get(action)
             params: dict[str, None] = {}
@@ -407,7 +411,7 @@ class Executor(Recovery):
                 except ValueError:
                     continue
                 if name in CAPTURED:
-                    params.update(dict.fromkeys(a for a in args[:1] if not _number(a)))
+                    params.update(dict.fromkeys(a for a in args[CAPTURED[name]] if not _number(a)))
             self._target_args[action] = tuple(params)
         return self._target_args[action]
 

@@ -19,7 +19,7 @@ tolerance of :mod:`kb.spatial.rcc8`, as before.
   :data:`WIDEST` (8 mm: kitkb's scenarios keep solids that do not touch at least 2 cm apart,
   so a tolerance below half of that cannot make them touch). A still object's looks add up
   over the run, so a large table pays its looks once.
-  A part is released :data:`RELEASE` (2 mm) above its place, not pressed into it.
+  A part is released :data:`RELEASE` (1 mm) above its place, not pressed into it.
 * **Misdetections**: an object asked for and not reported is looked for again, up to the
   number of looks that all miss it with a chance below :data:`SURE` (3 at 1 %), before it is
   believed gone.
@@ -34,6 +34,7 @@ from typing import Any, Iterable, Sequence
 
 import numpy as np
 
+from kb.core.namespaces import KTW
 from kb.crcl.cell import CellInterface, Observation, sense_names
 from kb.execution.belief import Belief
 from kb.model.definitions import Definitions
@@ -42,6 +43,7 @@ from kb.spatial.predicates import Evaluator
 from kb.spatial.rcc8 import DEFAULT_TOLERANCE
 from kb.spatial.scene import Scene
 
+SOLID = str(KTW.SolidObject)
 #: what a gripper or a tool changer captures (m): the simulated cell's GRASP_TOLERANCE
 CAPTURE = 2 * DEFAULT_TOLERANCE
 #: sigmas of a target's error that must fit within :data:`CAPTURE`
@@ -51,8 +53,9 @@ K_CHECK = 4.0
 #: the widest tolerance a check is decided with (m); more looks beyond
 WIDEST = 8 * DEFAULT_TOLERANCE
 #: with noise, a placed object is released this far above where it goes (m), so that a place
-#: that errs downwards does not push it into its support: it drops onto it
-RELEASE = CAPTURE
+#: that errs downwards does not push it into its support: it drops onto it (with the 1 mm a
+#: support allows, 2 mm: 5 sigma of a place whose two poses had their capture looks)
+RELEASE = DEFAULT_TOLERANCE
 #: at most this many looks of an object since it last moved, to narrow a tolerance
 MAX_LOOKS = 256
 #: the chance of being wrong accepted for "not there" and for "of another SKU"
@@ -113,10 +116,12 @@ class Looks:
         return obs + self._again(list(expected), obs)
 
     def _again(self, expected: Sequence[str], obs: list[Observation], placed: bool = True) -> list[Observation]:
-        """Looks for the ``expected`` objects (with ``placed``: those believed placed) that
-        ``obs`` lacks."""
+        """Looks for the ``expected`` objects that ``obs`` lacks: those believed placed, or
+        (``placed`` false) any solid object (never a SKU or a design, which no look shows)."""
         seen = {o.name for o in obs}
-        missing = list(dict.fromkeys(n for n in expected if n not in seen and (not placed or self.belief.placed(n))))
+        b = self.belief
+        missing = list(dict.fromkeys(n for n in expected if n not in seen and (
+            b.placed(n) or not placed and n in b.index and SOLID in b.classes[b.index[n]])))
         out: list[Observation] = []
         for _ in range(self.relooks - 1):
             if not missing:
