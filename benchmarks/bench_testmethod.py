@@ -197,7 +197,7 @@ def scaling(parts: int, trials: int, repeat: int) -> dict[str, Any]:
 def _median(runs: list[dict[str, Any]]) -> dict[str, Any]:
     out = dict(runs[0])
     for key, value in runs[0].items():
-        if isinstance(value, (int, float)) and key not in ("workers", "trials"):
+        if isinstance(value, (int, float)) and key not in ("workers", "trials", "kits_built"):
             out[key] = round(statistics.median(r[key] for r in runs), 4)
     return out
 
