@@ -332,7 +332,9 @@ def _add_sim(sub: Any) -> None:
                         "defective-part, wrong-sku, kit-tray-moved)")
     g.add_argument("--seed", type=int, default=0, help="seed of the faults and the sensor noise (default 0)")
     g.add_argument("--sensor-noise", metavar="KEY=VALUE,...", help=SENSOR_NOISE_HELP)
-    g.add_argument("--noise", metavar="POS_SIGMA,ANGLE_SIGMA", help=argparse.SUPPRESS)  # refused: --sensor-noise
+    g.add_argument("--noise", metavar="POS_SIGMA,ANGLE_SIGMA",
+                   help="the old spelling of --sensor-noise (bare sigmas in metres and radians): refused, with the "
+                        "new spelling of the same values")
     g.add_argument("--sensor-port", type=int, default=3989, metavar="P",
                    help="sensor port (default 3989, USARTruth's; 0: any free port)")
     g.add_argument("--command-port", type=int, default=3990, metavar="P",
