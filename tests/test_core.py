@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import os
 import stat
-import threading
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -13,7 +14,6 @@ from kb.cli import main
 from kb.core.errors import InputError
 from kb.core.files import atomic_paths, write_atomic
 from kb.core.generators import BUILTIN, Generator, generator_names, get_generator
-from kb.core.jobs import Forked
 from kb.core.resources import scenario_dirs
 
 SMALL = next(d for d in scenario_dirs() if d.name == "small-kit")
@@ -82,16 +82,19 @@ def test_every_written_output_is_readable_by_others(tmp_path: Path, umask_022, c
     assert len(err) == len(commands) and all(line.startswith("kitkb: ") for line in err)
 
 
-def test_forked_job_answers_or_reports_failure() -> None:
+# Forked refuses to fork while another thread runs; a test that leaves threads behind in this
+# process (a Dask client's event loop) would make these two fail, so they run in a fresh interpreter.
+_FORKED = """
+import threading
+from kb.core.jobs import Forked
+
+def case_answers():
     assert Forked(lambda: {"answer": 42}).result() == (True, {"answer": 42})
-
-    def boom() -> int:
+    def boom():
         raise ValueError("in the child")
-
     assert Forked(boom).result() == (False, None)
 
-
-def test_no_fork_while_another_thread_runs() -> None:
+def case_no_fork_while_another_thread_runs():
     release = threading.Event()
     other = threading.Thread(target=release.wait)
     other.start()
@@ -102,6 +105,24 @@ def test_no_fork_while_another_thread_runs() -> None:
         release.set()
         other.join()
     assert Forked(lambda: 1).result() == (True, 1)
+
+globals()["case_" + CASE]()
+print("ok")
+"""
+
+
+def _fresh(case: str) -> None:
+    proc = subprocess.run([sys.executable, "-c", f"CASE = {case!r}\n" + _FORKED], capture_output=True, text=True,
+                          timeout=120, cwd=Path(__file__).resolve().parents[1])
+    assert proc.returncode == 0 and proc.stdout.strip() == "ok", proc.stdout + proc.stderr
+
+
+def test_forked_job_answers_or_reports_failure() -> None:
+    _fresh("answers")
+
+
+def test_no_fork_while_another_thread_runs() -> None:
+    _fresh("no_fork_while_another_thread_runs")
 
 
 def test_registry_imports_generators_on_first_use(monkeypatch) -> None:

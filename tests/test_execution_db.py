@@ -71,7 +71,8 @@ def test_an_interrupted_run_leaves_the_last_stable_state(tmp_path: Path, sig: in
     db = tmp_path / "w.sqlite"
     proc = subprocess.Popen(KITKB + ["run", str(INIT), str(GOAL), "--db", str(db), "-o", str(tmp_path / "out"),
                                      "--faults", "missed-grasp=0.3", "--seed", "5"],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            env={**os.environ, "PYTHONUNBUFFERED": "1"})  # each action's line as it is done
     seen = ""
     deadline = time.monotonic() + 60
     while time.monotonic() < deadline:  # wait until some actions were carried out
