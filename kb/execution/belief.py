@@ -26,7 +26,8 @@ SKU_OF, KIT_TRAY = str(KTW.hasSkuObject_Sku), str(KTW.hasKit_KitTray)
 #: a look within this many sigmas of the belief is of the same pose (per coordinate, per angle)
 GATE = 5.0
 #: the pose of an object is rewritten when the mean of its looks has moved more than this many
-#: sigmas from it (so a still object's belief settles and its checks are not decided anew)
+#: sigmas of a look from it, so a still object's belief settles and its checks are not decided
+#: anew for nothing (:meth:`Belief.settle` writes the mean itself, for a motion target)
 STEADY = 0.25
 _LEVEL = 1e-9  # roll and pitch this near a quarter turn: level (z up or down: a tool points down)
 _QUARTER = np.pi / 2
@@ -204,6 +205,22 @@ class Belief:
             self._written[rows] = new[take]
             self._level[rows] = _square(new[take, 3:5])
         return take, ~inside
+
+    def settle(self, names: Iterable[str]) -> list[str]:
+        """Write the mean of each named object's looks as its pose (what a motion target is
+        computed from: the mean itself, not the pose it settled at); the names whose pose changed."""
+        if self.noise is None:
+            return []
+        idx = np.array([self.index[n] for n in names if self.placed(n)], np.int64)
+        if not len(idx):
+            return []
+        idx = idx[(self._mean[idx] != self._written[idx]).any(axis=1)]
+        if len(idx):
+            self.poses[idx] = _poses(self._mean[idx, :3], self._mean[idx, 3:])
+            self._written[idx] = self._mean[idx]
+            self._scene = None
+            self._stale.update(idx.tolist())
+        return [self.names[i] for i in idx]
 
     def sigma(self, i: int, looks: int | None = None) -> float:
         """The standard deviation (m) of object ``i``'s believed position, per coordinate, from

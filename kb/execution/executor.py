@@ -392,6 +392,7 @@ class Executor(Recovery):
         idx = [self.belief.index[n] for n in names if n in self.belief.index]
         if idx:
             changed = self.looks.until(idx, self.looks.capture_looks)
+            changed += self.belief.settle(names)  # the mean of the looks, to the last of them
             if changed and self.store is not None:
                 self.store.poses_changed({n: self.belief.pose(n) for n in changed if self.belief.placed(n)})
 
