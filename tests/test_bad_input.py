@@ -85,7 +85,7 @@ def test_bad_input(name: str, seeds, seed_data, work) -> None:
 def test_bad_input_campaign(name: str, seeds, seed_data, work) -> None:
     """The bigger campaign, reproducible as every other test (derandomized: CI fails only on
     what a rerun shows again); new random mutants are benchmarks/bench_bad_input.py's job."""
-    _campaign(name, 4 * EXAMPLES.get(name, DEFAULT_EXAMPLES), seeds, seed_data, work, derandomize=True)
+    _campaign(name, 2 * EXAMPLES.get(name, DEFAULT_EXAMPLES), seeds, seed_data, work, derandomize=True)
 
 
 # --- every mutation on every syntax, once, with fixed parameters ---------------------------

@@ -33,7 +33,7 @@ from kb.cli import main
 KITKB = Path(sys.executable).with_name("kitkb")
 #: kills per command in the default run (the slow run multiplies them)
 KILLS = 3
-SLOW_KILLS = 6
+SLOW_KILLS = 4
 
 pytestmark = pytest.mark.skipif(not hasattr(signal, "SIGKILL"), reason="POSIX only")
 

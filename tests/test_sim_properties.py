@@ -355,14 +355,14 @@ def test_random_programs_and_faults_keep_poses_finite_and_bodies_rigid(data: st.
 
 
 @pytest.mark.slow
-@settings(SLOW, max_examples=100)
+@settings(SLOW, max_examples=50)
 @given(st.data())
 def test_long_random_programs_and_faults_on_the_small_kit(data: st.DataObject) -> None:
     drive(data, "small-kit", 150)
 
 
 @pytest.mark.slow
-@settings(SLOW, max_examples=60)  # each example three times the small kit's time
+@settings(SLOW, max_examples=30)  # each example three times the small kit's time
 @given(st.data())
 def test_long_random_programs_and_faults_on_a_generated_kit(data: st.DataObject) -> None:
     drive(data, "generated", 150)
