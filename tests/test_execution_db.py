@@ -80,6 +80,8 @@ def test_an_interrupted_run_leaves_the_last_stable_state(tmp_path: Path, sig: in
         seen += line
         if line.strip().startswith("10 ") or not line:
             break
+    if proc.poll() is not None:  # a loaded machine: the run wrote ahead into the pipe and ended before we read
+        pytest.skip("the run ended before the signal could be sent (the reader fell behind the pipe)")
     os.kill(proc.pid, sig)
     out, err = proc.communicate(timeout=60)
     assert "10 (" in seen, seen + out + err
