@@ -319,7 +319,7 @@ def render(run: dict) -> str:
         if c:
             verdicts.append(f"verification cost per action within {GOAL_COST}x of the noiseless cost: "
                             + ("met" if c["ratio"] is not None and c["ratio"] <= GOAL_COST else "NOT met")
-                            + f" ({c['ratio']}x)")
+                            + f" ({c['ratio']}x, medians; best of {c['repeat']} runs each: {c.get('ratio_best')}x)")
         lines += ["Goals: " + "; ".join(verdicts) + ".", ""]
         if g["summary"]["anomalies"]:
             lines += [f"Runs worth a look ({len(g['summary']['anomalies'])}; all in the results file):", ""]
