@@ -69,21 +69,7 @@ class NoiseTimers(Timers):
     in CPU time of the process (the machine is shared: its wall time is other jobs' too)."""
 
     PARTS = Timers.PARTS + (("belief", "kb.execution.executor", "Executor", "_look_for_targets"),)
-
-    def wrap(self, key: str, f: Any) -> Any:
-        def timed(*a: Any, **k: Any) -> Any:
-            t = time.process_time()
-            self._stack.append(0.0)
-            try:
-                return f(*a, **k)
-            finally:
-                el = time.process_time() - t
-                inner = self._stack.pop()
-                self.t[key] += el - inner
-                self.n[key] += 1
-                if self._stack:
-                    self._stack[-1] += el
-        return timed
+    clock = staticmethod(time.process_time)
 
 
 # --- runs -------------------------------------------------------------------------------------------
