@@ -28,8 +28,10 @@ from kb.execution.belief import Belief
 from kb.execution.executor import Executor, log_notifier
 from kb.execution.records import ActionRecord, FailureRecord, RunRecord, local
 from kb.metrics.kits import KitScore
-from kb.model.definitions import load_definitions
-from kb.model.failures import load_failure_model
+from kb.model.definitions import Definitions, load_definitions
+from kb.model.failures import FailureModel, load_failure_model
+from kb.model.soap import DomainSpec
+from kb.planning.problem import ProblemSpec
 from kb.spatial.scene import Scene
 
 @dataclass
@@ -141,59 +143,105 @@ def run_plan(plan: Sequence[str], init: str | Path, goal: str | Path, *, cell: C
     ``init`` (:meth:`SensorNoise.from_scene <kb.sim.noise.SensorNoise.from_scene>`): the
     simulated cell's sensor has it, and the executor verifies with it (docs/execution.md,
     "Sensing with noise"); with another ``cell``, what the executor assumes of its sensor.
+
+    It is :func:`read_inputs`, the cell made, then :func:`execute_plan`.
     """
-    from kb.planning.model import read_specs
-    domain, spec = read_specs([init], [goal], encoding="numeric", domain_files=domain_files,
-                              match_names=match_names)
-    scene = Scene.from_files([init], declared=[goal], match_names=match_names)
-    accuracy = _accuracy(scene, sensor_noise)
-    sim = None
+    inputs = read_inputs(init, goal, domain_files=domain_files, match_names=match_names)
+    accuracy = sensor_accuracy(inputs.scene, sensor_noise)
     if cell is None:
         from kb.sim import FaultSpec, SimulatedCell  # imported only when no cell is given
         spec_f = FaultSpec.parse(faults, seed=seed) if isinstance(faults, str) else faults
-        sim = SimulatedCell(Scene.from_files([truth or init], declared=[goal], match_names=match_names),
-                            faults=spec_f, seed=seed, **({"noise": accuracy} if accuracy is not None else {}))
-        cell = sim
+        cell = SimulatedCell(Scene.from_files([truth or init], declared=[goal], match_names=match_names),
+                             faults=spec_f, seed=seed, **({"noise": accuracy} if accuracy is not None else {}))
     own_store = None
     if db is not None and store is None:
         from kb.execution.store import RunStore, prepare
         prepare(db, init, domain_files, replace=replace)
         store = own_store = RunStore(db)
     record = RunRecord(name or Path(init).parent.name, seed, plan_time=plan_time)
-    executor = Executor(cell, domain, spec, load_definitions(domain_files), load_failure_model(domain_files),
-                        Belief(scene), store=store, notifier=notifier, progress=progress, planner=planner,
+    try:
+        run = execute_plan(plan, cell, inputs, record, accuracy=accuracy, store=store, paths=(init, goal),
+                           notifier=notifier, progress=progress, planner=planner)
+    except KeyboardInterrupt:
+        if own_store is not None:
+            own_store.close()
+        raise
+    if own_store is not None:
+        own_store.close()
+    return run
+
+
+@dataclass(frozen=True)
+class PlanInputs:
+    """What :func:`run_plan` reads from its files before it runs a plan: the domain and the
+    problem (numeric encoding), the initial state's scene (the executor's first belief), the
+    predicate definitions and the failure modes. A caller that runs many plans of one design
+    (``kb.testmethod``) reads them once and passes them to :func:`execute_plan`."""
+
+    domain: DomainSpec
+    problem: ProblemSpec
+    scene: Scene
+    definitions: Definitions
+    failures: FailureModel
+
+
+def read_inputs(init: str | Path, goal: str | Path, *, domain_files: Sequence[str | Path] | None = None,
+                match_names: bool = False) -> PlanInputs:
+    """The :class:`PlanInputs` of the state files ``init`` and ``goal``."""
+    from kb.planning.model import read_specs
+    domain, problem = read_specs([init], [goal], encoding="numeric", domain_files=domain_files,
+                                 match_names=match_names)
+    scene = Scene.from_files([init], declared=[goal], match_names=match_names)
+    return PlanInputs(domain, problem, scene, load_definitions(domain_files), load_failure_model(domain_files))
+
+
+def execute_plan(plan: Sequence[str], cell: CellInterface, inputs: PlanInputs, record: RunRecord, *,
+                 accuracy: Any = None, store: Any = None, paths: tuple[Any, Any] = (None, None),
+                 notifier: Callable[[str, str], None] = log_notifier, progress: Callable[[str], None] | None = None,
+                 planner: str | None = None) -> Run:
+    """Carry out ``plan`` on ``cell`` from ``inputs`` (the second half of :func:`run_plan`,
+    once its files are read): the executor's run into ``record``, then what a simulated cell
+    knows that the executor does not (the faults it injected, its sensor's mistakes with a
+    noisy ``accuracy``, the constraints the robot violated). ``store``: an open run store that
+    gets the run (begun with ``paths``, the state files; ended when the run ends, interrupted
+    too)."""
+    executor = Executor(cell, inputs.domain, inputs.problem, inputs.definitions, inputs.failures,
+                        Belief(inputs.scene), store=store, notifier=notifier, progress=progress, planner=planner,
                         record=record, accuracy=accuracy)
     if store is not None:
-        store.begin_run(record, init, goal)
+        store.begin_run(record, *paths)
     try:
         executor.run(list(plan))
     except KeyboardInterrupt:  # the database keeps its last stable state; the run says why it ended
         record.stopped = "interrupted"
         if store is not None:
             store.end_run(record)
-        if own_store is not None:
-            own_store.close()
         raise
-    injected = getattr(sim if sim is not None else cell, "injected", None)  # a simulated cell's ground truth
-    if injected is not None:
-        record.injected = [{"kind": x.kind, "action_index": x.action_index, "objects": [local(o) for o in x.objects],
-                            "detail": x.detail} for x in injected]
-    errors = getattr(getattr(sim if sim is not None else cell, "sensor", None), "errors", None)
-    if accuracy is not None and not accuracy.zero and isinstance(errors, list):  # what a simulated sensor did wrong
-        record.sensor_errors = [e.as_dict() for e in errors]
-    violations = getattr(sim if sim is not None else cell, "violations", None)  # the same, of constraints
-    if violations is not None:
-        record.violations = [_as_data(v) for v in violations]
+    note_ground_truth(record, cell, accuracy)
     if store is not None:
         store.end_run(record)
-    if own_store is not None:
-        own_store.close()
     return Run(record)
 
 
-def _accuracy(scene: Scene, sensor_noise: Any) -> Any:
-    """The sensor's accuracy: ``sensor_noise`` (a SensorNoise or its text) over the state's
-    sensor individual; None when neither is given (kb.sim imported only then)."""
+def note_ground_truth(record: RunRecord, cell: Any, accuracy: Any = None) -> None:
+    """``record`` gets what a simulated ``cell`` did that the executor was not told: the faults
+    it injected, what its sensor got wrong (with a noisy ``accuracy``), the constraints the
+    robot violated. A cell without them (a real one) leaves the record as it is."""
+    injected = getattr(cell, "injected", None)
+    if injected is not None:
+        record.injected = [{"kind": x.kind, "action_index": x.action_index, "objects": [local(o) for o in x.objects],
+                            "detail": x.detail} for x in injected]
+    errors = getattr(getattr(cell, "sensor", None), "errors", None)
+    if accuracy is not None and not accuracy.zero and isinstance(errors, list):
+        record.sensor_errors = [e.as_dict() for e in errors]
+    violations = getattr(cell, "violations", None)
+    if violations is not None:
+        record.violations = [_as_data(v) for v in violations]
+
+
+def sensor_accuracy(scene: Scene, sensor_noise: Any) -> Any:
+    """The sensor's accuracy: ``sensor_noise`` (a SensorNoise or its text) over the sensor
+    individual of the state of ``scene``; None when neither is given (kb.sim imported only then)."""
     from kb.sim.noise import SENSOR_OF, SensorNoise
     if sensor_noise is None and SENSOR_OF not in scene.facts and not any(
             "PoseSensor" in str(c) for cs in scene.classes for c in cs):
