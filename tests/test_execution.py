@@ -41,7 +41,7 @@ NS = "https://w3id.org/kitkb/scenario/small-kit#"
 #: fault kind -> the failure modes that are a right diagnosis of it (ground truth)
 ALLOWED = {
     "missed-grasp": {"missed-grasp"},
-    "dropped-part": {"dropped-part", "dropped-part-in-transit"},
+    "dropped-part": {"dropped-part", "dropped-part-in-transit", "object-left-on-worktable"},
     "part-missing": {"part-missing-from-tray", "parts-tray-empty"},
     "wrong-sku": {"wrong-sku"},
     "defective-part": {"defective-part"},
@@ -644,6 +644,60 @@ def test_a_failure_no_mode_explains_is_recorded_as_unexplained() -> None:
     assert (f.recovery, run.goal_holds) == ("replan", False)
     assert run.stopped.startswith("no plan: ")
     assert run.report()["failures"][0]["mode"] == "unexplained"
+
+
+def test_something_left_on_the_work_table_is_named_by_the_failure_and_where_it_lies() -> None:
+    """The first part to take lies on the work table beside the kit tray instead of in its tray
+    (as a part dropped there would): take-part finds it missing and binds another; when the kit
+    is taken, take-kit's effect worktable-empty fails; the failure names the part it found there
+    (a witness of the existential), its mode is object-left-on-worktable, the operator is told
+    which part to clear, and its marker is where the part lies."""
+    told: list[str] = []
+
+    class Cluttering(SimulatedCell):
+        left: tuple[str, tuple[float, ...]] | None = None
+
+        def begin_action(self, index: int, action: str, args: tuple[str, ...]) -> None:
+            super().begin_action(index, action, args)
+            if action != "take-part" or self.left is not None:
+                return
+            w = self.world
+            table, tray, spare = w.index[NS + "work_table_1"], w.index[NS + "kit_tray_1"], w.index[args[1]]
+            (tlo, thi), (klo, khi), (plo, phi) = w.box(table), w.box(tray), w.box(spare)
+            # beside the kit tray, on the table's top, inside its footprint
+            x = max(float(khi[0]) + 0.02 + (phi[0] - plo[0]) / 2, float(tlo[0]) + (phi[0] - plo[0]))
+            x = min(x, float(thi[0]) - (phi[0] - plo[0]))
+            y = (float(tlo[1]) + float(thi[1])) / 2
+            w.shift(spare, x - (plo[0] + phi[0]) / 2, y - (plo[1] + phi[1]) / 2, float(thi[2]) - float(plo[2]))
+            w.parent[spare] = table
+            self.left = w.names[spare], tuple(float(v) for v in (w.box(spare)[0] + w.box(spare)[1]) / 2)
+
+    run, cell = execute(SMALL, cell_class=Cluttering, notifier=lambda who, text: told.append(f"{who}: {text}"))
+    part, centre = cell.left
+    first, f = run.failures()
+    assert (first.mode, first.action, first.args[1]) == ("part-missing-from-tray", "take-part", part)
+    assert (f.mode, f.action, f.phase) == ("object-left-on-worktable", "take-kit", "effect")
+    assert [a.text() for a in f.violated] == ["worktable-empty(work_table_1)"]
+    assert f.witnesses == [part] and f.objects == [NS + "work_table_1", part]
+    assert f"(found: {part.split('#')[-1]})" in run.why(f.action_index)
+    assert any(t.startswith("operator: ") and part.split("#")[-1] in t for t in told)
+    rep = run.report()["failures"][1]
+    assert rep["objects"] == ["work_table_1", part.split("#")[-1]]
+    assert np.allclose(rep["where"][:2], centre[:2], atol=0.01)  # the marker: where the part lies
+    assert run.goal_holds  # the kit was taken and delivered all the same
+
+
+def test_witnesses_are_the_objects_behind_an_existential_atom() -> None:
+    init, goal = files(SMALL)
+    scene = Scene.from_files([init], declared=[goal])
+    ev = Evaluator(load_definitions(None), scene)
+    trays = [n for n in scene.names if n.endswith("_tray") and "part_" in n]
+    # nothing rests on the empty work table; a parts tray holds its parts; a non-existential: none
+    assert ev.witnesses("worktable-empty", NS + "work_table_1") == []
+    found = ev.witnesses("partstray-not-empty", trays[0])
+    assert found and all("#part_" in x for x in found)
+    assert ev.witnesses("part-location-partstray", found[0], trays[0]) == []
+    assert ev.witnesses("worktable-empty", NS + "no_such_table") == []
 
 
 def test_a_domain_without_the_mode_leaves_a_missed_grasp_unexplained(tmp_path: Path) -> None:

@@ -397,7 +397,7 @@ def test_required_failure_modes_with_remediation(graph: Graph):
     modes = {str(graph.value(m, SOAP.hasFailureMode_Name)): m for m in graph.subjects(RDF.type, SOAP.FailureMode)}
     assert set(modes) == set(REQUIRED_FAILURES) | {
         "dropped-kit", "dropped-part-in-transit", "endeffector-attach-failed", "kit-not-on-worktable",
-        "parts-tray-empty"}
+        "parts-tray-empty", "object-left-on-worktable"}
     for name, (action_name, phase, violated, recovery, recipient) in REQUIRED_FAILURES.items():
         m = modes[name]
         action = graph.value(m, SOAP.hasFailureMode_Action)

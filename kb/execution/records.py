@@ -88,21 +88,43 @@ class FailureRecord:
     #: with a noisy sensor, how sure the failure is: "certain" (every violated atom violated at
     #: the exact tolerance and at the noise tolerance) or "uncertain"; None: an exact sensor
     certainty: str | None = None
+    #: the objects that decided an existential atom violated (``worktable-empty(table)``
+    #: false: what rests on the table), found when the failure was diagnosed
+    witnesses: list[str] = field(default_factory=list)
 
     @property
     def objects(self) -> list[str]:
+        """The violated atoms' arguments, then the witnesses that are not among them."""
         seen: list[str] = []
-        for a in self.violated:
-            for x in a.args:
-                if x not in seen:
-                    seen.append(x)
+        for x in [x for a in self.violated for x in a.args] + self.witnesses:
+            if x not in seen:
+                seen.append(x)
         return seen
+
+    @property
+    def where(self) -> tuple[float, float, float] | None:
+        """Where the failure happened: where the first witness was seen (what was found where
+        nothing should be), else the first object seen away from its expected place (the object
+        that moved), else the first object seen, else the first expected."""
+        for s in self.sightings:
+            if s.name in self.witnesses and s.seen is not None:
+                return s.seen
+        for s in self.sightings:
+            if s.seen is not None and s.expected is not None and \
+                    max(abs(a - b) for a, b in zip(s.seen, s.expected)) > 1e-3:
+                return s.seen
+        for s in self.sightings:
+            if s.seen is not None:
+                return s.seen
+        return next((s.expected for s in self.sightings if s.expected is not None), None)
 
     def why(self) -> str:
         """One paragraph: what was violated, where the objects were expected and seen."""
         lines = [f"action {self.action_index} ({self.action} {' '.join(map(local, self.args))}) failed its "
                  f"{self.phase} check: " + "; ".join(a.text() + " is " + ("true" if a.holds else "false")
                                                        for a in self.violated)]
+        if self.witnesses:
+            lines[0] += " (found: " + ", ".join(map(local, self.witnesses)) + ")"
         for s in self.sightings:
             exp = "unknown" if s.expected is None else "(%.3f, %.3f, %.3f)" % s.expected
             seen = "not seen" if s.seen is None else "(%.3f, %.3f, %.3f)" % s.seen
@@ -206,7 +228,8 @@ class RunRecord:
                           "kit": local(f.kit) if f.kit else None,
                           "objects": [local(o) for o in f.objects], "phase": f.phase,
                           "violated": [a.text() for a in f.violated], "recovery": f.recovery,
-                          "outcome": f.outcome, **({"certainty": f.certainty} if f.certainty else {})}
+                          "outcome": f.outcome, **({"certainty": f.certainty} if f.certainty else {}),
+                          **({"where": [round(v, 4) for v in f.where]} if f.where is not None else {})}
                          for f in self.failures],
             "time_s": round(self.ended - self.started, 3),
             "metrics": self.metrics(),

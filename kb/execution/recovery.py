@@ -108,6 +108,8 @@ class Recovery:
         names = []
         for a in violated:
             names.extend(x for x in a.args if x not in names)
+        witnesses = self._witnesses(violated)
+        names.extend(x for x in witnesses if x not in names)
         sightings = []
         for n in names:
             j = self.belief.index.get(n)
@@ -120,15 +122,28 @@ class Recovery:
         failure = FailureRecord(i, step.action, tuple(step.args.values()), phase, list(violated), sightings,
                                 diag.name, mode.consequence if mode else "", mode.severity if mode else 0,
                                 time=time.perf_counter(), considered=list(diag.considered),
-                                kit=self._kit_of(step))
+                                kit=self._kit_of(step), witnesses=witnesses)
         self.record.failures.append(failure)
         self._say(f"  failure at action {i} ({step.line()}, {phase}): " + ", ".join(a.text() for a in violated)
                   + f" -> {failure.mode}")
         if mode is not None:
             fields = Fields({k: local(v) for k, v in step.args.items()})
+            if witnesses:  # {found}: what the check found (the part left on a table, say)
+                fields["found"] = ", ".join(map(local, witnesses))
             for n in mode.remediation.notifications:
                 self.notifier(n.recipient, n.message.format_map(fields))
         return failure
+
+    def _witnesses(self, violated: list[AtomCheck]) -> list[str]:
+        """The objects behind the violated existential atoms (what makes ``worktable-empty``
+        false, say), on the belief as the diagnosis saw it; not the atoms' own arguments."""
+        ev = self.evaluator()
+        out: list[str] = []
+        for a in violated:
+            for x in ev.witnesses(a.predicate, *a.args):
+                if x not in a.args and x not in out:
+                    out.append(x)
+        return out
 
     def _kit_of(self, step: Step) -> str | None:
         """The kit an action works for: its kit argument, the kit its part is planned for, or

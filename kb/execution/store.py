@@ -303,13 +303,15 @@ def read_run(url: str | Path, run_id: int | None = None) -> RunRecord:
                     LostPoint(int(x["points"]), x["reason"], x["predicate"], tuple(x["objects"]), bool(x.get("holds")))
                     for x in json.loads(k.lost))))
             for f in conn.execute(select(FAILURES).where(FAILURES.c.run_id == row.id).order_by(FAILURES.c.id)):
+                violated = [AtomCheck(d["predicate"], tuple(d["args"]), d["negated"], d["holds"])
+                            for d in json.loads(f.violated)]
+                sightings = [Sighting(d["name"], tuple(d["expected"]) if d["expected"] else None,
+                                      tuple(d["seen"]) if d["seen"] else None) for d in json.loads(f.sightings)]
+                args = {x for a in violated for x in a.args}  # the other objects sighted are its witnesses
                 rec.failures.append(FailureRecord(
-                    f.idx, f.action, tuple(json.loads(f.args)), f.phase,
-                    [AtomCheck(d["predicate"], tuple(d["args"]), d["negated"], d["holds"]) for d in json.loads(f.violated)],
-                    [Sighting(d["name"], tuple(d["expected"]) if d["expected"] else None,
-                              tuple(d["seen"]) if d["seen"] else None) for d in json.loads(f.sightings)],
+                    f.idx, f.action, tuple(json.loads(f.args)), f.phase, violated, sightings,
                     f.mode, f.consequence or "", f.severity or 0, f.recovery or "", f.outcome or "", f.seconds or 0.0,
-                    kit=f.kit))
+                    kit=f.kit, witnesses=[s.name for s in sightings if s.name not in args]))
             return rec
     finally:
         engine.dispose()

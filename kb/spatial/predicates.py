@@ -107,6 +107,27 @@ class Evaluator:
         axes = [Axis(key, self._indices([arg])) for key, arg in zip((REFERENCE, TARGET), args)]
         return bool(np.asarray(self.eval(p.formula, axes)).all())  # one candidate per axis: no broadcast
 
+    def witnesses(self, name: str, *args: str) -> list[str]:
+        """The objects that decide a quantified atom ``name(args)``: for a predicate defined as
+        ``∃x body``, ``¬∃x body`` or a count of ``x`` (its outermost node, under at most one
+        negation), the candidates of ``x`` for which the body holds with the arguments bound
+        (``worktable-empty(table)`` found false: what rests on the table); ``[]`` for any other
+        definition, or an argument not in the scene."""
+        p = self._predicate(name)
+        f = p.formula.operand if isinstance(p.formula, Not) else p.formula
+        if isinstance(f, Exists):
+            var, body = f.variable, f.body
+        elif isinstance(f, Count):
+            var, body = f.variable, f.condition
+        else:
+            return []
+        if len(args) != p.arity or (p.reference_type is None and args) or any(a not in self.scene.index for a in args):
+            return []
+        axes = [Axis(key, self._indices([arg])) for key, arg in zip((REFERENCE, TARGET), args)]
+        hits = np.asarray(self._over(var, body, axes)).reshape(-1)
+        cand = self.candidates(var.cls)
+        return [self.scene.names[cand[k]] for k in np.flatnonzero(hits[-len(cand):])] if len(cand) else []
+
     def holds_formula(self, formula: Formula, bindings: dict) -> bool:
         """Whether ``formula`` holds with its free terms (``"reference"``, ``"target"``, an
         action parameter's IRI) bound to the objects named in ``bindings`` (term -> IRI)."""
