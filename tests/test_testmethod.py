@@ -2,7 +2,9 @@
 
 A handful of trials of a small kit: the same rows with 1 and 2 workers, a campaign resumed
 from its folder, a worker killed in the middle of a trial (its trial run again elsewhere), the
-real placement against the nominal one, and bad options.
+real placement against the nominal one, and bad options. The errors method's noise sweep: the
+same rows with 1 and 2 workers, detection quality per level, its zero level the rows of a
+campaign without noise, resumed; a trial with sensor noise is run_plan's with that noise.
 """
 
 from __future__ import annotations
@@ -29,6 +31,9 @@ from kb.testmethod import Options, comparable, done_rows, jobs, run_campaign, tr
 from kb.testmethod.trial import WatchedCell, file_scene, knowledge, placed_scene, prepared, run_trial
 
 SMALL = Options("basic", trials=4, seed=5, parts=(3,))
+#: a small noise sweep: 2 trials of the errors method, each at 0 and 2 mm of position noise
+SWEEP_ARGS = ["errors", "--trials", "2", "--seed", "5", "--parts", "4", "--noise-sweep", "position=0mm:2mm:2"]
+SWEEP = Options("errors", trials=2, seed=5, parts=(4,), noise_sweep="position=0mm:2mm:2")
 
 
 def _rows(folder: Path, n: int) -> list[dict]:
@@ -59,6 +64,21 @@ def two_workers(tmp_path_factory, client) -> Path:
     return folder
 
 
+@pytest.fixture(scope="module")
+def sweep_one(tmp_path_factory) -> Path:
+    """SWEEP on a LocalCluster of one worker."""
+    folder = tmp_path_factory.mktemp("sweep-one") / "campaign"
+    run_campaign(SWEEP, folder, workers=1)
+    return folder
+
+
+@pytest.fixture(scope="module")
+def sweep_two(tmp_path_factory, client) -> Path:
+    folder = tmp_path_factory.mktemp("sweep-two") / "campaign"
+    run_campaign(SWEEP, folder, client=client)
+    return folder
+
+
 # ------------------------------------------------------------------ placement
 
 
@@ -85,6 +105,15 @@ def test_placements_vary_stay_on_their_tables_and_do_not_overlap():
             for b in parts[i + 1:]:
                 assert _apart(a, b, dims) >= GAP - 1e-6, (seed, a, b)
     assert max(yaws) - min(yaws) > 300  # over the full circle
+
+
+def _rounded(data):  # noqa: ANN001, ANN202
+    """``data`` with its floats to 9 decimals (the placed scene is the placed file's to 1e-9 m)."""
+    if isinstance(data, dict):
+        return {k: _rounded(v) for k, v in data.items()}
+    if isinstance(data, list):
+        return [_rounded(v) for v in data]
+    return round(data, 9) if isinstance(data, float) else data
 
 
 def _corners(p: Placement, dims) -> np.ndarray:
@@ -117,18 +146,27 @@ def test_placed_scene_is_the_scene_of_the_placed_file():
         assert np.allclose(np.nan_to_num(fast.poses, nan=7.0), np.nan_to_num(from_file.poses, nan=7.0), atol=1e-9)
 
 
-def test_a_trial_is_run_plan_on_the_placed_file(tmp_path):
-    """The trial's own loop gives the report of ``run_plan(..., truth=FILE)`` on the same files."""
-    job = jobs(Options("errors", trials=2, seed=5, parts=(3,), faults="dropped-part@2,defective-part@4"), [1])[0]
+@pytest.mark.parametrize("noise", [None, "position=1mm,orientation=0.5deg,misdetection=1%"])
+def test_a_trial_is_run_plan_on_the_placed_file(tmp_path, noise):
+    """The trial's own loop gives the report of ``run_plan(..., truth=FILE)`` on the same files,
+    with the same sensor noise."""
+    options = Options("errors", trials=2, seed=5, parts=(3,), faults="dropped-part@2,defective-part@4",
+                      sensor_noise=noise)
+    job = jobs(options, [1])[0]
     row = run_trial(job)
     prep = prepared(job.spec)
     real, _ = place_trays(prep.scenario, job.seed)
     truth, _goal = write_spec(real, tmp_path)
     run = run_plan(prep.plan, prep.init, prep.goal, truth=truth, faults=job.faults, seed=job.seed,
-                   name=job.spec.name, notifier=lambda *a: None)
+                   name=job.spec.name, notifier=lambda *a: None, sensor_noise=noise)
     assert row["injected"] and row["failures"]
-    expected = comparable(run.report())
-    assert {k: v for k, v in comparable(row).items() if k in expected} == expected
+    expected = _rounded(comparable(run.report()))  # (a sensor error's time in the cell's clock: to 1e-9 s)
+    assert {k: v for k, v in _rounded(comparable(row)).items() if k in expected} == expected
+    if noise:
+        assert row["trial"]["noise"] == "position=1mm,orientation=0.5deg,misdetection=0.01"
+        assert row["sensor"]["accuracy"]["position"] == pytest.approx(0.001) and "sensor_errors" in row
+    else:
+        assert "noise" not in row["trial"] and "sensor" not in row
 
 
 # ------------------------------------------------------------------ the system moves to the real placement
@@ -213,6 +251,113 @@ def test_one_and_two_workers_give_the_same_rows(one_worker, two_workers):
     layouts = [json.dumps(r["trial"]["layout"]["placed"]) for r in one]
     assert len(set(layouts)) == 4  # every trial placed and turned the trays anew
     assert one[0]["trial"]["layout"]["nominal"] == one[1]["trial"]["layout"]["nominal"]
+
+
+def test_one_and_two_workers_give_the_same_sweep(sweep_one, sweep_two):
+    one, two = _rows(sweep_one, 4), _rows(sweep_two, 4)
+    assert [comparable(r) for r in one] == [comparable(r) for r in two]
+    a, b = (json.loads((f / "campaign.json").read_text())["summary"] for f in (sweep_one, sweep_two))
+    assert comparable(a["sweep"]) == comparable(b["sweep"]) and a["detection"] == b["detection"]
+
+
+# ------------------------------------------------------------------ sensor noise and the noise sweep
+
+
+def test_a_sweep_over_sensor_noise_keeps_its_other_keys():
+    from kb.sim.noise import SensorNoise
+    options = Options("errors", trials=3, seed=1, parts=(3,), sensor_noise="position=1mm,misdetection=1%",
+                      noise_sweep="orientation=0deg:1deg:5")
+    assert (options.levels, options.rows, options.locate(7)) == (5, 15, (1, 2))
+    batch = jobs(options)
+    assert [j.facts()["noise"] for j in batch[:5]] == [
+        "position=1mm,misdetection=0.01", "position=1mm,orientation=0.25deg,misdetection=0.01",
+        "position=1mm,orientation=0.5deg,misdetection=0.01", "position=1mm,orientation=0.75deg,misdetection=0.01",
+        "position=1mm,orientation=1deg,misdetection=0.01"]
+    level = SensorNoise.parse(batch[8].noise)  # the exact value of the level, not its rounded spelling
+    assert level == SensorNoise(position=0.001, orientation=np.radians(0.75), misdetection=0.01)
+    assert {j.seed for j in batch[5:10]} == {jobs(Options("errors", trials=3, seed=1, parts=(3,)))[1].seed}
+    assert Options("errors", trials=2, sensor_noise="position=1mm").as_dict()["sensor_noise"] == "position=1mm"
+
+
+def test_a_sweep_runs_every_trial_at_every_level(sweep_two):
+    rows = _rows(sweep_two, 4)
+    facts = [(r["trial"]["index"], r["trial"]["sweep"], r["trial"]["noise"]) for r in rows]
+    assert facts == [(0, {"trial": 0, "level": 0}, "none"), (1, {"trial": 0, "level": 1}, "position=2mm"),
+                     (2, {"trial": 1, "level": 0}, "none"), (3, {"trial": 1, "level": 1}, "position=2mm")]
+    # each trial's seed, layout and faults the same at every level: the levels differ only by noise
+    for a, b in (rows[0:2], rows[2:4]):
+        assert a["trial"]["seed"] == b["trial"]["seed"] and a["trial"]["layout"] == b["trial"]["layout"]
+        assert [(x["kind"], x["action_index"]) for x in a["injected"]] == \
+            [(x["kind"], x["action_index"]) for x in b["injected"]]
+    assert "sensor" not in rows[0] and rows[1]["sensor"]["accuracy"]["position"] == pytest.approx(0.002)
+    assert rows[0]["trial"]["seed"] != rows[2]["trial"]["seed"]
+
+
+def test_a_sweep_scores_detection_quality_per_level(sweep_two):
+    from kb.execution.quality import by_noise, score_detection
+    meta = json.loads((sweep_two / "campaign.json").read_text())
+    assert meta["options"]["noise_sweep"] == "position=0mm:2mm:2" and meta["trials"] == 2
+    summary = meta["summary"]
+    rows = _rows(sweep_two, 4)
+    sweep = summary["sweep"]
+    assert (sweep["key"], sweep["unit"], [lv["value"] for lv in sweep["levels"]]) == ("position", "mm", [0.0, 2.0])
+    scored = by_noise(rows)  # the quality scorer's own grouping, by the sensor each report names
+    assert list(scored) == [lv["noise"] for lv in sweep["levels"]] == ["none", "position=2mm"]
+    for lv in sweep["levels"]:
+        quality = scored[lv["noise"]].as_dict()
+        assert {k: lv[k] for k in quality} == quality and lv["runs"] == 2 and lv["kits"] == 2
+        for key in ("injected", "detected", "diagnosed_right", "diagnosed_wrong", "missed"):
+            assert key in lv["total"]
+        assert {"false_alarms", "false_alarms_per_10k_actions", "detection"} <= set(lv)
+    assert sweep["levels"][0]["total"]["injected"] > 0  # the errors method's faults were there to detect
+    assert summary["detection"] == score_detection(rows).as_dict()
+
+
+def test_zero_noise_gives_the_rows_of_a_campaign_without_noise(sweep_two, tmp_path, client):
+    plain = Options("errors", trials=2, seed=5, parts=(4,))
+    run_campaign(plain, tmp_path / "plain", client=client)
+    for index, row in enumerate(_rows(tmp_path / "plain", 2)):
+        level0 = comparable(_rows(sweep_two, 4)[2 * index])
+        trial = level0["trial"]
+        assert trial.pop("sweep") == {"trial": index, "level": 0} and trial.pop("noise") == "none"
+        assert trial.pop("index") == 2 * index
+        row = comparable(row)
+        assert row["trial"].pop("index") == index
+        assert level0 == row
+    summary = json.loads((tmp_path / "plain" / "campaign.json").read_text())["summary"]
+    assert "sweep" not in summary and summary["detection"]["total"]["injected"] > 0  # quality without a sweep too
+    assert json.loads((tmp_path / "plain" / "campaign.json").read_text())["options"] == \
+        {"parts": [4], "kits": None, "faults": plain.faults}  # the options a campaign without noise always had
+
+
+def test_a_sweep_resumes(sweep_two, tmp_path, client, capsys):
+    folder = tmp_path / "campaign"
+    shutil.copytree(sweep_two, folder)
+    trial_path(folder, 1).unlink()
+    trial_path(folder, 2).write_text('{"trial": ')
+    assert sorted(done_rows(SWEEP, folder)) == [0, 3]
+    assert sorted(done_rows(Options("errors", trials=1, seed=5, parts=(4,), noise_sweep="position=0mm:2mm:2"),
+                            folder)) == [0]
+    code = main(["testmethod", *SWEEP_ARGS, "--out", str(folder), "--scheduler", client.scheduler.address, "-q"])
+    out = capsys.readouterr().out
+    assert code == 0
+    assert [comparable(r) for r in _rows(folder, 4)] == [comparable(r) for r in _rows(sweep_two, 4)]
+    assert "detection quality by position noise (position=0mm:2mm:2):" in out
+    table = out.split("detection quality by position noise")[1].splitlines()
+    assert table[1].split()[:3] == ["position", "mm", "noise"] and len(table) == 4
+    assert table[2].split()[:2] == ["0.0", "none"] and table[3].split()[:2] == ["2.0", "position=2mm"]
+    # all resumed: nothing run, the same summary as JSON
+    code, data = _command(client, [*SWEEP_ARGS, "--out", str(folder)], capsys)
+    assert code == 0 and data["summary"]["run"] == {**data["summary"]["run"], "ran": 0, "resumed": 4}
+    assert [r["level"] for r in data["rows"]] == [0, 1, 0, 1] and data["rows"][1]["noise"] == "position=2mm"
+    assert comparable(data["summary"]["sweep"]) == \
+        comparable(json.loads((sweep_two / "campaign.json").read_text())["summary"]["sweep"])
+    assert "2 trials at 2 noise levels, 4 runs" in data["message"]
+    # the same folder with another sweep, or none, is another campaign
+    for args in (["errors", "--trials", "2", "--seed", "5", "--parts", "4"],
+                 [*SWEEP_ARGS[:-1], "position=0mm:3mm:2"]):
+        assert main(["testmethod", *args, "--out", str(folder)]) == 2
+        assert "give another --out" in capsys.readouterr().err
 
 
 def test_an_interrupted_campaign_resumes(two_workers, tmp_path, client):
@@ -308,6 +453,20 @@ def test_errors_recovers_from_a_dropped_and_a_defective_part(tmp_path, capsys, c
     (["errors", "--faults", "nothing=0.1"], "--faults:"),
     (["basic", "--kits", "2"], "--kits is for the multi method"),
     (["basic", "--workers", "0"], "--workers must be at least 1"),
+    (["basic", "--sensor-noise", "position=1"], "--sensor-noise: 'position=1': a bare length is ambiguous"),
+    (["errors", "--sensor-noise", "position=1mm,orientation=0.5"], "'orientation=0.5': a bare angle"),
+    (["errors", "--sensor-noise", "position=1mm,loud=2"], "--sensor-noise: 'loud=2': expected KEY=VALUE"),
+    (["basic", "--noise-sweep", "position=0mm:1mm:2"], "--noise-sweep is for the errors method, not basic"),
+    (["multi", "--noise-sweep", "position=0mm:1mm:2"], "--noise-sweep is for the errors method, not multi"),
+    (["errors", "--noise-sweep", "position=0mm:1mm"], "expected KEY=FROM:TO:N"),
+    (["errors", "--noise-sweep", "position=0:1mm:2"], "'position=0': a bare length is ambiguous"),
+    (["errors", "--noise-sweep", "position=0mm:1mm:1"], "a sweep needs at least 2 levels"),
+    (["errors", "--noise-sweep", "loudness=0mm:1mm:2"], "'loudness' is not a noise key"),
+    (["errors", "--noise-sweep", "orientation=0deg:1deg:3", "--sensor-noise", "position=1mm,orientation=0.1deg"],
+     "both set orientation: give it in one of them"),
+    (["errors", "--noise-sweep", "misclass=0:1%:2", "--sensor-noise", "misclassification=0.01"],
+     "both set misclassification"),
+    (["errors", "--trials", "1000", "--noise-sweep", "position=0mm:1mm:1001"], "more than 1,000,000 runs"),
 ])
 def test_bad_options_exit_2_with_one_line(tmp_path, capsys, args, message):
     code = main(["testmethod", *args, "--out", str(tmp_path / "c")])

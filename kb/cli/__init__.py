@@ -362,6 +362,12 @@ def _add_testmethod(sub: Any) -> None:
     p.add_argument("--faults", metavar="KIND=RATE,...",
                    help="errors: the faults injected (default dropped-part=0.1,defective-part=0.1,missed-grasp=0.05,"
                         "part-moved=0.05; kinds as kitkb run --faults)")
+    p.add_argument("--sensor-noise", metavar="KEY=VALUE,...",
+                   help=SENSOR_NOISE_HELP + "; every trial's simulated sensor has it and its checks allow for it")
+    p.add_argument("--noise-sweep", metavar="KEY=FROM:TO:N",
+                   help="errors: run every trial at N levels of one noise key from FROM to TO (e.g. "
+                        "position=0mm:5mm:6 or orientation=0deg:1deg:5; over --sensor-noise for the other keys), "
+                        "with the same seed, and score detection quality per level")
     where = p.add_mutually_exclusive_group()
     where.add_argument("--workers", type=int, metavar="N",
                        help="Dask worker processes of a local cluster on this machine (default: one per core)")

@@ -11,16 +11,20 @@ from kb.testmethod import Options, brief, run_campaign, write_table
 
 
 def testmethod(method: str, trials: int, seed: int, parts: str | None, kits: int | None, faults: str | None,
-               workers: int | None, scheduler: str | None, output: str | None, out: Output) -> int:
+               workers: int | None, scheduler: str | None, output: str | None, out: Output,
+               sensor_noise: str | None = None, noise_sweep: str | None = None) -> int:
     """Run the campaign (resuming what ``output`` holds of it), print its rows and summary;
     0 when every trial ran and built its kits, 1 otherwise."""
-    options = Options(method, trials, seed, _sizes(parts), kits if kits is not None else 3, faults)
+    options = Options(method, trials, seed, _sizes(parts), kits if kits is not None else 3, faults, sensor_noise,
+                      noise_sweep)
     if kits is not None and method != "multi":
         raise InputError(f"--kits is for the multi method, not {method}")
     folder = Path(output or f"out/testmethod-{method}")
     campaign = run_campaign(options, folder, workers=workers, scheduler=scheduler, progress=out.tracker)
     s = campaign.summary
-    message = (f"{method}: {s['trials']} trials in {folder}/ ({campaign.ran} run now, {campaign.resumed} resumed"
+    runs = (f"{trials} trials at {options.levels} noise levels, {s['trials']} runs" if options.noise_sweep
+            else f"{s['trials']} trials")
+    message = (f"{method}: {runs} in {folder}/ ({campaign.ran} run now, {campaign.resumed} resumed"
                + (f", {len(campaign.lost)} lost with their workers" if campaign.lost else "")
                + f"), kits built {s['kits_built']} of {s['kits']}")
     if out.is_json:
@@ -29,7 +33,7 @@ def testmethod(method: str, trials: int, seed: int, parts: str | None, kits: int
     else:
         write_table(campaign.rows, s, out.results, receipt=method == "new-variety")
         out.done(message)
-    ok = not campaign.lost and s["errors"] == 0 and s["kits_built"] == s["kits"] and s["trials"] == trials
+    ok = not campaign.lost and s["errors"] == 0 and s["kits_built"] == s["kits"] and s["trials"] == options.rows
     return 0 if ok else 1
 
 

@@ -12,7 +12,10 @@ The campaign folder (the contract with ``kitkb report``)::
 
     DIR/campaign.json        {"method", "seed", "trials", "options", "summary"}
     DIR/trials/00000.json    one trial's row: a run report plus "trial": {index, seed, method,
-                             design, layout, time_s, error}
+                             design, layout, time_s, error; noise, sweep}
+
+A noise sweep (``Options.noise_sweep``) runs every trial at every level: row ``k`` (its file
+``k``) is trial ``k // L`` at level ``k % L`` of ``L``, with the trial's seed.
 
 Each trial file is written atomically by the client as its result arrives. A campaign run
 again into the same folder with the same method, seed and options resumes: the trials whose
@@ -92,11 +95,13 @@ def done_rows(options: Options, out_dir: Path) -> dict[int, dict[str, Any]]:
         raise InputError(f"holds the campaign {old['method']} --seed {old['seed']} {old['options']}, not this one: "
                          "give another --out, or the same options to resume it", file=meta)
     rows = {}
-    for index in range(options.trials):
+    for index in range(options.rows):
         row = _read_row(trial_path(out_dir, index))
         trial = (row or {}).get("trial") or {}
-        if trial.get("index") == index and trial.get("seed") == trial_seed(options.seed, index) \
-                and trial.get("method") == options.method:
+        number, level = options.locate(index)
+        if trial.get("index") == index and trial.get("seed") == trial_seed(options.seed, number) \
+                and trial.get("method") == options.method \
+                and trial.get("sweep") == (None if level is None else {"trial": number, "level": level}):
             rows[index] = row
     return rows
 
@@ -131,7 +136,7 @@ def run_campaign(options: Options, out_dir: str | Path, *, workers: int | None =
         raise InputError(f"--workers must be at least 1 (got {workers})")
     rows = done_rows(options, out_dir)
     _check_folder(out_dir)
-    todo = [i for i in range(options.trials) if i not in rows]
+    todo = [i for i in range(options.rows) if i not in rows]
     t = time.perf_counter()
     lost: list[int] = []
     n_workers = 0
@@ -154,12 +159,12 @@ def run_campaign(options: Options, out_dir: str | Path, *, workers: int | None =
                     task.advance()
     wall = time.perf_counter() - t
     ordered = [rows[i] for i in sorted(rows)]
-    summary = summarize(ordered)
-    summary["run"] = {"ran": len(todo) - len(lost), "resumed": options.trials - len(todo), "lost": sorted(lost),
+    summary = summarize(ordered, sweep=options.noise_sweep, base=options.sensor_noise)
+    summary["run"] = {"ran": len(todo) - len(lost), "resumed": options.rows - len(todo), "lost": sorted(lost),
                       "workers": n_workers, "wall_s": round(wall, 3),
                       "trials_per_s": round((len(todo) - len(lost)) / wall, 4) if todo and wall > 0 else None}
     write_atomic(out_dir / CAMPAIGN_FILE, json.dumps(header(options, summary), indent=1) + "\n")
-    return Campaign(options, out_dir, ordered, summary, len(todo) - len(lost), options.trials - len(todo),
+    return Campaign(options, out_dir, ordered, summary, len(todo) - len(lost), options.rows - len(todo),
                     sorted(lost), wall, n_workers)
 
 
@@ -190,9 +195,7 @@ def _results(client: Any, batch: list[Job]) -> Iterator[tuple[int, dict[str, Any
 def _error_row(job: Job, exc: BaseException) -> dict[str, Any]:
     """The row of a trial that raised each time it ran (a fault of kitkb's: it says which)."""
     message = f"internal error: {type(exc).__name__}: {exc}"
-    return {**not_executed(job, message),
-            "trial": {"index": job.index, "seed": job.seed, "method": job.method, "design": " ".join(job.order),
-                      "designs": list(job.order), "layout": None, "time_s": None, "error": message}}
+    return {**not_executed(job, message), "trial": {**job.facts(), "layout": None, "time_s": None, "error": message}}
 
 
 @contextmanager

@@ -15,13 +15,22 @@ campaign alone, so the same campaign gives the same jobs wherever they run:
   their boxes; the parts trays are placed and turned anew;
 * **errors** (§III-E): basic with seeded faults (the paper's dropped and defective parts, and
   missed grasps and moved parts; ``--faults`` sets others) and spare parts to recover with.
+
+Any method's simulated sensor may err (``--sensor-noise``: every trial's cell has that noise and
+its executor verifies with that accuracy). errors also sweeps a noise (``--noise-sweep
+position=0mm:5mm:6``): every trial runs at every level, with the same seed, so the levels
+differ only by the noise; row ``k`` of a sweep of ``L`` levels is trial ``k // L`` at level
+``k % L`` (:meth:`Options.locate`).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import random
+import re
 from dataclasses import dataclass, field
+from functools import lru_cache
 from typing import Any
 
 from kb.core.errors import InputError
@@ -49,6 +58,8 @@ class Options:
     parts: tuple[int, ...] = ()  # parts per design (default per method: DEFAULT_PARTS)
     kits: int = DEFAULT_KITS  # multi: kits per trial
     faults: str | None = None  # errors: the fault mix (default DEFAULT_FAULTS)
+    sensor_noise: str | None = None  # the sensor's accuracy, as --sensor-noise spells it
+    noise_sweep: str | None = None  # errors: KEY=FROM:TO:N, the levels every trial runs at
 
     def __post_init__(self) -> None:
         if self.method not in METHODS:
@@ -78,11 +89,110 @@ class Options:
             if self.method != "errors":
                 raise InputError(f"--faults is for the errors method, not {self.method}")
             _check_faults(self.faults)
+        base = _base_noise(self.sensor_noise)
+        if self.noise_sweep is not None:
+            _check_sweep(self, base)
+
+    @property
+    def levels(self) -> int:
+        """The noise levels each trial runs at (1 without a sweep)."""
+        return len(sweep_levels(self.noise_sweep, self.sensor_noise)) if self.noise_sweep else 1
+
+    @property
+    def rows(self) -> int:
+        """The campaign's rows (trial files): every trial at every level."""
+        return self.trials * self.levels
+
+    def locate(self, row: int) -> tuple[int, int | None]:
+        """(trial, level) of row ``row`` (level None without a sweep)."""
+        if self.noise_sweep is None:
+            return row, None
+        return divmod(row, self.levels)
+
+    def noise_of(self, row: int) -> str | None:
+        """The ``--sensor-noise`` text of row ``row``'s sensor (None: the state's own sensor):
+        the campaign's, and for a sweep its level's value of the swept key, written exactly (SI)."""
+        _trial, level = self.locate(row)
+        if level is None:
+            return self.sensor_noise
+        name, kind = sweep_key(self.noise_sweep)
+        item = f"{name}={sweep_values(self.noise_sweep)[level]!r}{KIND_UNIT[kind]}"
+        return f"{self.sensor_noise},{item}" if self.sensor_noise else item
 
     def as_dict(self) -> dict[str, Any]:
-        """What campaign.json keeps as ``options`` (what the trials depend on)."""
-        return {"parts": list(self.parts), "kits": self.kits if self.method == "multi" else None,
-                "faults": self.faults}
+        """What campaign.json keeps as ``options`` (what the trials depend on; the noise
+        options only when given, so a campaign without them keeps the options it had)."""
+        out: dict[str, Any] = {"parts": list(self.parts), "kits": self.kits if self.method == "multi" else None,
+                               "faults": self.faults}
+        if self.sensor_noise is not None:
+            out["sensor_noise"] = self.sensor_noise
+        if self.noise_sweep is not None:
+            out["noise_sweep"] = self.noise_sweep
+        return out
+
+
+#: the SI unit an exact value of each kind of noise key is written in
+KIND_UNIT = {"length": "m", "angle": "rad", "rate": ""}
+
+
+def _base_noise(text: str | None) -> Any:
+    """The noise of ``--sensor-noise`` (None when not given); an InputError naming its item."""
+    if text is None:
+        return None
+    from kb.sim.noise import SensorNoise  # the noise model's own reader says what is wrong
+    try:
+        return SensorNoise.parse(text)
+    except ValueError as e:
+        raise InputError(f"--sensor-noise: {e}") from None
+
+
+def sweep_key(text: str) -> tuple[str, str]:
+    """(field, kind) of the key a sweep ``KEY=FROM:TO:N`` varies (``misclass`` is
+    ``misclassification``); an InputError for an unknown key."""
+    from kb.sim.noise import KEYS
+    key = text.partition("=")[0].strip().lower()
+    if key not in KEYS:
+        raise InputError(f"--noise-sweep {text}: {key!r} is not a noise key (keys: position, orientation, bias, "
+                         "misdetection, misclass)")
+    return KEYS[key]
+
+
+@lru_cache(maxsize=16)
+def sweep_levels(text: str, base: str | None = None) -> tuple[Any, ...]:
+    """The :class:`~kb.sim.noise.SensorNoise` of each level of a sweep, over ``base`` (the
+    ``--sensor-noise`` text); an InputError for a malformed sweep."""
+    from kb.sim.noise import SensorNoise
+    try:
+        return tuple(SensorNoise.sweep(text, _base_noise(base)))
+    except ValueError as e:
+        said = str(e)
+        if repr(text) not in said:  # an end of the sweep read as its own item: say the sweep
+            said = f"{text}: " + re.sub(r" \(item \d+ of '[^']*'\)$", "", said)
+        raise InputError(f"--noise-sweep: {said}") from None
+
+
+def sweep_values(text: str) -> list[float]:
+    """The swept key's value at each level, in SI (metres, radians, a rate)."""
+    name = sweep_key(text)[0]
+    return [getattr(level, name) for level in sweep_levels(text)]
+
+
+def _check_sweep(options: Options, base: Any) -> None:
+    text = options.noise_sweep or ""
+    if options.method != "errors":
+        raise InputError(f"--noise-sweep is for the errors method, not {options.method}")
+    name = sweep_key(text)[0]
+    count = text.rpartition(":")[2].strip()
+    if count.isdigit() and options.trials * int(count) > MAX_TRIALS:
+        raise InputError(f"--noise-sweep {text}: {options.trials:,} trials at {int(count):,} levels are more than "
+                         f"{MAX_TRIALS:,} runs")
+    sweep_levels(text)
+    if base is not None and options.sensor_noise is not None:
+        from kb.sim.noise import KEYS
+        given = {KEYS.get(item.partition("=")[0].strip().lower(), ("",))[0] for item in options.sensor_noise.split(",")}
+        if name in given:
+            raise InputError(f"--noise-sweep {text} and --sensor-noise {options.sensor_noise} both set {name}: "
+                             "give it in one of them")
 
 
 def _check_faults(text: str) -> None:
@@ -105,6 +215,27 @@ class Job:
     faults: str | None = None
     deliver: bool = False  # new-variety: the design arrives as files, planned on receipt (never cached)
     order: tuple[str, ...] = field(default=())  # the designs of the kits, in the order asked
+    noise: str | None = None  # the sensor's accuracy as --sensor-noise spells it (None: the state's sensor)
+    sweep: tuple[int, int] | None = None  # in a noise sweep: (trial, level)
+
+    def facts(self) -> dict[str, Any]:
+        """The trial's facts known before it runs (its row's ``trial``): index, seed, method,
+        designs, and the sensor noise (``noise``, spelled as --sensor-noise; ``sweep``: the
+        trial and the level, in a sweep)."""
+        out: dict[str, Any] = {"index": self.index, "seed": self.seed, "method": self.method,
+                               "design": " ".join(self.order), "designs": list(self.order)}
+        if self.noise is not None:
+            out["noise"] = noise_label(self.noise)
+        if self.sweep is not None:
+            out["sweep"] = {"trial": self.sweep[0], "level": self.sweep[1]}
+        return out
+
+
+def noise_label(text: str) -> str:
+    """A ``--sensor-noise`` text as :meth:`SensorNoise.text <kb.sim.noise.SensorNoise.text>`
+    spells it (millimetres, degrees; "none" for an exact sensor), the label of a noise level."""
+    from kb.sim.noise import SensorNoise
+    return SensorNoise.parse(text).text()
 
 
 def not_executed(job: Job, reason: str) -> dict[str, Any]:
@@ -124,13 +255,20 @@ def design_seed(seed: int, design: int) -> int:
 
 
 def jobs(options: Options, indices: list[int] | range | None = None) -> list[Job]:
-    """The jobs of the campaign's trials (all, or ``indices``)."""
-    indices = range(options.trials) if indices is None else indices
+    """The jobs of the campaign's rows (all, or ``indices``)."""
+    indices = range(options.rows) if indices is None else indices
     return [job(options, i) for i in indices]
 
 
-def job(options: Options, index: int) -> Job:
-    """Trial ``index`` of the campaign."""
+def job(options: Options, row: int) -> Job:
+    """Row ``row`` of the campaign: its trial (``row`` itself without a sweep) at its noise."""
+    trial, level = options.locate(row)
+    extra: dict[str, Any] = {"noise": options.noise_of(row), "sweep": None if level is None else (trial, level)}
+    return dataclasses.replace(_job(options, trial), index=row, **extra)
+
+
+def _job(options: Options, index: int) -> Job:
+    """Trial ``index`` of the campaign (as if no noise)."""
     seed = trial_seed(options.seed, index)
     method = options.method
     types = random_types(types_for(max(options.parts)), options.seed)

@@ -1,5 +1,7 @@
 """A campaign's rows summed up: kits built, each metric's mean / median / 95th percentile,
-failures by mode, recoveries; the rows as comparable data and as a text table.
+failures by mode, recoveries, detection quality (:mod:`kb.execution.quality`: faults injected,
+detected, diagnosed right and wrong, missed, false alarms), and for a noise sweep the detection
+quality per level; the rows as comparable data and as a text table.
 
 A row is one trial's report (``kitkb run``'s, :meth:`kb.execution.Run.report`) with its
 ``trial`` facts; fields a report does not have (an older report without ``metrics`` or
@@ -12,6 +14,8 @@ from collections import Counter
 from typing import Any, Iterable, TextIO
 
 import numpy as np
+
+from kb.execution.quality import score_detection
 
 #: keys whose values are wall-clock seconds (left out when rows are compared)
 TIMING_KEYS = frozenset({"time_s", "plan_time_s", "replan_time_s", "receipt_to_first_command_s", "t", "seconds",
@@ -73,8 +77,9 @@ def _stats(values: list[float]) -> dict[str, float]:
             "p95": round(float(np.percentile(a, 95)), 6)}
 
 
-def summarize(rows: Iterable[dict[str, Any]]) -> dict[str, Any]:
-    """The campaign's summary over its trial rows."""
+def summarize(rows: Iterable[dict[str, Any]], *, sweep: str | None = None, base: str | None = None) -> dict[str, Any]:
+    """The campaign's summary over its trial rows; ``sweep``: the campaign's ``--noise-sweep``
+    (over ``base``, its ``--sensor-noise``), whose levels get their detection quality."""
     rows = list(rows)
     built = asked = 0
     modes: Counter[str] = Counter()
@@ -104,7 +109,38 @@ def summarize(rows: Iterable[dict[str, Any]]) -> dict[str, Any]:
                        "recovered": sum(recovered.values()),
                        "failures": sum(modes.values())},
         "injected_by_kind": dict(sorted(injected.items())),
+        "detection": score_detection(rows).as_dict(),
+        **({"sweep": sweep_summary(rows, sweep, base)} if sweep else {}),
     }
+
+
+#: how a swept key is shown: (unit, SI value -> shown value)
+SHOWN = {"length": ("mm", 1e3), "angle": ("deg", 180 / np.pi), "rate": ("%", 100.0)}
+
+
+def sweep_summary(rows: list[dict[str, Any]], sweep: str, base: str | None = None) -> dict[str, Any]:
+    """Detection quality per level of a noise sweep: ``key`` (the swept noise), ``unit``,
+    ``levels``: per level its ``value`` (in ``unit``), ``noise`` (the sensor, spelled as
+    ``--sensor-noise``), the runs' kits built, and :func:`~kb.execution.quality.score_detection`
+    of its rows (injected, detected, diagnosed right and wrong, missed, false alarms, their
+    rates; ``false_alarm_count``: the false alarms of every mode)."""
+    from kb.testmethod.methods import sweep_key, sweep_levels, sweep_values
+    name, kind = sweep_key(sweep)
+    unit, scale = SHOWN[kind]
+    by_level: dict[int, list[dict[str, Any]]] = {}
+    for row in rows:
+        level = (row.get("trial", {}).get("sweep") or {}).get("level")
+        if isinstance(level, int):
+            by_level.setdefault(level, []).append(row)
+    levels = []
+    for level, (noise, value) in enumerate(zip(sweep_levels(sweep, base), sweep_values(sweep))):
+        group = by_level.get(level, [])
+        quality = score_detection(group)
+        built = [kits_of(r) for r in group]
+        levels.append({"level": level, "value": round(value * scale, 9), "noise": noise.text(),
+                       "kits_built": sum(b for b, _ in built), "kits": sum(a for _, a in built),
+                       **quality.as_dict(), "false_alarm_count": quality.false_alarm_count})
+    return {"key": name, "unit": unit, "sweep": sweep, "base": base, "levels": levels}
 
 
 def brief(row: dict[str, Any]) -> dict[str, Any]:
@@ -122,6 +158,8 @@ def brief(row: dict[str, Any]) -> dict[str, Any]:
         "recovered": metrics.get("recovered"), "stopped": row.get("stopped"),
         "receipt_to_first_command_s": trial.get("receipt_to_first_command_s"),
         "time_s": trial.get("time_s"), "error": trial.get("error"),
+        **({"noise": trial["noise"]} if "noise" in trial else {}),
+        **({"level": trial["sweep"].get("level")} if isinstance(trial.get("sweep"), dict) else {}),
     }
 
 
@@ -129,7 +167,8 @@ def write_table(rows: list[dict[str, Any]], summary: dict[str, Any], stream: Tex
     """The rows (one line a trial) and the summary, as text."""
     head = f"{'trial':>5} {'seed':>10}  {'kits':>5} {'score':>7} {'actions':>7} {'fail':>4} {'recov':>5}"
     head += f" {'receipt s':>9}" if receipt else ""
-    print(head + f" {'time s':>7}  design / outcome", file=stream)
+    noisy = any("noise" in (r.get("trial") or {}) for r in rows)
+    print(head + f" {'time s':>7}  design" + (" @ noise" if noisy else "") + " / outcome", file=stream)
     for row in rows:
         b = brief(row)
         score = f"{b['score']}/{b['max_score']}" if b["score"] is not None else "-"
@@ -138,7 +177,8 @@ def write_table(rows: list[dict[str, Any]], summary: dict[str, Any], stream: Tex
         if receipt:
             line += f" {_n(b['receipt_to_first_command_s'], '.3f'):>9}"
         outcome = b["error"] or b["stopped"] or ""
-        line += f" {_n(b['time_s'], '.2f'):>7}  {b['design']}" + (f": {outcome}" if outcome else "")
+        line += f" {_n(b['time_s'], '.2f'):>7}  {b['design']}" + (f" @ {b['noise']}" if "noise" in b else "")
+        line += f": {outcome}" if outcome else ""
         print(line, file=stream)
     _summary(summary, stream)
 
@@ -156,6 +196,49 @@ def _summary(s: dict[str, Any], stream: TextIO) -> None:
                           ("recoveries by strategy", s["recoveries"]["by_strategy"])):
         if counts:
             print(f"{title}: " + ", ".join(f"{k} {v}" for k, v in counts.items()), file=stream)
+    if s.get("detection"):
+        print(_detection_line(s["detection"]), file=stream)
+    if s.get("sweep"):
+        write_sweep(s["sweep"], stream)
+
+
+def _detection_line(d: dict[str, Any]) -> str:
+    t = d["total"]
+    alarms = sum(d["false_alarms"].values())
+    per = d["false_alarms_per_10k_actions"]
+    line = (f"detection: {t['injected']} injected, {t['detected']} detected, {t['diagnosed_right']} diagnosed right, "
+            f"{t['diagnosed_wrong']} wrong, {t['missed']} missed; {alarms} false alarm(s) in {d['actions']} actions")
+    line += f" ({per:.3g} per 10,000)" if per is not None else ""
+    return line + (f"; detection rate {100 * d['detection']:.1f}%" if d["detection"] is not None else "")
+
+
+SWEEP_COLUMNS = ("runs", "actions", "kits built", "injected", "detected", "right", "wrong", "missed", "false alarms",
+                 "per 10k", "detection %")
+
+
+def sweep_rows(sweep: dict[str, Any]) -> list[list[Any]]:
+    """The per-level table of a sweep summary (:func:`sweep_summary`): the value and the noise,
+    then :data:`SWEEP_COLUMNS`."""
+    out = []
+    for lv in sweep["levels"]:
+        t = lv["total"]
+        out.append([lv["value"], lv["noise"], lv["runs"], lv["actions"], f"{lv['kits_built']}/{lv['kits']}",
+                    t["injected"], t["detected"], t["diagnosed_right"], t["diagnosed_wrong"], t["missed"],
+                    lv["false_alarm_count"],
+                    None if lv["false_alarms_per_10k_actions"] is None else round(lv["false_alarms_per_10k_actions"], 2),
+                    None if lv["detection"] is None else round(100 * lv["detection"], 1)])
+    return out
+
+
+def write_sweep(sweep: dict[str, Any], stream: TextIO) -> None:
+    """A sweep's detection quality per level, as a text table."""
+    print(f"\ndetection quality by {sweep['key']} noise ({sweep['sweep']}):", file=stream)
+    rows = [[_n(v) for v in row] for row in sweep_rows(sweep)]
+    head = [f"{sweep['key']} {sweep['unit']}", "noise", *SWEEP_COLUMNS]
+    widths = [max(len(h), *(len(r[i]) for r in rows)) for i, h in enumerate(head)]
+    for line in [head, *rows]:
+        print("  ".join(c.ljust(w) if i == 1 else c.rjust(w) for i, (c, w) in enumerate(zip(line, widths))).rstrip(),
+              file=stream)
 
 
 def _n(value: Any, fmt: str = "") -> str:

@@ -32,9 +32,8 @@ import numpy as np
 from kb import planning
 from kb.core.errors import KitkbError
 from kb.crcl.cell import CellInterface, execute_program, sense_names
-from kb.execution import Executor, Run, RunRecord
-from kb.execution.belief import Belief
-from kb.execution.records import local
+from kb.execution import Run, RunRecord
+from kb.execution.api import PlanInputs, execute_plan, sensor_accuracy
 from kb.io.loader import Source
 from kb.model.definitions import Definitions, load_definitions
 from kb.model.failures import FailureModel, load_failure_model
@@ -47,6 +46,7 @@ from kb.scenario.layout import Scenario
 from kb.scenario.placement import Placement, place_trays, placements, pose_of
 from kb.scenario.spec import ScenarioSpec
 from kb.sim import FaultSpec, SimulatedCell
+from kb.sim.noise import SensorNoise
 from kb.spatial.scene import Scene, scene_boxes
 from kb.spatial.transforms import pose_matrix
 from kb.testmethod.methods import Job, not_executed
@@ -162,27 +162,14 @@ class WatchedCell:
         return getattr(self.cell, name)
 
 
-def execute(prep: Prepared, cell: WatchedCell, name: str, seed: int) -> Run:
-    """Carry out the design's plan on ``cell`` from the nominal belief (what ``run_plan`` does
-    once it has read its files)."""
+def execute(prep: Prepared, cell: WatchedCell, name: str, seed: int, accuracy: SensorNoise | None = None) -> Run:
+    """Carry out the design's plan on ``cell`` from the nominal belief, verifying with the
+    sensor ``accuracy``: :func:`kb.execution.api.execute_plan`, as ``run_plan`` does once it
+    has read its files."""
     defs, failures = knowledge()
-    record = RunRecord(name, seed, plan_time=prep.plan_time)
-    executor = Executor(cell, prep.domain, prep.problem, defs, failures, Belief(prep.scene),
-                        notifier=_quiet, record=record)
-    executor.run(list(prep.plan))
-    record.injected = [{"kind": x.kind, "action_index": x.action_index, "objects": [local(o) for o in x.objects],
-                        "detail": x.detail} for x in cell.injected]
-    violations = getattr(cell.cell, "violations", None)
-    if violations is not None:
-        record.violations = [_as_data(v) for v in violations]
-    return Run(record)
-
-
-def _as_data(v: Any) -> dict[str, Any]:
-    data = dict(v) if isinstance(v, dict) else dataclasses.asdict(v)
-    if "objects" in data:
-        data["objects"] = [local(o) for o in data["objects"]]
-    return data
+    inputs = PlanInputs(prep.domain, prep.problem, prep.scene, defs, failures)
+    return execute_plan(prep.plan, cell, inputs, RunRecord(name, seed, plan_time=prep.plan_time), accuracy=accuracy,
+                        notifier=_quiet)
 
 
 def _quiet(recipient: str, message: str) -> None:
@@ -191,10 +178,10 @@ def _quiet(recipient: str, message: str) -> None:
 
 def run_trial(job: Job) -> dict[str, Any]:
     """The row of one trial: the run's report plus ``trial`` (index, seed, method, design,
-    layout, time_s, error). An input or planning error of kitkb's is the row's ``error``."""
+    layout, time_s, error; the sensor noise and sweep level when it has them). An input or
+    planning error of kitkb's is the row's ``error``."""
     t = time.perf_counter()
-    facts: dict[str, Any] = {"index": job.index, "seed": job.seed, "method": job.method,
-                             "design": " ".join(job.order), "designs": list(job.order)}
+    facts = job.facts()
     try:
         report = _run(job, facts)
     except KitkbError as e:
@@ -210,18 +197,23 @@ def _run(job: Job, facts: dict[str, Any]) -> dict[str, Any]:
         with tempfile.TemporaryDirectory(prefix="kitkb-new-variety-") as folder:
             return _delivered(job, Path(folder), facts)
     prep = prepared(job.spec)
-    cell = _cell(job, prep.scenario, prep.scene, facts)
-    return _report(execute(prep, cell, job.spec.name, job.seed), facts)
+    cell, accuracy = _cell(job, prep.scenario, prep.scene, facts)
+    return _report(execute(prep, cell, job.spec.name, job.seed, accuracy), facts)
 
 
-def _cell(job: Job, nominal: Scenario, scene: Scene, facts: dict[str, Any]) -> WatchedCell:
-    """The simulated cell of the trial's real placement (and faults), its layout in ``facts``."""
+def _cell(job: Job, nominal: Scenario, scene: Scene, facts: dict[str, Any]) -> tuple[WatchedCell, SensorNoise | None]:
+    """The simulated cell of the trial's real placement (and faults, and sensor noise), its
+    layout in ``facts``; and the sensor's accuracy (``job.noise`` over the nominal state's
+    sensor, as ``run_plan`` reads it; None: an exact sensor)."""
     _real, placed = place_trays(nominal, job.seed)
     facts["layout"] = {"nominal": [p.as_dict() for p in placements(nominal)], "placed": [p.as_dict() for p in placed]}
     faults = FaultSpec.parse(job.faults, seed=job.seed) if job.faults else None
     if job.faults:
         facts["faults"] = job.faults
-    return WatchedCell(SimulatedCell(placed_scene(scene, nominal.namespace, placed), faults=faults, seed=job.seed))
+    accuracy = sensor_accuracy(scene, job.noise)
+    noise = {"noise": accuracy} if accuracy is not None else {}
+    cell = SimulatedCell(placed_scene(scene, nominal.namespace, placed), faults=faults, seed=job.seed, **noise)
+    return WatchedCell(cell), accuracy
 
 
 def _delivered(job: Job, folder: Path, facts: dict[str, Any]) -> dict[str, Any]:
@@ -229,10 +221,10 @@ def _delivered(job: Job, folder: Path, facts: dict[str, Any]) -> dict[str, Any]:
     runs from their receipt: read, plan, execute until the first CRCL command."""
     sc = layout(job.spec)
     init, goal = write_spec(sc, folder)
-    cell = _cell(job, sc, Scene.from_files([init], declared=[goal]), facts)
+    cell, accuracy = _cell(job, sc, Scene.from_files([init], declared=[goal]), facts)
     received = time.perf_counter()
     prep = receive(sc, init, goal)
-    run = execute(prep, cell, job.spec.name, job.seed)
+    run = execute(prep, cell, job.spec.name, job.seed, accuracy)
     facts["receipt_to_first_command_s"] = (round(cell.first_command - received, 4)
                                            if cell.first_command is not None else None)
     return _report(run, facts)
