@@ -299,3 +299,39 @@ def test_campaign_pages_in_chromium(browser: Browser, report: dict[str, Any], tm
     _assert_drawn(trial)  # its plotly.js is the copy beside it
     assert any(f["scene"] for f in trial["figures"]) and trial["tables"]["trial-table"] >= 5
     assert "../../campaign.html" in trial["links"]
+
+
+def test_sweep_campaign_page_in_chromium(browser: Browser, report: dict[str, Any], tmp_path: Path) -> None:
+    """A noise sweep's page (kitkb testmethod errors --noise-sweep): its summary made by
+    kb.testmethod from the trials, as the command writes it; the detection rate and the false
+    alarms drawn against the noise, a row per level in the table."""
+    from kb.testmethod.summary import summarize
+    sweep = "position=0mm:2mm:3"
+    alarm = dict(report["failures"][0], objects=["part_nobody_touched"], action_index=1, mode="part-missing")
+    rows = []
+    for trial in range(2):
+        for level in range(3):
+            row = dict(report, failures=report["failures"] + ([alarm] if level == 2 else []))
+            row["trial"] = {"index": 3 * trial + level, "seed": 100 + trial, "method": "errors",
+                            "design": "kit_design_1", "layout": None, "time_s": 0.5, "error": None,
+                            "noise": ["none", "position=1mm", "position=2mm"][level],
+                            "sweep": {"trial": trial, "level": level}}
+            rows.append(row)
+    folder = tmp_path / "sweep"
+    (folder / "trials").mkdir(parents=True)
+    for row in rows:
+        (folder / "trials" / f"{row['trial']['index']:05d}.json").write_text(json.dumps(row))
+    summary = summarize(rows, sweep=sweep)
+    meta = {"method": "errors", "seed": 7, "trials": 2, "summary": summary,
+            "options": {"parts": [3], "kits": None, "faults": "missed-grasp@6", "noise_sweep": sweep}}
+    (folder / "campaign.json").write_text(json.dumps(meta))
+    write_report(folder, tmp_path / "sweep.html")
+    facts = browser.open((tmp_path / "sweep.html").as_uri(), screenshot=tmp_path / "sweep.png")
+    _assert_drawn(facts)
+    figures = {f["id"]: f for f in facts["figures"]}
+    assert figures["sweep-detection"]["traces"] == 2 and figures["sweep-detection"]["points"] == 6
+    assert figures["sweep-false-alarms"]["points"] == 3
+    assert facts["tables"]["sweep-table"] == 3 and facts["tables"]["trials-table"] == 6
+    assert "Detection quality against sensor noise" in facts["text"] and "kit_design_1 @ position=2mm" in facts["text"]
+    levels = summary["sweep"]["levels"]
+    assert [lv["false_alarm_count"] for lv in levels] == [0, 0, 2] and levels[0]["detection"] == 1.0

@@ -1,6 +1,7 @@
-"""The page of a campaign (``kitkb testmethod ... --out DIR``): what was run, the summary, the
-distribution of each metric across the trials, the failures by mode, the trials that failed
-and every trial, each linked to its own page."""
+"""The page of a campaign (``kitkb testmethod ... --out DIR``): what was run, the summary, for a
+noise sweep the detection rate and the false alarms against the noise level (from the summary's
+``sweep``, what the command prints), the distribution of each metric across the trials, the
+failures by mode, the trials that failed and every trial, each linked to its own page."""
 
 from __future__ import annotations
 
@@ -128,6 +129,88 @@ def modes_figure(trials: list[dict[str, Any]]) -> dict[str, Any] | None:
                                      "margin": {"l": 50, "r": 10, "t": 20, "b": 60}}}
 
 
+def sweep_levels(summary: Any) -> tuple[dict[str, Any], list[dict[str, Any]]] | None:
+    """(the sweep, its levels) of a campaign summary's ``sweep`` (``kitkb testmethod errors
+    --noise-sweep``), or None when the campaign is no sweep (or the summary not of that shape)."""
+    sweep = summary.get("sweep") if isinstance(summary, dict) else None
+    if not isinstance(sweep, dict) or not isinstance(sweep.get("levels"), list):
+        return None
+    levels = [lv for lv in sweep["levels"] if isinstance(lv, dict) and _num(lv.get("value")) is not None]
+    return (sweep, levels) if levels else None
+
+
+def _num(value: Any) -> float | None:
+    return float(value) if isinstance(value, (int, float)) and not isinstance(value, bool) else None
+
+
+def _percent(value: Any) -> float | None:
+    v = _num(value)
+    return None if v is None else round(100 * v, 3)
+
+
+def sweep_figures(sweep: dict[str, Any], levels: list[dict[str, Any]]) -> list[tuple[str, dict[str, Any]]]:
+    """(id, figure) of a sweep: the detection rate and the right-diagnosis rate (%), and the
+    false alarms per 10,000 actions, against the swept noise."""
+    x = [_num(lv["value"]) for lv in levels]
+    names = [esc(lv.get("noise")) for lv in levels]
+    axis = {"title": {"text": esc(f"{sweep.get('key', 'noise')} noise ({sweep.get('unit', '')})")}, "zeroline": False}
+
+    def line(name: str, y: list[Any], color: str) -> dict[str, Any]:
+        return {"type": "scatter", "mode": "lines+markers", "name": name, "x": x, "y": y, "text": names,
+                "hovertemplate": "%{text}: %{y}<extra>" + name + "</extra>", "marker": {"size": 8, "color": color},
+                "line": {"color": color}}
+
+    detection = {"data": [line("detection rate", [_percent(lv.get("detection")) for lv in levels], "#2e86de"),
+                          line("diagnosed right", [_percent(lv.get("diagnosed_right")) for lv in levels], "#27ae60")],
+                 "layout": {"height": 320, "xaxis": axis, "yaxis": {"title": {"text": "% of the faults"},
+                                                                     "range": [0, 105]},
+                            "title": {"text": "Detection rate", "font": {"size": 13}, "x": 0.02, "xanchor": "left"},
+                            "legend": {"orientation": "h", "y": -0.3}, "margin": {"l": 55, "r": 10, "t": 34, "b": 50}}}
+    alarms = [_num(lv.get("false_alarms_per_10k_actions")) for lv in levels]
+    false = {"data": [line("false alarms", alarms, "#c0392b")],
+             "layout": {"height": 320, "xaxis": axis, "showlegend": False,
+                        "yaxis": {"title": {"text": "per 10,000 actions"}, "rangemode": "tozero"},
+                        "title": {"text": "False alarms", "font": {"size": 13}, "x": 0.02, "xanchor": "left"},
+                        "margin": {"l": 55, "r": 10, "t": 34, "b": 50}}}
+    return [("sweep-detection", detection), ("sweep-false-alarms", false)]
+
+
+SWEEP_HEADERS = ["noise", "runs", "actions", "kits built", "injected", "detected", "diagnosed right",
+                 "diagnosed wrong", "missed", "false alarms", "false alarms per 10,000 actions", "detection rate %"]
+
+
+def sweep_table(sweep: dict[str, Any], levels: list[dict[str, Any]]) -> str:
+    """The detection quality of each level of a sweep, a row a level."""
+    rows = []
+    for lv in levels:
+        total = lv.get("total") if isinstance(lv.get("total"), dict) else {}
+        per = _num(lv.get("false_alarms_per_10k_actions"))
+        rate = _percent(lv.get("detection"))
+        rows.append((lv.get("value"), lv.get("noise"), lv.get("runs"), lv.get("actions"),
+                     f"{lv.get('kits_built', '?')}/{lv.get('kits', '?')}", total.get("injected"), total.get("detected"),
+                     total.get("diagnosed_right"), total.get("diagnosed_wrong"), total.get("missed"),
+                     lv.get("false_alarm_count"), None if per is None else round(per, 2),
+                     None if rate is None else round(rate, 1)))
+    headers = [f"{sweep.get('key', 'noise')} ({sweep.get('unit', '')})", *SWEEP_HEADERS]
+    return table(headers, rows, tid="sweep-table")
+
+
+def sweep_section(summary: Any) -> str:
+    """The section of a sweep's detection quality against noise ("" for a campaign that is no sweep)."""
+    found = sweep_levels(summary)
+    if found is None:
+        return ""
+    sweep, levels = found
+    figs = "".join(f"<div>{figure(fig, fid)}</div>" for fid, fig in sweep_figures(sweep, levels))
+    grid = f'<div class="grid" style="grid-template-columns: repeat(auto-fill, minmax(460px, 1fr))">{figs}</div>'
+    text = (f"Every trial run at each level of --noise-sweep {sweep.get('sweep')}"
+            + (f" over --sensor-noise {sweep['base']}" if sweep.get("base") else "")
+            + ", with the same seed: the levels differ only by the sensor's noise.")
+    return section("Detection quality against sensor noise",
+                   f'<p class="facts">{esc(text)}</p>{grid}' + sweep_table(sweep, levels),
+                   "sweep")
+
+
 def _default_href(index: int) -> str:
     return "report/" + TRIAL_PAGE.format(index)
 
@@ -140,7 +223,8 @@ def trial_rows(trials: list[dict[str, Any]], href: Callable[[int], str] | None) 
         i = trial_index(report)
         link = f'<a href="{esc(href(i))}">trial {i}</a>' if href else f"trial {i}"
         score = kit_score(report)
-        rows.append((link, esc(trial.get("seed")), esc(trial.get("design")), yes_no(report.get("goal_holds")),
+        design = trial.get("design") if trial.get("noise") is None else f"{trial.get('design')} @ {trial['noise']}"
+        rows.append((link, esc(trial.get("seed")), esc(design), yes_no(report.get("goal_holds")),
                      esc(len(report.get("failures") or [])), "&ndash;" if score is None else f"{score:.1f}",
                      esc(trial.get("time_s", report.get("time_s"))), esc(failed_because(report) or "")))
     return rows
@@ -162,8 +246,11 @@ def campaign_body(campaign: Campaign, href: Callable[[int], str] | None = _defau
     parts = [f"<h1>Campaign: {esc(meta.get('method'))}</h1>",
              f'<p class="facts">{len(trials)} trials, {len(failed)} failed, seed {esc(meta.get("seed"))}</p>',
              section("Campaign", facts, "campaign"),
-             section("Summary", f'<div id="summary-table">{value_html(summary)}</div>' if summary
-                     else note("campaign.json has no summary."), "summary")]
+             sweep_section(summary)]
+    if sweep_levels(summary) is not None:  # the levels are in the sweep's section
+        summary = {k: v for k, v in summary.items() if k != "sweep"}
+    parts.append(section("Summary", f'<div id="summary-table">{value_html(summary)}</div>' if summary
+                         else note("campaign.json has no summary."), "summary"))
     figs = distribution_figures(trials)
     grid = "".join(f'<div>{figure(fig, f"dist-{n}", toolbar=False)}</div>' for n, (_, fig) in enumerate(figs))
     zero = always_zero(trials)
