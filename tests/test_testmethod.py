@@ -487,3 +487,17 @@ def test_another_campaign_in_the_folder_is_refused(two_workers, tmp_path, capsys
     for out in (tmp_path / "file", tmp_path / "file" / "campaign"):
         assert main(["testmethod", "basic", "--out", str(out)]) == 2
         assert capsys.readouterr().err.count("\n") == 1
+
+
+def test_the_page_of_a_sweep_draws_its_levels(sweep_two):
+    """kitkb report DIR of a sweep: the sweep's section from the summary (the browser test draws
+    it); a summary whose sweep is of another shape is left out, never a failure."""
+    from kb.report.campaign import campaign_body
+    from kb.report.source import read_campaign
+    campaign = read_campaign(sweep_two)
+    body = campaign_body(campaign)
+    assert 'id="sweep-detection"' in body and 'id="sweep-false-alarms"' in body and 'id="sweep-table"' in body
+    assert body.index('id="sweep"') < body.index('id="summary"') and "kit_design_1 @ position=2mm" in body
+    for sweep in ("x", {"levels": "x"}, {"levels": [{"value": "a"}, 3]}, {"levels": [{"value": 1, "total": 2}]}):
+        campaign.meta["summary"] = {**campaign.meta["summary"], "sweep": sweep}
+        assert "Campaign" in campaign_body(campaign)

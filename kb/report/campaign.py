@@ -129,7 +129,7 @@ def modes_figure(trials: list[dict[str, Any]]) -> dict[str, Any] | None:
                                      "margin": {"l": 50, "r": 10, "t": 20, "b": 60}}}
 
 
-def sweep_levels(summary: Any) -> tuple[dict[str, Any], list[dict[str, Any]]] | None:
+def sweep_of(summary: Any) -> tuple[dict[str, Any], list[dict[str, Any]]] | None:
     """(the sweep, its levels) of a campaign summary's ``sweep`` (``kitkb testmethod errors
     --noise-sweep``), or None when the campaign is no sweep (or the summary not of that shape)."""
     sweep = summary.get("sweep") if isinstance(summary, dict) else None
@@ -197,7 +197,7 @@ def sweep_table(sweep: dict[str, Any], levels: list[dict[str, Any]]) -> str:
 
 def sweep_section(summary: Any) -> str:
     """The section of a sweep's detection quality against noise ("" for a campaign that is no sweep)."""
-    found = sweep_levels(summary)
+    found = sweep_of(summary)
     if found is None:
         return ""
     sweep, levels = found
@@ -247,7 +247,7 @@ def campaign_body(campaign: Campaign, href: Callable[[int], str] | None = _defau
              f'<p class="facts">{len(trials)} trials, {len(failed)} failed, seed {esc(meta.get("seed"))}</p>',
              section("Campaign", facts, "campaign"),
              sweep_section(summary)]
-    if sweep_levels(summary) is not None:  # the levels are in the sweep's section
+    if sweep_of(summary) is not None:  # the levels are in the sweep's section
         summary = {k: v for k, v in summary.items() if k != "sweep"}
     parts.append(section("Summary", f'<div id="summary-table">{value_html(summary)}</div>' if summary
                          else note("campaign.json has no summary."), "summary"))
