@@ -32,7 +32,9 @@ def report() -> dict[str, Any]:
 
 
 def _plotly_copies(page: str) -> int:
-    return page.count(plotly_js()[:200])
+    """How many plotly.js the page holds (the full one or a partial bundle: each opens with its
+    licence header, ``* plotly.js (gl3d - minified) v4.1.1``)."""
+    return len(re.findall(r"\* plotly\.js (?:\([^)]*\) )?v\d+\.\d+\.\d+", page))
 
 
 def _figures(page: str) -> dict[str, list[dict[str, Any]]]:

@@ -26,6 +26,7 @@ import pytest
 import websocket
 
 from kb.report import write_report
+from kb.report.html import Bundle, bundles, page
 from test_report_inputs import run_report, with_metrics, write_campaign
 
 pytestmark = pytest.mark.slow
@@ -335,3 +336,16 @@ def test_sweep_campaign_page_in_chromium(browser: Browser, report: dict[str, Any
     assert "Detection quality against sensor noise" in facts["text"] and "kit_design_1 @ position=2mm" in facts["text"]
     levels = summary["sweep"]["levels"]
     assert [lv["false_alarm_count"] for lv in levels] == [0, 0, 2] and levels[0]["detection"] == 1.0
+
+
+@pytest.mark.parametrize("bundle", bundles(), ids=lambda b: b.name)
+def test_bundle_has_the_trace_types_it_is_chosen_for(browser: Browser, bundle: Bundle, tmp_path: Path) -> None:
+    """Each partial bundle of kb/report/js/ holds exactly the trace types bundles.json names, and
+    is the version it says: kb.report picks a page's bundle by them."""
+    schema = ('<pre id="schema"></pre><script>addEventListener("load", () => { document.getElementById("schema")'
+              '.textContent = JSON.stringify([Plotly.version, Object.keys(Plotly.PlotSchema.get().traces).sort()]); });'
+              '</script>')
+    (tmp_path / "bundle.html").write_text(page(bundle.name, schema, plotly_js_text=bundle.text()))
+    facts = browser.open((tmp_path / "bundle.html").as_uri())
+    assert facts["errors"] == []
+    assert json.loads(facts["text"].strip()) == [bundle.version, sorted(bundle.traces)]

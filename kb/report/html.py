@@ -1,6 +1,11 @@
 """The page around the figures: escaping, tables, sections, the plotly figure divs and the
 page shell with plotly.js inlined once (or, for a campaign's trial pages, one shared copy).
 
+The plotly.js a page inlines is the smallest that draws its figures: a partial bundle shipped
+in ``kb/report/js/`` (``bundles.json``: npm package, version, trace types) when every trace
+type of the page is in it, else the plotly package's full plotly.js; a page without figures
+gets none. plotly.js is most of a page's load time (docs/benchmarks.md, "Report pages").
+
 Every text that comes from a file goes through :func:`esc` before it lands in the page (names
 can hold ``<`` and ``&``); the figures' JSON is written by plotly, which escapes ``<``, ``>``
 and ``/`` inside the script.
@@ -11,7 +16,10 @@ from __future__ import annotations
 import html
 import json
 import math
+import re
+from dataclasses import dataclass
 from functools import lru_cache
+from importlib import resources
 from typing import Any, Iterable, Sequence
 
 import plotly.io
@@ -142,7 +150,8 @@ def figure(fig: dict[str, Any], div_id: str, *, toolbar: bool = True) -> str:
     spec = plotly.io.to_json({"data": fig.get("data", []), "layout": layout, "config": config}, validate=False,
                              remove_uids=True)
     height = layout.get("height", 450)
-    return (f'<div id="{esc(div_id)}" class="plot" style="height:{int(height)}px"></div>'
+    types = " ".join(sorted({str(t.get("type") or "scatter") for t in fig.get("data", [])}))
+    return (f'<div id="{esc(div_id)}" class="plot" data-traces="{esc(types)}" style="height:{int(height)}px"></div>'
             f'<script>kitkbPlots.push(["{esc(div_id)}", {spec}]);</script>')
 
 
@@ -165,16 +174,72 @@ DRAW = """(async () => {
 
 @lru_cache(maxsize=1)
 def plotly_js() -> str:
-    """plotly.js, as shipped with the plotly package (about 4.7 MB)."""
+    """plotly.js, as shipped with the plotly package (about 4.7 MB): every trace type."""
     return plotly.offline.get_plotlyjs()
 
 
-def page(title: str, body: str, *, script_src: str | None = None) -> str:
-    """A whole HTML page: plotly.js inlined once (``script_src`` None), or loaded from the
-    relative path ``script_src`` (a campaign's trial pages share one copy), at the end of the
-    body so that the text and tables show before the figures are drawn."""
+@dataclass(frozen=True)
+class Bundle:
+    """A partial plotly.js bundle of ``kb/report/js/`` (an entry of ``bundles.json``)."""
+
+    name: str
+    file: str
+    package: str
+    version: str
+    sha256: str
+    traces: frozenset[str]
+
+    def text(self) -> str:
+        """The bundle's JavaScript."""
+        return _js_file(self.file)
+
+
+@lru_cache(maxsize=1)
+def bundles() -> tuple[Bundle, ...]:
+    """The partial bundles shipped with kb.report, in the order of bundles.json: smallest first."""
+    entries = json.loads(_js_file("bundles.json"))["bundles"]
+    return tuple(Bundle(**{**e, "traces": frozenset(e["traces"])}) for e in entries)
+
+
+@lru_cache(maxsize=None)
+def _js_file(name: str) -> str:
+    return resources.files(__package__).joinpath("js", name).read_text(encoding="utf-8")
+
+
+#: A figure's trace types as :func:`figure` writes them on its div (escaped names cannot forge it).
+_TRACES = re.compile(r'<div id="[^"]*" class="plot" data-traces="([a-z0-9 ]*)"')
+
+
+def trace_types(body: str) -> set[str] | None:
+    """The trace types of the figures in ``body`` (HTML made with :func:`figure`); None: no figure."""
+    found = [m.group(1) for m in _TRACES.finditer(body)]
+    return {t for types in found for t in types.split()} if found else None
+
+
+def bundle_for(types: Iterable[str]) -> Bundle | None:
+    """The smallest shipped bundle that has every trace type of ``types``; None: the full plotly.js."""
+    need = set(types)
+    return next((b for b in bundles() if need <= b.traces), None)
+
+
+def page_plotly_js(body: str) -> str:
+    """The plotly.js that draws the figures of ``body``: a partial bundle, the full plotly.js, or
+    nothing (no figure)."""
+    types = trace_types(body)
+    if types is None:
+        return ""
+    chosen = bundle_for(types)
+    return chosen.text() if chosen is not None else plotly_js()
+
+
+def page(title: str, body: str, *, script_src: str | None = None, plotly_js_text: str | None = None) -> str:
+    """A whole HTML page: plotly.js inlined once (``script_src`` None): ``plotly_js_text``, or
+    else the smallest plotly.js that draws the page's figures (:func:`page_plotly_js`); or
+    loaded from the relative path ``script_src`` (a campaign's trial pages share one copy). At
+    the end of the body, so that the text and tables show before the figures are drawn."""
     if script_src is None:
-        script = f'<script type="text/javascript">{plotly_js()}</script>'
+        js = page_plotly_js(body) if plotly_js_text is None else plotly_js_text
+        script = f'<script type="text/javascript">{js}</script>' if js else ""
     else:
         script = f'<script type="text/javascript" src="{esc(script_src)}"></script>'
     return ("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
