@@ -274,7 +274,7 @@ def render(run: dict) -> str:
     if g:
         q = g["summary"]["quality"]
         fa, acts = sum(q["false_alarms"].values()), q["actions"]
-        lines += [f"### Fault campaign at `{g['noise']}`", "",
+        lines += [f"### Fault campaign at `{g['noise']}`", "", *_from(g),
                   f"Generated 40-part kits ({', '.join(f'`{n}`' for n in g['layouts'])}; "
                   f"{', '.join(str(a) for a in g['plan_actions'])} actions), {g['runs_per_kind']} runs of each fault "
                   f"kind and {g['runs_per_kind']} fault-free runs ({g['summary']['runs']} runs, {acts:,} actions "
@@ -315,7 +315,7 @@ def render(run: dict) -> str:
     if c:
         e, n = c["exact"]["ms_per_action"], c["noisy"]["ms_per_action"]
         keys = ("sensor", "belief", "checks", "commit", "verification", "targets", "robot", "total")
-        lines += ["### Verification cost per action, exact sensor and noisy", "",
+        lines += ["### Verification cost per action, exact sensor and noisy", "", *_from(c),
                   f"Fault-free runs of `{c['layout']}` ({c['exact']['attempts']} actions), `kb.execution.run_plan` "
                   f"in one process, in memory, exact sensor and `{c['noise']}` interleaved, medians of "
                   f"{c['repeat']} runs each; milliseconds of CPU time per action (the process's: the machine is "
@@ -333,7 +333,7 @@ def render(run: dict) -> str:
                   f"noisy {c['noisy']['goal_holds']}.", ""]
     s = run.get("sweep")
     if s:
-        lines += [f"### Sweep of position noise ({s['rest']})", "",
+        lines += [f"### Sweep of position noise ({s['rest']})", "", *_from(s),
                   f"The layouts above, {s['runs_per_kind']} runs of each fault kind and {s['runs_per_kind']} "
                   "fault-free runs per level (even runs at the rate above, odd runs once; the same seeds at "
                   "every level; \"exact\": an exact sensor, today's executor), scored as above; "
@@ -360,6 +360,24 @@ def render(run: dict) -> str:
     if run.get("notes"):
         lines += [run["notes"], ""]
     return "\n".join(lines)
+
+
+def merged(run: dict, earlier: list[dict]) -> dict:
+    """``run`` with each part it did not measure taken from the latest of ``earlier`` runs that
+    has it, labelled (``from``) with that run's start and commit."""
+    out = dict(run)
+    for part in ("goal", "cost", "sweep"):
+        if out.get(part):
+            continue
+        old = next((r for r in reversed(earlier) if r.get(part)), None)
+        if old is not None:
+            out[part] = dict(old[part], **{"from": f"{old['started']}, commit `{old.get('checkout', {}).get('commit', '?')}`"})
+    return out
+
+
+def _from(part: dict) -> list[str]:
+    """A line saying which earlier run a merged part comes from."""
+    return [f"(From the run of {part['from']}, not remeasured since.)", ""] if part.get("from") else []
 
 
 def save(run: dict) -> None:
@@ -391,6 +409,9 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--notes", help="a paragraph added at the end of the section")
     ap.add_argument("--no-doc", action="store_true", help="do not rewrite docs/benchmarks.md")
     ap.add_argument("--render", action="store_true", help="measure nothing: the section from the latest results")
+    ap.add_argument("--merge", action="store_true",
+                    help="the section also shows the parts not measured now from the latest earlier run that has "
+                         "them, each labelled with its own date and commit")
     args = ap.parse_args(argv)
     if args.render:
         section = render(json.loads(RESULTS.read_text())[-1])
@@ -429,8 +450,9 @@ def main(argv: list[str] | None = None) -> None:
                 run["sweep"] = {"rest": rest, "runs_per_kind": args.sweep_runs, "levels": levels}
         finally:
             os.chdir(ROOT)
+    earlier = json.loads(RESULTS.read_text()) if args.merge and RESULTS.exists() else []
     save(run)
-    section = render(run)
+    section = render(merged(run, earlier) if args.merge else run)
     if not args.no_doc:
         common.write_doc(SECTION, section)
     print(section)
