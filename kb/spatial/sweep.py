@@ -40,7 +40,11 @@ Swept volume, exactly (the separating axis test)
     ``max_inflation`` (default a quarter of the tolerance, so touching never reads as contact).
 
 Vectorised with numpy: the pairs of (stretch, moving box) x (solid piece) whose axis-aligned
-swept boxes meet are tested together, 21 axes per pair in a handful of array operations.
+swept boxes meet are tested together, 21 axes per pair in a handful of array operations. The
+pairs are found in two levels (a turning leg has hundreds of stretches): the pieces the box
+around the whole path meets, then runs of consecutive swept boxes against those, then the
+boxes of the runs that meet a piece (:func:`_overlapping`: the pairs of the dense test, no
+fewer, in its order, so the results are those of the dense test to the last bit).
 """
 
 from __future__ import annotations
@@ -59,6 +63,8 @@ __all__ = ["Contact", "Pieces", "clearance", "recessed", "solid_pieces", "sweep_
 FloatArray = NDArray[np.float64]
 #: Most stretches a turning leg is cut into (beyond, the inflation grows instead).
 MAX_STRETCHES = 4096
+#: Moving boxes per run in the first level of the pairs' test (:func:`_overlapping`).
+CHUNK = 48
 
 
 @dataclass(frozen=True)
@@ -302,13 +308,50 @@ def clearance(path: ArrayLike, body_rel: ArrayLike, body_lo: ArrayLike, body_hi:
     if len(path) < 2 or not len(rel) or not len(pieces):
         return -math.inf
     *_, lo_a, hi_a = _moving_boxes(path, rel, np.asarray(body_lo, float), np.asarray(body_hi, float), tol, None)
-    lo_a, hi_a = lo_a.reshape(-1, 3), hi_a.reshape(-1, 3)
+    lo_z = lo_a[..., 2].reshape(-1)
+    lo_a, hi_a = lo_a[..., :2].reshape(-1, 2), hi_a[..., :2].reshape(-1, 2)
     *_, blo, bhi = _piece_boxes(np.asarray(poses, float), pieces)
-    under = np.all(np.minimum(hi_a[:, None, :2] - blo[None, :, :2], bhi[None, :, :2] - lo_a[:, None, :2]) > tol, axis=2)
-    if not under.any():
+    # the pieces that the box around the whole way crosses (fmin, fmax: a NaN box, which
+    # crosses nothing, does not hide the others), then the boxes that cross each
+    whole_lo, whole_hi = np.fmin.reduce(lo_a, axis=0, keepdims=True), np.fmax.reduce(hi_a, axis=0, keepdims=True)
+    near = np.flatnonzero(_deep(whole_lo, whole_hi, blo[:, :2], bhi[:, :2], tol)[0])
+    q, p = _overlapping(lo_a, hi_a, blo[near, :2], bhi[near, :2], tol)
+    if not len(q):
         return -math.inf
-    q, p = np.nonzero(under)
-    return float(np.max(bhi[p, 2] - lo_a[q, 2]))
+    return float(np.max(bhi[near[p], 2] - lo_z[q]))
+
+
+def _overlapping(lo_a: FloatArray, hi_a: FloatArray, lo_b: FloatArray, hi_b: FloatArray, tol: float,
+                 chunk: int = CHUNK) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+    """(rows of A, rows of B) of the boxes A (``lo_a``, ``hi_a``: (Q, D)) and B ((P, D)) that
+    overlap by more than ``tol`` on every axis, as ``np.nonzero`` of the dense (Q, P) test
+    gives them (same pairs, same order). The dense test is made only within the runs of
+    ``chunk`` consecutive rows of A whose bounding box meets a B that way: a box inside a
+    run's bounding box overlaps B by no more than the run's box does (rounding is monotone),
+    so no pair is lost."""
+    q_n = len(lo_a)
+    if q_n <= chunk:
+        return np.nonzero(_deep(lo_a, hi_a, lo_b, hi_b, tol))
+    starts = np.arange(0, q_n, chunk)
+    # fmin / fmax: a NaN row (never overlapping) does not hide the other rows of its run
+    c, p = np.nonzero(_deep(np.fmin.reduceat(lo_a, starts, axis=0), np.fmax.reduceat(hi_a, starts, axis=0),
+                            lo_b, hi_b, tol))
+    if not len(c):
+        return c, p
+    rows = c[:, None] * chunk + np.arange(chunk)  # (K, chunk): the rows of each run met
+    inside = rows < q_n
+    rows = np.where(inside, rows, q_n - 1)
+    bl, bh = lo_b[p][:, None, :], hi_b[p][:, None, :]
+    hit = np.all(np.minimum(hi_a[rows] - bl, bh - lo_a[rows]) > tol, axis=2) & inside
+    k, j = np.nonzero(hit)
+    q, p = rows[k, j], p[k]
+    order = np.lexsort((p, q))
+    return q[order], p[order]
+
+
+def _deep(lo_a: FloatArray, hi_a: FloatArray, lo_b: FloatArray, hi_b: FloatArray, tol: float) -> NDArray[np.bool_]:
+    """(Q, P): box a of A overlaps box b of B by more than ``tol`` on every axis."""
+    return np.all(np.minimum(hi_a[:, None, :] - lo_b[None, :, :], hi_b[None, :, :] - lo_a[:, None, :]) > tol, axis=2)
 
 
 def sweep_contacts(path: ArrayLike, body_rel: ArrayLike, body_lo: ArrayLike, body_hi: ArrayLike,
@@ -337,8 +380,7 @@ def sweep_contacts(path: ArrayLike, body_rel: ArrayLike, body_lo: ArrayLike, bod
     near = np.flatnonzero(np.all(np.minimum(whole_hi - blo, bhi - whole_lo) > tol, axis=1))
     if not len(near):
         return []
-    deep = np.all(np.minimum(hi_a[:, None, :] - blo[None, near], bhi[None, near] - lo_a[:, None, :]) > tol, axis=2)
-    q, p = np.nonzero(deep)
+    q, p = _overlapping(lo_a, hi_a, blo[near], bhi[near], tol)
     if not len(q):
         return []
     pi = near[p]
