@@ -200,6 +200,9 @@ FACTS = """(() => ({
   paint_ms: (performance.getEntriesByName('first-contentful-paint')[0] || {startTime: null}).startTime,
   load_ms: performance.getEntriesByType('navigation')[0].loadEventEnd,
   drawn_ms: Number(document.body.dataset.drawnMs),
+  plotly_ms: (performance.getEntriesByName('kitkb-plotly-ready')[0] || {startTime: null}).startTime,
+  draw_ms: Object.fromEntries(performance.getEntriesByType('measure').filter(m => m.name.startsWith('kitkb-draw '))
+    .map(m => [m.name.slice(11), m.duration])),
 }))()"""
 
 #: The screenshot decoded by the browser itself: its size, how many colours, and the share of
@@ -262,6 +265,7 @@ def test_run_page_in_chromium(browser: Browser, report: dict[str, Any], tmp_path
     assert len(scene) == 1 and "mesh3d" in scene[0]["types"] and "scatter3d" in scene[0]["types"]
     assert facts["canvases"] and all(w > 300 and h > 300 for w, h in facts["canvases"])
     assert [f["id"] for f in facts["figures"]] == ["run-scene", "run-timeline"]
+    assert set(facts["draw_ms"]) == {"run-scene", "run-timeline"} and 0 < facts["plotly_ms"] < facts["drawn_ms"]
     assert facts["tables"]["metrics-table"] >= 11 + 5  # the static metrics and the execution metrics
     assert facts["tables"]["kits-table"] == 1 and facts["tables"]["failures-table"] == 1
     assert "missed-grasp" in facts["text"] and "Total Distance Moved" in facts["text"]

@@ -156,16 +156,21 @@ def figure(fig: dict[str, Any], div_id: str, *, toolbar: bool = True) -> str:
 
 
 #: Draws the queued figures after plotly.js, the flat ones first (the tables and 2-D plots show
-#: at once, the 3-D view, which needs WebGL, last), yielding to the browser between figures;
+#: at once, the 3-D view, which needs WebGL, last: drawn first, its first frame would hold the
+#: flat ones back; docs/benchmarks.md, "Report pages"), yielding to the browser between figures;
 #: ``<body data-drawn="N" data-drawn-ms="T">`` when all N are drawn, T ms after navigation
-#: started (an error goes to the console).
+#: started (an error goes to the console). Marks for the benchmark: ``kitkb-plotly-ready`` and
+#: a measure ``kitkb-draw ID`` per figure.
 DRAW = """(async () => {
-  const plots = window.kitkbPlots.slice().sort((a, b) =>
-    (a[1].data.some(t => t.type.endsWith('3d')) ? 1 : 0) - (b[1].data.some(t => t.type.endsWith('3d')) ? 1 : 0));
+  performance.mark('kitkb-plotly-ready');
+  const is3d = fig => fig.data.some(t => String(t.type).endsWith('3d')) ? 1 : 0;
+  const plots = window.kitkbPlots.slice().sort((a, b) => is3d(a[1]) - is3d(b[1]));
   for (const [id, fig] of plots) {
     await new Promise(r => setTimeout(r, 0));
+    const start = performance.now();
     try { await Plotly.newPlot(id, fig.data, fig.layout, fig.config); }
     catch (e) { console.error('kitkb report: figure ' + id + ' not drawn: ' + e); }
+    performance.measure('kitkb-draw ' + id, {start});
   }
   document.body.dataset.drawnMs = String(Math.round(performance.now()));
   document.body.dataset.drawn = String(plots.length);
