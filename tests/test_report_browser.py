@@ -346,9 +346,10 @@ def test_sweep_campaign_page_in_chromium(browser: Browser, report: dict[str, Any
 def test_bundle_has_the_trace_types_it_is_chosen_for(browser: Browser, bundle: Bundle, tmp_path: Path) -> None:
     """Each partial bundle of kb/report/js/ holds exactly the trace types bundles.json names, and
     is the version it says: kb.report picks a page's bundle by them."""
-    schema = ('<pre id="schema"></pre><script>addEventListener("load", () => { document.getElementById("schema")'
-              '.textContent = JSON.stringify([Plotly.version, Object.keys(Plotly.PlotSchema.get().traces).sort()]); });'
-              '</script>')
+    schema = ('<pre id="schema"></pre><script>new MutationObserver(() => { if (window.Plotly) '
+              'document.getElementById("schema").textContent = JSON.stringify([Plotly.version, '
+              'Object.keys(Plotly.PlotSchema.get().traces).sort()]); }).observe(document.body, {attributes: true});'
+              '</script>')  # when the page marks its body drawn, plotly.js has run
     (tmp_path / "bundle.html").write_text(page(bundle.name, schema, plotly_js_text=bundle.text()))
     facts = browser.open((tmp_path / "bundle.html").as_uri())
     assert facts["errors"] == []

@@ -80,7 +80,7 @@ def test_campaign_page_inlines_the_bundle_of_its_figures(tmp_path: Path, report:
 
 
 def test_page_without_figures_has_no_plotly_and_other_traces_get_the_full_one() -> None:
-    assert "<script type=\"text/javascript\">" not in page("none", "<p>text</p>") and "kitkbPlots" in page("n", "")
+    assert 'id="kitkb-plotly-js"' not in page("none", "<p>text</p>") and "kitkbPlots" in page("n", "")
     full = page("gl", figure({"data": [{"type": "scattergl", "x": [1], "y": [1]}]}, "g"))
     assert plotly_js() in full and len(_inlined(full)) == 1
     assert page("forced", "<p>x</p>", plotly_js_text="/* js */").count("/* js */") == 1

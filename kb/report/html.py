@@ -155,13 +155,23 @@ def figure(fig: dict[str, Any], div_id: str, *, toolbar: bool = True) -> str:
             f'<script>kitkbPlots.push(["{esc(div_id)}", {spec}]);</script>')
 
 
-#: Draws the queued figures after plotly.js, the flat ones first (the tables and 2-D plots show
+#: Runs the inlined plotly.js once the text and tables have painted (the page holds it as text,
+#: ``<script type="text/plain">``: run where it stands, it would hold the first paint back until
+#: it is evaluated), then draws the queued figures, the flat ones first (the tables and 2-D plots show
 #: at once, the 3-D view, which needs WebGL, last: drawn first, its first frame would hold the
 #: flat ones back; docs/benchmarks.md, "Report pages"), yielding to the browser between figures;
 #: ``<body data-drawn="N" data-drawn-ms="T">`` when all N are drawn, T ms after navigation
 #: started (an error goes to the console). Marks for the benchmark: ``kitkb-plotly-ready`` and
 #: a measure ``kitkb-draw ID`` per figure.
 DRAW = """(async () => {
+  const inlined = document.getElementById('kitkb-plotly-js');
+  if (inlined) {  // after the first paint, or 100 ms in a tab that does not paint (hidden)
+    await new Promise(r => { requestAnimationFrame(() => setTimeout(r, 0)); setTimeout(r, 100); });
+    const script = document.createElement('script');
+    script.textContent = inlined.textContent;
+    inlined.remove();
+    document.head.appendChild(script);
+  }
   performance.mark('kitkb-plotly-ready');
   const is3d = fig => fig.data.some(t => String(t.type).endsWith('3d')) ? 1 : 0;
   const plots = window.kitkbPlots.slice().sort((a, b) => is3d(a[1]) - is3d(b[1]));
@@ -244,7 +254,7 @@ def page(title: str, body: str, *, script_src: str | None = None, plotly_js_text
     the end of the body, so that the text and tables show before the figures are drawn."""
     if script_src is None:
         js = page_plotly_js(body) if plotly_js_text is None else plotly_js_text
-        script = f'<script type="text/javascript">{js}</script>' if js else ""
+        script = f'<script type="text/plain" id="kitkb-plotly-js">{js}</script>' if js else ""
     else:
         script = f'<script type="text/javascript" src="{esc(script_src)}"></script>'
     return ("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
