@@ -12,8 +12,8 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from kb.spatial.sweep import (Contact, _depths, _moving_boxes, _overlapping, _piece_boxes, clearance, solid_pieces,
-                              sweep_contacts)
+from kb.spatial.sweep import (Contact, _depths, _in_frame, _moving_boxes, _overlapping, _piece_boxes, _reach_box,
+                              _stretches, clearance, solid_pieces, sweep_contacts)
 from kb.spatial.transforms import from_xyz_rpy
 
 TOL = 0.001
@@ -118,3 +118,42 @@ def test_a_long_turning_move_over_a_crowded_cell_misses_nothing() -> None:
     assert len(got) >= 3
     assert got == dense_contacts(path, rel, lo, hi, poses, pieces)
     assert clearance(path, rel, lo, hi, poses, pieces, tol=TOL) == dense_clearance(path, rel, lo, hi, poses, pieces)
+
+
+@settings(max_examples=80, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
+@given(st.integers(0, 2**32 - 1), st.integers(1, 30), st.integers(1, 4), st.floats(-3.0, 3.0), st.floats(-0.6, 0.6),
+       st.one_of(st.floats(-0.003, 0.0), st.floats(-0.2, 0.2)))
+def test_a_clearance_bound_never_hides_a_rise_above_the_end_points(seed: int, n: int, m: int, turn: float, tilt: float,
+                                                                   margin: float) -> None:
+    """``clearance(..., above=h)`` (what MoveTo asks: it lifts to h anyway) is the clearance
+    itself whenever that is above h (h just below it too), and -inf only when it is not; on
+    moves that turn about any axis (tilted as well as about the tool)."""
+    rng = np.random.default_rng(seed)
+    poses, pieces = cell(rng, n)
+    rel, lo, hi = carried(rng, m)
+    a = from_xyz_rpy(*rng.uniform(-0.6, 0.6, 2), 0.0, math.pi, 0.0, rng.uniform(-3, 3))
+    b = from_xyz_rpy(*rng.uniform(-0.6, 0.6, 2), 0.0, math.pi + tilt, tilt / 2, 0.0) @ from_xyz_rpy(0, 0, 0, 0, 0, turn)
+    path = np.array([a, b])
+    exact = clearance(path, rel, lo, hi, poses, pieces, tol=TOL)
+    high = (exact if exact > -math.inf else 0.1) + margin
+    bounded = clearance(path, rel, lo, hi, poses, pieces, tol=TOL, above=high)
+    assert bounded == exact if exact > high else bounded in (-math.inf, exact)
+    assert max(high, bounded) == max(high, exact)
+
+
+@settings(max_examples=80, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
+@given(st.integers(0, 2**32 - 1), st.integers(1, 4), st.floats(-3.0, 3.0), st.floats(-0.6, 0.6), st.floats(-0.2, 0.2))
+def test_the_box_around_a_path_holds_every_swept_box(seed: int, m: int, turn: float, tilt: float, dz: float) -> None:
+    """The box sweep_contacts and clearance decide on before making a turning path's swept
+    boxes (a contact is ruled out, a clearance bounded) holds all of them."""
+    rng = np.random.default_rng(seed)
+    rel, lo, hi = carried(rng, m)
+    a = from_xyz_rpy(*rng.uniform(-0.6, 0.6, 3), math.pi, 0.0, rng.uniform(-3, 3))
+    b = from_xyz_rpy(*rng.uniform(-0.6, 0.6, 2), a[2, 3] + dz, math.pi + tilt, tilt / 2, 0.0) @ from_xyz_rpy(
+        0, 0, 0, 0, 0, turn)
+    path = np.array([a, b])
+    half_a, centre_a, reach = _in_frame(rel, lo, hi)
+    legs, rots, starts, moves, grow = _stretches(path, reach, TOL / 4)
+    box_lo, box_hi = _reach_box(rots, starts, moves, grow, rel, centre_a, half_a)
+    *_, lo_a, hi_a = _moving_boxes(path, rel, lo, hi, TOL, None)
+    assert np.all(box_lo <= lo_a.reshape(-1, 3).min(axis=0)) and np.all(box_hi >= hi_a.reshape(-1, 3).max(axis=0))

@@ -236,12 +236,13 @@ class Robot:
         up, over = start.copy(), end.copy()
         up[2, 3] = over[2, 3] = 0.0
         bodies, pieces = self._moving(), self._obstacles()
-        rise = -np.inf
+        rise, high = -np.inf, max(float(start[2, 3]), float(end[2, 3]))
         if bodies and len(pieces):
             w = self.world
             rel = np.linalg.inv(start) @ w.poses[bodies]
-            rise = clearance(np.array([up, over]), rel, w.local_lo[bodies], w.local_hi[bodies], w.poses, pieces)
-        up[2, 3] = over[2, 3] = max(float(start[2, 3]), float(end[2, 3]), rise)
+            rise = clearance(np.array([up, over]), rel, w.local_lo[bodies], w.local_hi[bodies], w.poses, pieces,
+                             above=high)  # a rise no higher than the end points' is not needed
+        up[2, 3] = over[2, 3] = max(high, rise)
         legs, last = [], start
         for pose in (up, over, end):
             if not (np.array_equal(pose[:3, 3], last[:3, 3]) and np.array_equal(pose[:3, :3], last[:3, :3])):

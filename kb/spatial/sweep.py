@@ -65,6 +65,8 @@ FloatArray = NDArray[np.float64]
 MAX_STRETCHES = 4096
 #: Moving boxes per run in the first level of the pairs' test (:func:`_overlapping`).
 CHUNK = 48
+#: Stretches beyond which a path's swept boxes are first bounded by one box (:func:`_reach_box`).
+FEW = 8
 
 
 @dataclass(frozen=True)
@@ -273,17 +275,60 @@ def _moving_boxes(path: FloatArray, rel: FloatArray, blo: FloatArray, bhi: Float
     """The moving boxes of each stretch of ``path``: (legs, axes (S, M, 3, 3), centres at the
     stretch's start (S, M, 3), half sizes (M, 3), translation (S, 3), inflation (S,), world
     boxes lo, hi (S, M, 3) of each box swept along its stretch)."""
-    grow_max = tol / 4.0 if max_inflation is None else max_inflation
+    half_a, centre_a, reach = _in_frame(rel, blo, bhi)
+    legs, rots, starts, moves, grow = _stretches(path, reach, tol / 4.0 if max_inflation is None else max_inflation)
+    return (legs, *_swept_boxes(rots, starts, moves, grow, rel, centre_a, half_a))
+
+
+def _in_frame(rel: FloatArray, blo: FloatArray, bhi: FloatArray) -> tuple[FloatArray, FloatArray, float]:
+    """The moving boxes in the moving frame: (half sizes (M, 3), centres (M, 3), the farthest
+    any of their points is from the frame's origin)."""
     half_a = (bhi - blo) / 2.0
-    centre_a = np.einsum("mij,mj->mi", rel[:, :3, :3], (blo + bhi) / 2.0) + rel[:, :3, 3]  # in the frame
+    centre_a = np.einsum("mij,mj->mi", rel[:, :3, :3], (blo + bhi) / 2.0) + rel[:, :3, 3]
     reach = float(np.max(np.linalg.norm(centre_a, axis=1) + np.linalg.norm(half_a, axis=1)))
-    legs, rots, starts, moves, grow = _stretches(path, reach, grow_max)
+    return half_a, centre_a, reach
+
+
+def _swept_boxes(rots: FloatArray, starts: FloatArray, moves: FloatArray, grow: FloatArray, rel: FloatArray,
+                 centre_a: FloatArray, half_a: FloatArray) -> tuple:
+    """(axes (S, M, 3, 3), centres at the stretch's start (S, M, 3), half sizes (M, 3),
+    translation (S, 3), inflation (S,), world boxes lo, hi (S, M, 3) swept along each stretch)."""
     ua = np.einsum("sij,mjk->smik", rots, rel[:, :3, :3])
     ca = np.einsum("sij,mj->smi", rots, centre_a) + starts[:, None, :]
     ext_a = np.einsum("smij,mj->smi", np.abs(ua), half_a) + grow[:, None, None]
     lo_a = np.minimum(ca, ca + moves[:, None, :]) - ext_a
     hi_a = np.maximum(ca, ca + moves[:, None, :]) + ext_a
-    return legs, ua, ca, half_a, moves, grow, lo_a, hi_a
+    return ua, ca, half_a, moves, grow, lo_a, hi_a
+
+
+def _reach_box(rots: FloatArray, starts: FloatArray, moves: FloatArray, grow: FloatArray, rel: FloatArray,
+               centre_a: FloatArray, half_a: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """(lo, hi) (3,): a box that holds every swept box of a path (rounding allowed for), made
+    without them. In x and y, a moving box's point is within |its centre| + the lengths of its
+    half axes of the frame's origin; in z, the z row of each stretch's rotation is within
+    ``turn`` of the first stretch's (a move turning about the tool's axis, held upright, keeps
+    its heights)."""
+    size = np.linalg.norm(centre_a, axis=1) + (np.linalg.norm(rel[:, :3, :3], axis=1) * half_a).sum(axis=1)
+    end = starts + moves
+    lo, hi = np.minimum(starts, end).min(axis=0), np.maximum(starts, end).max(axis=0)
+    slack = 1e-9 * (1.0 + float(np.max(size)) + float(np.max(np.abs(lo))) + float(np.max(np.abs(hi))))
+    grown = float(np.max(grow)) + slack
+    xy = math.sqrt(float(np.max((rots[:, :2] ** 2).sum(axis=2)))) * float(np.max(size)) * (1.0 + 1e-9) + grown
+    z0 = rots[0, 2]
+    turn = math.sqrt(float(np.max(((rots[:, 2] - z0) ** 2).sum(axis=1))))
+    mid = centre_a @ z0
+    half = (np.abs(z0 @ rel[:, :3, :3]) * half_a).sum(axis=1) + turn * size * (1.0 + 1e-9)
+    return (np.array([lo[0] - xy, lo[1] - xy, lo[2] + float(np.min(mid - half)) - grown]),
+            np.array([hi[0] + xy, hi[1] + xy, hi[2] + float(np.max(mid + half)) + grown]))
+
+
+def _highest_top(box: tuple[FloatArray, FloatArray], blo: FloatArray, bhi: FloatArray, tol: float) -> float:
+    """At least the largest (piece's top - swept box's bottom) :func:`clearance` can find, from
+    a box around the swept boxes (:func:`_reach_box`): the top of the highest piece that box
+    crosses in x and y, less its bottom; ``-inf`` when it crosses none."""
+    lo, hi = box
+    near = np.all(np.minimum(hi[:2] - blo[:, :2], bhi[:, :2] - lo[:2]) > tol, axis=1)
+    return float(np.max(bhi[near, 2])) - float(lo[2]) if near.any() else -math.inf
 
 
 def _piece_boxes(poses: FloatArray, pieces: Pieces) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
@@ -297,20 +342,27 @@ def _piece_boxes(poses: FloatArray, pieces: Pieces) -> tuple[FloatArray, FloatAr
 
 
 def clearance(path: ArrayLike, body_rel: ArrayLike, body_lo: ArrayLike, body_hi: ArrayLike, poses: ArrayLike,
-              pieces: Pieces, tol: float = DEFAULT_TOLERANCE) -> float:
+              pieces: Pieces, tol: float = DEFAULT_TOLERANCE, above: float = -math.inf) -> float:
     """How high (m) the moving frame must be lifted so that the boxes it carries along ``path``
     pass above every solid piece whose world box their way crosses in x and y (more than
     ``tol`` deep): the largest (piece's top - box's bottom) over those, with the path as given;
     ``-inf`` when none is under the way. (Decided on world boxes: it may lift more than the
-    oriented boxes need, never less.)"""
+    oriented boxes need, never less.) ``above``: a height the frame will be lifted to anyway;
+    when a bound made before the swept boxes shows the clearance is no more than that, the
+    result is ``-inf`` (the swept boxes are not made)."""
     path = np.asarray(path, float)
     rel = np.asarray(body_rel, float)
     if len(path) < 2 or not len(rel) or not len(pieces):
         return -math.inf
-    *_, lo_a, hi_a = _moving_boxes(path, rel, np.asarray(body_lo, float), np.asarray(body_hi, float), tol, None)
+    half_a, centre_a, reach = _in_frame(rel, np.asarray(body_lo, float), np.asarray(body_hi, float))
+    legs, rots, starts, moves, grow = _stretches(path, reach, tol / 4.0)
+    *_, blo, bhi = _piece_boxes(np.asarray(poses, float), pieces)
+    if above > -math.inf and _highest_top(_reach_box(rots, starts, moves, grow, rel, centre_a, half_a), blo, bhi,
+                                          tol) <= above:
+        return -math.inf
+    *_, lo_a, hi_a = _swept_boxes(rots, starts, moves, grow, rel, centre_a, half_a)
     lo_z = lo_a[..., 2].reshape(-1)
     lo_a, hi_a = lo_a[..., :2].reshape(-1, 2), hi_a[..., :2].reshape(-1, 2)
-    *_, blo, bhi = _piece_boxes(np.asarray(poses, float), pieces)
     # the pieces that the box around the whole way crosses (fmin, fmax: a NaN box, which
     # crosses nothing, does not hide the others), then the boxes that cross each
     whole_lo, whole_hi = np.fmin.reduce(lo_a, axis=0, keepdims=True), np.fmax.reduce(hi_a, axis=0, keepdims=True)
@@ -368,9 +420,14 @@ def sweep_contacts(path: ArrayLike, body_rel: ArrayLike, body_lo: ArrayLike, bod
     rel = np.asarray(body_rel, float)
     if len(path) < 2 or not len(rel) or not len(pieces):
         return []
-    legs, ua, ca, half_a, moves, grow, lo_a, hi_a = _moving_boxes(
-        path, rel, np.asarray(body_lo, float), np.asarray(body_hi, float), tol, max_inflation)
+    half_a, centre_a, reach = _in_frame(rel, np.asarray(body_lo, float), np.asarray(body_hi, float))
+    legs, rots, starts, moves, grow = _stretches(path, reach, tol / 4.0 if max_inflation is None else max_inflation)
     vb, half_b, cb, blo, bhi = _piece_boxes(np.asarray(poses, float), pieces)
+    if len(legs) > FEW:  # a turning leg: first a box around the whole way, made without its stretches
+        lo, hi = _reach_box(rots, starts, moves, grow, rel, centre_a, half_a)
+        if not np.all(np.minimum(hi - blo, bhi - lo) > tol, axis=1).any():
+            return []
+    ua, ca, half_a, moves, grow, lo_a, hi_a = _swept_boxes(rots, starts, moves, grow, rel, centre_a, half_a)
     s_n, m_n = lo_a.shape[:2]
     lo_a, hi_a = lo_a.reshape(-1, 3), hi_a.reshape(-1, 3)
     # broad phase: swept world boxes against piece world boxes, more than tol deep on every
