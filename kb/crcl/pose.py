@@ -62,13 +62,18 @@ class Pose:
         """
         z = np.array(self.z_axis)
         x = np.array(self.x_axis)
-        if not np.linalg.norm(z):
+        length = np.linalg.norm(z)
+        if not length:
             raise ValueError("the Z axis of a pose cannot be zero")
-        z = z / np.linalg.norm(z)
+        z = z / length
         x = x - np.dot(x, z) * z
-        if np.linalg.norm(x) < 1e-12:
+        length = np.linalg.norm(x)
+        if length < 1e-12:
             raise ValueError("the X axis of a pose must not be zero or parallel to its Z axis")
-        x = x / np.linalg.norm(x)
+        x = x / length
+        (z0, z1, z2), (x0, x1, x2) = z.tolist(), x.tolist()
         m = np.eye(4)
-        m[:3, 0], m[:3, 1], m[:3, 2], m[:3, 3] = x, np.cross(z, x), z, self.point
+        # Y = Z x X as np.cross computes it (each component one product less another), without
+        # its overhead on 3-vectors
+        m[:3, 0], m[:3, 1], m[:3, 2], m[:3, 3] = x, (z1 * x2 - z2 * x1, z2 * x0 - z0 * x2, z0 * x1 - z1 * x0), z, self.point
         return m

@@ -96,6 +96,8 @@ TRANSIT = 0.05
 #: How far (m) from the workstation's origin a target may be on any axis: far beyond any cell,
 #: near enough that poses composed there stay rigid to well under a micrometre.
 REACH = 1000.0
+_EYE3 = np.eye(3)
+_RIGID = 1e-9 + 1e-5 * _EYE3  # np.allclose's bound for (R^T R, I): atol + rtol |I|
 
 #: fault kind, objects, detail -> None: how the robot reports an armed fault taking effect.
 FaultHook = Callable[[str, tuple[str, ...], str], None]
@@ -124,6 +126,8 @@ class Robot:
         self._holes: dict | None = None  # open containers recessed in closed objects (on the first move)
         self._piece_key: tuple | None = None
         self._all_pieces: Pieces | None = None
+        self._split_key: tuple | None = None  # what _split was made for, and its result
+        self._split_of: tuple = ((), None, None)
         self._contacts: dict[tuple[str, str], str] | None = None  # contacts of the move under way
         self.miss_grasp = False  # armed faults (kb.sim.faults)
         self.drop_in_transit = False
@@ -235,7 +239,7 @@ class Robot:
         below its way across (kb.spatial.sweep.clearance)."""
         up, over = start.copy(), end.copy()
         up[2, 3] = over[2, 3] = 0.0
-        bodies, pieces = self._moving(), self._obstacles()
+        bodies, pieces = self._split()
         rise, high = -np.inf, max(float(start[2, 3]), float(end[2, 3]))
         if bodies and len(pieces):
             w = self.world
@@ -250,19 +254,20 @@ class Robot:
                 last = pose
         return legs or [end]
 
-    def _moving(self) -> list[int]:
-        """The boxes that move with the flange: itself, the mounted effector, the held object
-        and what rests in it (not stand-ins: a held kit is its tray)."""
+    def _split(self) -> tuple[list[int], Pieces]:
+        """(the boxes that move with the flange: itself, the mounted effector, the held object
+        and what rests in it (not stand-ins: a held kit is its tray); the solid pieces of
+        everything else), kept while what rests on what, what is placed and the solid pieces
+        are the same (every move asks, few moves change them)."""
         w = self.world
-        return [j for j in w.subtree(self.index) if w.placed(j) and not w.stand_in(j)]
-
-    def _obstacles(self) -> Pieces:
-        """The solid pieces of everything that does not move with the flange."""
-        w = self.world
-        mask = w.solid_mask()
-        mask[w.subtree(self.index)] = False
-        pieces = self._pieces()
-        return pieces.select(mask[pieces.owner])
+        pieces, mask = self._pieces(), w.solid_mask()
+        key = (w.parent.tobytes(), mask.tobytes(), self.index)
+        if self._split_key != key or self._split_of[1] is not pieces:
+            subtree = w.subtree(self.index)
+            moving = [j for j in subtree if mask[j]]
+            mask[subtree] = False
+            self._split_key, self._split_of = key, (moving, pieces, pieces.select(mask[pieces.owner]))
+        return list(self._split_of[0]), self._split_of[2]
 
     def _sweep(self, start: np.ndarray, end: np.ndarray) -> None:
         """Contacts of the straight leg from tip pose ``start`` to ``end`` (kb.spatial.sweep):
@@ -270,7 +275,7 @@ class Robot:
         every other solid, except what the tip starts or ends on (the object grasped or just
         released, a kit with its parts, the effector being mounted)."""
         w = self.world
-        bodies, pieces = self._moving(), self._obstacles()
+        bodies, pieces = self._split()
         if not bodies or not len(pieces):
             return
         rel = np.linalg.inv(start) @ w.poses[bodies]
@@ -453,7 +458,7 @@ def _target(pose: crcl.Pose, metres: float = 1.0) -> np.ndarray:
     with np.errstate(over="ignore", invalid="ignore"):
         m = pose.matrix()
     r = m[:3, :3]
-    if not (np.isfinite(m).all() and np.allclose(r.T @ r, np.eye(3), atol=1e-9)):
+    if not (np.isfinite(m).all() and (np.abs(r.T @ r - _EYE3) <= _RIGID).all()):  # np.allclose(r.T @ r, I, atol=1e-9)
         raise ValueError(f"axes {pose.z_axis} (Z), {pose.x_axis} (X) give no rotation")
     m[:3, 3] *= metres
     if np.abs(m[:3, 3]).max() > REACH:

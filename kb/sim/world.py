@@ -136,16 +136,29 @@ class World:
 
     def children(self, i: int) -> list[int]:
         """Objects resting in / on or attached to ``i``."""
-        return [int(j) for j in np.flatnonzero(self.parent == i)]
+        return list(self._children().get(int(i), ()))
 
     def subtree(self, i: int) -> list[int]:
         """``i`` and everything that moves with it."""
+        kids = self._children()
         out, todo = [], [i]
         while todo:
             j = todo.pop()
             out.append(j)
-            todo.extend(self.children(j))
+            todo.extend(kids.get(int(j), ()))
         return out
+
+    def _children(self) -> dict[int, list[int]]:
+        """Parent index -> its children, in index order (kept while ``parent`` holds the same
+        values: it is changed in place)."""
+        key = self.parent.tobytes()
+        kept = getattr(self, "_children_of", None)
+        if kept is None or kept[0] != key:
+            kids: dict[int, list[int]] = {}
+            for j, p in enumerate(self.parent.tolist()):
+                kids.setdefault(p, []).append(j)
+            kept = self._children_of = (key, kids)
+        return kept[1]
 
     def box(self, i: int) -> tuple[np.ndarray, np.ndarray]:
         """World box (lo, hi) of object ``i``."""
