@@ -203,7 +203,7 @@ def solid_pieces(local_lo: FloatArray, local_hi: FloatArray, open_top: NDArray[n
 
 def _axis_angle(r: FloatArray) -> tuple[FloatArray, float]:
     """(unit axis, angle in [0, pi]) of a rotation matrix."""
-    c = float(np.clip((np.trace(r) - 1.0) / 2.0, -1.0, 1.0))
+    c = min(max(float((np.trace(r) - 1.0) / 2.0), -1.0), 1.0)  # np.clip's value (NaN stays NaN), without its overhead
     angle = math.acos(c)
     if angle < 1e-12:
         return np.array([0.0, 0.0, 1.0]), 0.0
@@ -227,24 +227,27 @@ def _stretches(path: FloatArray, reach: float, max_inflation: float) -> tuple[ND
                                                                                FloatArray, FloatArray, FloatArray]:
     """Each leg of ``path`` (P, 4, 4) cut into stretches: (leg of each, rotation (S, 3, 3) at its
     middle, frame origin (S, 3) at its start, its translation (S, 3), inflation (S,))."""
-    legs, rots, starts, moves, grow = [], [], [], [], []
-    for k in range(len(path) - 1):
-        a, b = path[k], path[k + 1]
-        axis, angle = _axis_angle(a[:3, :3].T @ b[:3, :3])
-        n = 1
-        if angle > 0.0 and reach > 0.0:
-            step = 4.0 * math.asin(min(1.0, max_inflation / (2.0 * reach)))
-            n = max(1, min(MAX_STRETCHES, math.ceil(angle / step)))
-        t0, t1 = a[:3, 3], b[:3, 3]
-        first = np.arange(n) / n
-        legs.append(np.full(n, k, np.intp))
-        rots.append(a[:3, :3] @ _turns(axis, (first + 0.5 / n) * angle) if angle > 0.0
-                    else np.broadcast_to(a[:3, :3], (n, 3, 3)))
-        starts.append(t0 + first[:, None] * (t1 - t0))
-        moves.append(np.broadcast_to((t1 - t0) / n, (n, 3)))
-        grow.append(np.full(n, 2.0 * reach * math.sin(angle / n / 4.0)))
-    return (np.concatenate(legs), np.concatenate(rots), np.concatenate(starts), np.concatenate(moves),
-            np.concatenate(grow))
+    legs = [_leg(path[k], path[k + 1], k, reach, max_inflation) for k in range(len(path) - 1)]
+    if len(legs) == 1:
+        return legs[0]
+    return tuple(np.concatenate(part) for part in zip(*legs))  # type: ignore[return-value]
+
+
+def _leg(a: FloatArray, b: FloatArray, k: int, reach: float, max_inflation: float) -> tuple:
+    """The stretches of leg ``k`` from pose ``a`` to ``b`` (:func:`_stretches`)."""
+    axis, angle = _axis_angle(a[:3, :3].T @ b[:3, :3])
+    t0, t1 = a[:3, 3], b[:3, 3]
+    if not angle > 0.0:  # one stretch: the arrays the general case makes for n = 1, made directly
+        return (np.full(1, k, np.intp), a[None, :3, :3].copy(), (t0 + 0.0 * (t1 - t0))[None], ((t1 - t0) / 1)[None],
+                np.full(1, 2.0 * reach * math.sin(angle / 1 / 4.0)))
+    n = 1
+    if reach > 0.0:
+        step = 4.0 * math.asin(min(1.0, max_inflation / (2.0 * reach)))
+        n = max(1, min(MAX_STRETCHES, math.ceil(angle / step)))
+    first = np.arange(n) / n
+    return (np.full(n, k, np.intp), a[:3, :3] @ _turns(axis, (first + 0.5 / n) * angle),
+            t0 + first[:, None] * (t1 - t0), np.broadcast_to((t1 - t0) / n, (n, 3)).copy(),
+            np.full(n, 2.0 * reach * math.sin(angle / n / 4.0)))
 
 
 def _depths(ua: FloatArray, a: FloatArray, ca: FloatArray, d: FloatArray, grow: FloatArray,
