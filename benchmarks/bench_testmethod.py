@@ -15,9 +15,14 @@ Three parts:
   (from the first trial's row to the last); the ratio of the two workers' rate to the one
   worker's; and whether the rows are the same (``kb.testmethod.comparable``: timings left out);
 * ``thousand``: ``kitkb testmethod basic --parts 10 --trials 1000 --workers 2`` as a whole
-  process (``--thousand N`` changes the count), its wall time.
+  process (``--thousand N`` changes the count), its wall time;
+* ``ab`` (with ``--before DIR``, a checkout of an earlier revision): the CPU seconds of a
+  basic trial (``--ab-trials`` trials after a first, in one process) with this checkout and
+  with DIR, taking turns (``--ab-rounds`` each, the order alternating), medians; and whether
+  the two give the same trial reports (``kb.testmethod.comparable``: timings left out).
 
-    .venv/bin/python benchmarks/bench_testmethod.py                       # all three
+    .venv/bin/python benchmarks/bench_testmethod.py                       # the first three
+    .venv/bin/python benchmarks/bench_testmethod.py --parts-of-run ab --before /tmp/kitkb-before --no-doc
     .venv/bin/python benchmarks/bench_testmethod.py --parts-of-run scaling --trials 40 --no-doc
     .venv/bin/python benchmarks/bench_testmethod.py --render              # the doc from the latest results
 
@@ -222,6 +227,47 @@ def thousand(parts: int, trials: int) -> dict[str, Any]:
             "stderr": proc.stderr[-400:] if proc.returncode not in (0, 1) else ""}
 
 
+# --- before and after ---------------------------------------------------------------------------
+
+#: Run in a checkout (its kb/ first on PYTHONPATH): trials of the basic method after a first one,
+#: their CPU and wall seconds, and a digest of their reports without timings.
+_AB_TRIALS = r"""
+import hashlib, json, sys, time
+from kb.testmethod import Options, comparable, jobs
+from kb.testmethod.trial import run_trial
+parts, trials = int(sys.argv[1]), int(sys.argv[2])
+batch = jobs(Options("basic", trials=trials + 1, seed=0, parts=(parts,)))
+run_trial(batch[0])
+t, cpu = time.perf_counter(), time.process_time()
+reports = [run_trial(job) for job in batch[1:]]
+wall, cpu = time.perf_counter() - t, time.process_time() - cpu
+digest = hashlib.sha256(json.dumps(comparable(reports), sort_keys=True).encode()).hexdigest()[:16]
+print(json.dumps({"cpu_s_per_trial": round(cpu / trials, 4), "s_per_trial": round(wall / trials, 4), "digest": digest}))
+"""
+
+
+def ab(before: Path, parts: int, trials: int, rounds: int) -> dict[str, Any]:
+    """The CPU seconds of a basic trial in ``before`` (a checkout) and in this one, taking turns
+    (``rounds`` runs each, each a fresh process, the order alternating), medians."""
+    head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, cwd=before)
+    checkouts = {"before": before.resolve(), "after": ROOT}
+    runs: dict[str, list[dict[str, Any]]] = {"before": [], "after": []}
+    for r in range(rounds):
+        for name in (("before", "after") if r % 2 == 0 else ("after", "before")):
+            started = load()
+            env = {**os.environ, "PYTHONPATH": str(checkouts[name]), "KITKB_PROGRESS": "0"}
+            proc = subprocess.run([sys.executable, "-c", _AB_TRIALS, str(parts), str(trials)], capture_output=True,
+                                  text=True, env=env, cwd=checkouts[name], check=True)
+            figures = {**json.loads(proc.stdout.strip().splitlines()[-1]), "load": started}
+            runs[name].append(figures)
+            print(json.dumps({name: figures}), flush=True)
+    med = {name: {key: round(statistics.median(f[key] for f in found), 4)
+                  for key in ("cpu_s_per_trial", "s_per_trial", "load")} for name, found in runs.items()}
+    return {"parts": parts, "trials": trials, "rounds": rounds, "before_checkout": head.stdout.strip() or str(before),
+            **med, "speedup_cpu": round(med["before"]["cpu_s_per_trial"] / med["after"]["cpu_s_per_trial"], 2),
+            "same_reports": len({f["digest"] for found in runs.values() for f in found}) == 1, "runs": runs}
+
+
 # --- the doc ----------------------------------------------------------------------------------
 
 def render(run: dict[str, Any]) -> str:
@@ -239,6 +285,15 @@ def render(run: dict[str, Any]) -> str:
                   "trial. Most own time under cProfile (s a trial): "
                   + ", ".join(f"`{f['function']}` {f['seconds_per_trial']}" for f in p["top_own_time"][:5]) + ".",
                   ""]
+    a = run.get("ab")
+    if a:
+        lines += [f"**Before and after** (basic, {a['parts']}-part kit, {a['trials']} trials in one process after "
+                  f"the first, {a['rounds']} runs of each checkout taking turns, medians; load: the median at their "
+                  f"starts): {a['before_checkout']} {a['before']['cpu_s_per_trial']} CPU s a trial "
+                  f"({a['before']['s_per_trial']} s, load {a['before']['load']}), {run['checkout']} "
+                  f"{a['after']['cpu_s_per_trial']} CPU s ({a['after']['s_per_trial']} s, load {a['after']['load']}): "
+                  f"{a['speedup_cpu']}x less CPU a trial; the trial reports are "
+                  f"{'the same' if a['same_reports'] else 'NOT the same'} (timings left out).", ""]
     s = run.get("scaling")
     if s:
         lines += [f"**1 and 2 workers** (basic, {s['parts']}-part kit, {s['trials']} trials a campaign, a LocalCluster "
@@ -270,8 +325,11 @@ def render(run: dict[str, Any]) -> str:
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--parts-of-run", nargs="+", choices=["profile", "scaling", "thousand"],
+    ap.add_argument("--parts-of-run", nargs="+", choices=["profile", "ab", "scaling", "thousand"],
                     default=["profile", "scaling", "thousand"])
+    ap.add_argument("--before", type=Path, help="ab: a checkout of the earlier revision")
+    ap.add_argument("--ab-trials", type=int, default=10, help="ab: trials timed in each run (default 10)")
+    ap.add_argument("--ab-rounds", type=int, default=3, help="ab: runs of each checkout (default 3; medians)")
     ap.add_argument("--parts", type=int, default=10, help="parts of the basic kit (default 10)")
     ap.add_argument("--trials", type=int, default=60, help="trials of each scaling campaign (default 60)")
     ap.add_argument("--repeat", type=int, default=3, help="pairs of scaling campaigns (default 3; medians)")
@@ -292,6 +350,11 @@ def main() -> int:
     if "profile" in args.parts_of_run:
         run["profile"] = profile(args.parts, args.profile_trials)
         print(json.dumps(run["profile"]), flush=True)
+    if "ab" in args.parts_of_run:
+        if args.before is None:
+            ap.error("--parts-of-run ab needs --before DIR")
+        run["ab"] = ab(args.before, args.parts, args.ab_trials, args.ab_rounds)
+        print(json.dumps({k: v for k, v in run["ab"].items() if k != "runs"}), flush=True)
     if "scaling" in args.parts_of_run:
         run["scaling"] = scaling(args.parts, args.trials, args.repeat)
         print(json.dumps(run["scaling"]), flush=True)
@@ -302,7 +365,8 @@ def main() -> int:
     RESULTS.write_text(json.dumps(history + [run], indent=1) + "\n")
     if not args.no_doc:
         common.write_doc(SECTION, render(run))
-    ok = run.get("scaling", {}).get("same_rows", True) and run.get("thousand", {}).get("exit", 0) in (0, 1)
+    ok = (run.get("scaling", {}).get("same_rows", True) and run.get("ab", {}).get("same_reports", True)
+          and run.get("thousand", {}).get("exit", 0) in (0, 1))
     return 0 if ok else 1
 
 
