@@ -75,5 +75,6 @@ class Pose:
         m = np.eye(4)
         # Y = Z x X as np.cross computes it (each component one product less another), without
         # its overhead on 3-vectors
-        m[:3, 0], m[:3, 1], m[:3, 2], m[:3, 3] = x, (z1 * x2 - z2 * x1, z2 * x0 - z0 * x2, z0 * x1 - z1 * x0), z, self.point
+        y = (z1 * x2 - z2 * x1, z2 * x0 - z0 * x2, z0 * x1 - z1 * x0)
+        m[:3, 0], m[:3, 1], m[:3, 2], m[:3, 3] = x, y, z, self.point
         return m

@@ -44,7 +44,11 @@ swept boxes meet are tested together, 21 axes per pair in a handful of array ope
 pairs are found in two levels (a turning leg has hundreds of stretches): the pieces the box
 around the whole path meets, then runs of consecutive swept boxes against those, then the
 boxes of the runs that meet a piece (:func:`_overlapping`: the pairs of the dense test, no
-fewer, in its order, so the results are those of the dense test to the last bit).
+fewer, in its order, so the results are those of the dense test to the last bit). Before a
+turning leg's stretches are made, one box around all of them (:func:`_reach_box`, from how far
+the boxes reach and how far the leg turns them) is tested against the pieces: a leg whose box
+meets none has no contact, and :func:`clearance` asked for a rise above a height the caller
+lifts to anyway answers without the stretches when the box shows there is none.
 """
 
 from __future__ import annotations
