@@ -165,8 +165,12 @@ def figure(fig: dict[str, Any], div_id: str, *, toolbar: bool = True) -> str:
 #: a measure ``kitkb-draw ID`` per figure.
 DRAW = """(async () => {
   const inlined = document.getElementById('kitkb-plotly-js');
-  if (inlined) {  // after the first paint, or 100 ms in a tab that does not paint (hidden)
-    await new Promise(r => { requestAnimationFrame(() => setTimeout(r, 0)); setTimeout(r, 100); });
+  if (inlined) {  // after the first paint (a hidden tab does not paint: at once; at most 1 s)
+    await new Promise(r => {
+      if (document.visibilityState === 'hidden') return r();
+      requestAnimationFrame(() => setTimeout(r, 0));
+      setTimeout(r, 1000);
+    });
     const script = document.createElement('script');
     script.textContent = inlined.textContent;
     inlined.remove();
