@@ -83,6 +83,8 @@ def test_page_without_figures_has_no_plotly_and_other_traces_get_the_full_one() 
     assert 'id="kitkb-plotly-js"' not in page("none", "<p>text</p>") and "kitkbPlots" in page("n", "")
     full = page("gl", figure({"data": [{"type": "scattergl", "x": [1], "y": [1]}]}, "g"))
     assert plotly_js() in full and len(_inlined(full)) == 1
+    odd = page("odd", figure({"data": [{"type": "Sankey_2", "x": [1]}]}, "o"))  # no bundle has it: the full one
+    assert plotly_js() in odd
     assert page("forced", "<p>x</p>", plotly_js_text="/* js */").count("/* js */") == 1
 
 

@@ -229,8 +229,9 @@ def _js_file(name: str) -> str:
     return resources.files(__package__).joinpath("js", name).read_text(encoding="utf-8")
 
 
-#: A figure's trace types as :func:`figure` writes them on its div (escaped names cannot forge it).
-_TRACES = re.compile(r'<div id="[^"]*" class="plot" data-traces="([a-z0-9 ]*)"')
+#: A figure's trace types as :func:`figure` writes them on its div (escaped: a name holds no ``"``,
+#: so none can forge it).
+_TRACES = re.compile(r'<div id="[^"]*" class="plot" data-traces="([^"]*)"')
 
 
 def trace_types(body: str) -> set[str] | None:
