@@ -294,8 +294,9 @@ def _rows(r: dict[str, Any]) -> list[tuple[str, str, str]]:
     return [(what, old or "&ndash;", new) for what, old, new in rows]
 
 
-def render(r: dict[str, Any]) -> str:
-    """The docs/benchmarks.md section of result ``r``."""
+def render(r: dict[str, Any], history: list[dict[str, Any]] = ()) -> str:
+    """The docs/benchmarks.md section of result ``r`` (``history``: the earlier results, for the
+    latest one on another machine)."""
     w, lo, run = r["writing"], r["loading"], r["run"]
     b = r.get("baseline")
     lines = [f"## {TITLE}", "",
@@ -354,13 +355,21 @@ def render(r: dict[str, Any]) -> str:
     if b and "error" not in lo and (b.get("loading") or {}).get("drawn_s"):
         lines += ["", "Reading it: the baseline inlined the plotly package's full plotly.js (4.7 MB) and let the "
                   "browser evaluate it where it stood; the page now inlines plotly's partial gl3d bundle (1.75 MB, "
-                  "the trace types a run's page uses; a campaign's page gets the cartesian bundle) and runs it after "
-                  f"the first paint. Every figure drawn: {b['loading']['drawn_s']:.2f} s before, {lo['drawn_s']:.2f} s "
+                  "the trace types a run's page uses; a campaign's page gets the cartesian bundle), runs it after "
+                  "the first paint, and draws the 3-D view at the screen's pixel ratio (plotly's default, 2, is four "
+                  f"times the pixels on a common screen). Every figure drawn: {b['loading']['drawn_s']:.2f} s before, {lo['drawn_s']:.2f} s "
                   f"now ({b['loading']['drawn_s'] / lo['drawn_s']:.1f}x). What is left is mostly WebGL's set-up in "
                   "software (SwiftShader: the 3-D view's shaders are compiled and linked on the CPU, and the renderer "
                   "waits for them) and evaluating the bundle, which the page cannot avoid; a desktop browser with a "
                   "GPU on an idle machine does both far faster. docs/report.md (\"How the page loads\") says what "
                   "else was measured."]
+    other = next((h for h in reversed(history) if h.get("cpu") != r["cpu"] and "error" not in h["loading"]), None)
+    if other:
+        lines += ["", f"The previous figures of this section were measured on another machine ({other['cpu']}, run "
+                  f"{other['date']} at commit `{other['commit']}`, load average {other['load_average']} to "
+                  f"{other['load_average_end']}): written in {other['writing']['process_s']:.2f} s, every figure drawn "
+                  f"in {other['loading']['drawn_s']:.2f} s; they are in `benchmarks/results/report.json`."
+                  + (f" The baseline column above is the page of commit `{b['commit']}` measured on this one." if b else "")]
     write_ok = w["process_s"] < GOAL_S
     load_ok = "error" not in lo and lo["drawn_s"] < GOAL_S
     lines += ["", f"Goals (a {r['parts']}-part run's report written in under {GOAL_S:g} s and loaded by the browser "
@@ -389,7 +398,7 @@ def main() -> None:
         history.append(measure(args))
         RESULTS.parent.mkdir(parents=True, exist_ok=True)
         RESULTS.write_text(json.dumps(history, indent=1) + "\n")
-    section = render(history[-1])
+    section = render(history[-1], history[:-1])
     print(section)
     if not args.no_doc:
         write_doc(TITLE, section)
