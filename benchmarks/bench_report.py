@@ -174,7 +174,8 @@ def floors(folder: Path, repeat: int) -> dict[str, Any]:
     from kb.report.html import bundle_for, bundles, figure, page, plotly_js
     one = {"data": [{"type": "scatter3d", "x": [0], "y": [0], "z": [0]}], "layout": {"height": 620}}
     pages = {"plotly-only": page("plotly.js only", "<p>no figure</p>", plotly_js_text=plotly_js()),
-             **{f"{b.name}-only": page(f"{b.name} only", "<p>no figure</p>", plotly_js_text=b.text()) for b in bundles()},
+             **{f"{b.name}-only": page(f"{b.name} only", "<p>no figure</p>", plotly_js_text=b.text())
+                for b in bundles()},
              "one-point-3d": page("one point in 3-D", figure(one, "one"))}
     assert bundle_for({"scatter3d"}) is not None  # the one-point page gets a partial bundle
     for name, text in pages.items():
@@ -205,7 +206,8 @@ def time_writing_campaign(outs: dict[str, tuple[Path, Path]], repeat: int) -> di
             whole[name].append(kitkb("report", str(source), "-o", str(out), "-q", cwd=cwd))
     sizes = {name: out.stat().st_size + sum(p.stat().st_size for p in (out.with_name(out.stem) / "report").iterdir())
              for name, (_, out) in outs.items()}
-    return {name: {"process_s": median(w), "process_best_s": round(min(w), 3), "page_bytes": outs[name][1].stat().st_size,
+    return {name: {"process_s": median(w), "process_best_s": round(min(w), 3),
+                   "page_bytes": outs[name][1].stat().st_size,
                    "bytes": sizes[name]} for name, w in whole.items()}
 
 
@@ -288,7 +290,8 @@ def _rows(r: dict[str, Any]) -> list[tuple[str, str, str]]:
     u = r.get("busy")
     if u and "error" not in u["now"]:
         rows.append((f"Chromium: every figure drawn, {u['processes']} busy processes beside it (best)",
-                     f"{_s(u['baseline']['drawn_s'])} ({_s(u['baseline']['drawn_best_s'])})" if "baseline" in u else None,
+                     f"{_s(u['baseline']['drawn_s'])} ({_s(u['baseline']['drawn_best_s'])})"
+                     if "baseline" in u else None,
                      f"{_s(u['now']['drawn_s'])} ({_s(u['now']['drawn_best_s'])})"))
     rows.append(("page size (MB)", f"{bw['page_bytes'] / 1e6:.1f}" if bw else None, f"{w['page_bytes'] / 1e6:.1f}"))
     return [(what, old or "&ndash;", new) for what, old, new in rows]
@@ -357,7 +360,8 @@ def render(r: dict[str, Any], history: list[dict[str, Any]] = ()) -> str:
                   "browser evaluate it where it stood; the page now inlines plotly's partial gl3d bundle (1.75 MB, "
                   "the trace types a run's page uses; a campaign's page gets the cartesian bundle), runs it after "
                   "the first paint, and draws the 3-D view at the screen's pixel ratio (plotly's default, 2, is four "
-                  f"times the pixels on a common screen). Every figure drawn: {b['loading']['drawn_s']:.2f} s before, {lo['drawn_s']:.2f} s "
+                  f"times the pixels on a common screen). Every figure drawn: {b['loading']['drawn_s']:.2f} s before, "
+                  f"{lo['drawn_s']:.2f} s "
                   f"now ({b['loading']['drawn_s'] / lo['drawn_s']:.1f}x). What is left is mostly WebGL's set-up in "
                   "software (SwiftShader: the 3-D view's shaders are compiled and linked on the CPU, and the renderer "
                   "waits for them) and evaluating the bundle, which the page cannot avoid; a desktop browser with a "
@@ -369,7 +373,8 @@ def render(r: dict[str, Any], history: list[dict[str, Any]] = ()) -> str:
                   f"{other['date']} at commit `{other['commit']}`, load average {other['load_average']} to "
                   f"{other['load_average_end']}): written in {other['writing']['process_s']:.2f} s, every figure drawn "
                   f"in {other['loading']['drawn_s']:.2f} s; they are in `benchmarks/results/report.json`."
-                  + (f" The baseline column above is the page of commit `{b['commit']}` measured on this one." if b else "")]
+                  + (f" The baseline column above is the page of commit `{b['commit']}` measured on this one."
+                     if b else "")]
     write_ok = w["process_s"] < GOAL_S
     load_ok = "error" not in lo and lo["drawn_s"] < GOAL_S
     lines += ["", f"Goals (a {r['parts']}-part run's report written in under {GOAL_S:g} s and loaded by the browser "
