@@ -17,7 +17,7 @@ from hypothesis import strategies as st
 from kb.cli import main
 from kb.report import campaign_page, run_page, write_report
 from kb.report.campaign import distribution_figures, failed_because, trial_page
-from kb.report.html import plotly_js
+from kb.report.html import bundle_for, plotly_js, trace_types
 from kb.report.scene import CLASS_COLOURS, corners, recovered, scene_figure
 from kb.report.source import normalise
 from kb.report.timeline import timeline_figure
@@ -192,6 +192,8 @@ def test_campaign_page_and_a_page_per_trial(tmp_path: Path, report: dict[str, An
     assert len(links) == 2 + 3 and all((tmp_path / "out" / link).is_file() for link in links)
     trial = (folder / "report" / "trial-00001.html").read_text()
     assert 'src="plotly.min.js"' in trial and _plotly_copies(trial) == 0 and (folder / "report" / "plotly.min.js").is_file()
+    # the copy they share is the smallest bundle that draws every trial page (the run pages' gl3d)
+    assert (folder / "report" / "plotly.min.js").read_text() == bundle_for(trace_types(trial) or ()).text()
     assert '<a href="../../out/campaign.html"' in trial and 'id="trial-table"' in trial
     assert "worker died twice" in page and "stopped: gave up" in page
 

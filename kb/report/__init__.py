@@ -9,7 +9,8 @@ page shows the same JSON the CLI writes (``kitkb run --report``, ``kitkb testmet
   have (older reports, runs that did not execute) say so instead.
 * :func:`campaign_page`: a campaign's page — its facts and summary, each metric's distribution
   across the trials, failures by mode, the trials that failed and every trial, each linked to
-  its own page (``DIR/report/trial-NNNNN.html``, sharing one ``plotly.min.js`` beside them).
+  its own page (``DIR/report/trial-NNNNN.html``, sharing one ``plotly.min.js`` beside them: the
+  smallest bundle that draws them all).
 * :func:`write_report`: ``kitkb report SOURCE -o OUT`` — the page(s) written atomically.
 
 docs/report.md shows what a page holds and how to make one.
@@ -24,7 +25,7 @@ from urllib.parse import quote
 
 from kb.core.files import atomic_paths
 from kb.report.campaign import TRIAL_PAGE, campaign_page, failed_because, trial_index, trial_page
-from kb.report.html import plotly_js
+from kb.report.html import bundle_for, plotly_js, trace_types
 from kb.report.run import run_page
 from kb.report.source import Campaign, is_run_report, normalise, read_campaign, read_run, read_source
 
@@ -72,10 +73,12 @@ def _write_campaign(campaign: Campaign, out: Path) -> dict[str, Any]:
     page_of = {trial_index(r): folder / TRIAL_PAGE.format(trial_index(r)) for _, r in campaign.trials}
     back = _href(out, folder)
     pages = {out: campaign_page(campaign, lambda i: _href(page_of[i], out.parent))}
-    if campaign.trials:
-        pages[folder / PLOTLY_JS] = plotly_js()
-    for _, report in campaign.trials:
-        pages[page_of[trial_index(report)]] = trial_page(report, back=back, script_src=PLOTLY_JS)
+    trials = {page_of[trial_index(r)]: trial_page(r, back=back, script_src=PLOTLY_JS) for _, r in campaign.trials}
+    if trials:  # the smallest plotly.js that draws every trial page's figures, shared
+        types = set().union(*(trace_types(text) or set() for text in trials.values()))
+        chosen = bundle_for(types)
+        pages[folder / PLOTLY_JS] = chosen.text() if chosen is not None else plotly_js()
+    pages.update(trials)
     size = _write(pages)
     failed = sum(1 for _, r in campaign.trials if failed_because(r))
     return {"kind": "campaign", "output": str(out), "bytes": size, "trials": len(campaign.trials),
