@@ -185,11 +185,23 @@ class Sensor:
         cls = most_specific(world.classes[i])
         if cls == "Kit":
             return None
-        others = sorted({s for j in range(len(world)) if most_specific(world.classes[j]) == cls
-                         for s in (sku_of(j),) if s and s != sku})
+        others = sorted({s for j in self._kind(world, cls) for s in (sku_of(j),) if s and s != sku})
         if not others:
             return None
         return others[int(self._detect.integers(len(others)))]
+
+
+    def _kind(self, world: World, cls: str) -> list[int]:
+        """The objects of ``world`` whose most specific class is ``cls`` (an object's classes never
+        change; kept while the world has the same objects)."""
+        key = (world, len(world))
+        kept = getattr(self, "_kinds_key", None)
+        if kept is None or kept[0] is not world or kept[1] != key[1]:
+            kinds: dict[str, list[int]] = {}
+            for j in range(len(world)):
+                kinds.setdefault(most_specific(world.classes[j]), []).append(j)
+            self._kinds, self._kinds_key = kinds, key
+        return self._kinds.get(cls, [])
 
 
 def _rpy_many(m: np.ndarray) -> np.ndarray:
