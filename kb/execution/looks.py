@@ -30,6 +30,7 @@ tolerance of :mod:`kb.spatial.rcc8`, as before.
 from __future__ import annotations
 
 import math
+import statistics
 from typing import Any, Iterable, Sequence
 
 import numpy as np
@@ -216,7 +217,9 @@ class Looks:
         allowed = np.where(n > 0, K_CHECK * self.noise.orientation / np.sqrt(np.maximum(n, 1.0)), 0.0)
         h[np.abs(h) <= allowed] = 0.0
         seen = n[scene.placed & (n > 0)]
-        merge = K_CHECK * self.noise.orientation / math.sqrt(float(np.median(seen))) if len(seen) else 0.0
+        # the median as np.median gives it (the middle one, or the mean of the middle two), without
+        # its overhead on a few numbers
+        merge = K_CHECK * self.noise.orientation / math.sqrt(statistics.median(seen.tolist())) if len(seen) else 0.0
         labels, yaws = heading_groups(h, min(max(merge, HEADING_MERGE), MERGE))
         return yaws[labels]
 
