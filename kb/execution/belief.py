@@ -243,7 +243,8 @@ class Belief:
         size = self.local_hi[idx] - self.local_lo[idx]
         reach = np.where(self._level[idx], np.hypot(size[:, 0], size[:, 1]), np.linalg.norm(size, axis=1)) / 2
         looks = np.maximum(n, 1)
-        out = np.sqrt(nz.position ** 2 / looks + nz.bias ** 2 + (nz.orientation * np.nan_to_num(reach)) ** 2 / looks)
+        reach = np.where(np.isnan(reach), 0.0, reach)  # np.nan_to_num's 0 for an unplaced box (sizes are finite)
+        out = np.sqrt(nz.position ** 2 / looks + nz.bias ** 2 + (nz.orientation * reach) ** 2 / looks)
         return np.where(n > 0, out, 0.0)
 
     def confirm_sku(self, name: str, sku_local: str | None) -> None:
