@@ -414,7 +414,8 @@ def main(argv: list[str] | None = None) -> None:
                          "them, each labelled with its own date and commit")
     args = ap.parse_args(argv)
     if args.render:
-        section = render(json.loads(RESULTS.read_text())[-1])
+        runs = json.loads(RESULTS.read_text())
+        section = render(merged(runs[-1], runs[:-1]) if args.merge else runs[-1])
         common.write_doc(SECTION, section)
         print(section)
         return
