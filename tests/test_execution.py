@@ -698,6 +698,7 @@ def test_witnesses_are_the_objects_behind_an_existential_atom() -> None:
     assert found and all("#part_" in x for x in found)
     assert ev.witnesses("part-location-partstray", found[0], trays[0]) == []
     assert ev.witnesses("worktable-empty", NS + "no_such_table") == []
+    assert ev.witnesses("no-such-predicate", NS + "work_table_1") == []
 
 
 def test_a_domain_without_the_mode_leaves_a_missed_grasp_unexplained(tmp_path: Path) -> None:

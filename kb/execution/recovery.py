@@ -31,7 +31,7 @@ from typing import Callable
 
 import numpy as np
 
-from kb.core.errors import NotSolvableError
+from kb.core.errors import KitkbError, NotSolvableError
 from kb.core.namespaces import KTW
 from kb.crcl import COMMANDS, EndCanon, InitCanon, Message, MoveTo, Pose
 from kb.crcl.cell import CellInterface
@@ -140,7 +140,11 @@ class Recovery:
         ev = self.evaluator()
         out: list[str] = []
         for a in violated:
-            for x in ev.witnesses(a.predicate, *a.args):
+            try:
+                found = ev.witnesses(a.predicate, *a.args)
+            except KitkbError:  # what the failure found is an aid: never a reason for the run to stop
+                continue
+            for x in found:
                 if x not in a.args and x not in out:
                     out.append(x)
         return out

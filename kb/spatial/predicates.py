@@ -112,8 +112,10 @@ class Evaluator:
         ``∃x body``, ``¬∃x body`` or a count of ``x`` (its outermost node, under at most one
         negation), the candidates of ``x`` for which the body holds with the arguments bound
         (``worktable-empty(table)`` found false: what rests on the table); ``[]`` for any other
-        definition, or an argument not in the scene."""
-        p = self._predicate(name)
+        definition, a predicate the domain does not have, or an argument not in the scene."""
+        p = self.defs.predicates.get(name)
+        if p is None:
+            return []
         f = p.formula.operand if isinstance(p.formula, Not) else p.formula
         if isinstance(f, Exists):
             var, body = f.variable, f.body
