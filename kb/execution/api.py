@@ -160,15 +160,11 @@ def run_plan(plan: Sequence[str], init: str | Path, goal: str | Path, *, cell: C
         store = own_store = RunStore(db)
     record = RunRecord(name or Path(init).parent.name, seed, plan_time=plan_time)
     try:
-        run = execute_plan(plan, cell, inputs, record, accuracy=accuracy, store=store, paths=(init, goal),
-                           notifier=notifier, progress=progress, planner=planner)
-    except KeyboardInterrupt:
+        return execute_plan(plan, cell, inputs, record, accuracy=accuracy, store=store, paths=(init, goal),
+                            notifier=notifier, progress=progress, planner=planner)
+    finally:  # interrupted too: the store ended the run at its last stable state
         if own_store is not None:
             own_store.close()
-        raise
-    if own_store is not None:
-        own_store.close()
-    return run
 
 
 @dataclass(frozen=True)

@@ -132,6 +132,7 @@ class Sensor:
         self._bias: dict[str, np.ndarray] = {}
         self.errors: list[SensorError] = []
         self.action: int | None = None
+        self._kinds: tuple[World | None, int, dict[str, list[int]]] = (None, 0, {})  # world, its size, kinds
 
     def report(self, world: World, chosen: Sequence[int], time: float,
                sku_of: Callable[[int], str | None]) -> list[Observation]:
@@ -194,14 +195,13 @@ class Sensor:
     def _kind(self, world: World, cls: str) -> list[int]:
         """The objects of ``world`` whose most specific class is ``cls`` (an object's classes never
         change; kept while the world has the same objects)."""
-        key = (world, len(world))
-        kept = getattr(self, "_kinds_key", None)
-        if kept is None or kept[0] is not world or kept[1] != key[1]:
-            kinds: dict[str, list[int]] = {}
+        kept_world, size, kinds = self._kinds
+        if kept_world is not world or size != len(world):
+            kinds = {}
             for j in range(len(world)):
                 kinds.setdefault(most_specific(world.classes[j]), []).append(j)
-            self._kinds, self._kinds_key = kinds, key
-        return self._kinds.get(cls, [])
+            self._kinds = (world, len(world), kinds)
+        return kinds.get(cls, [])
 
 
 def _rpy_many(m: np.ndarray) -> np.ndarray:
