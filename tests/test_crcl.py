@@ -178,9 +178,9 @@ def test_fig11_reads_as_typed_commands_with_their_lines() -> None:
 
 def test_text_round_trip() -> None:
     program = read_text(FIG11)
-    assert write_text(program) == FIG11_WRITTEN
+    assert write_text(program, style="paper") == FIG11_WRITTEN
     assert read_text(FIG11_WRITTEN) == program
-    assert write_text(read_text(FIG11_WRITTEN)) == FIG11_WRITTEN
+    assert write_text(read_text(FIG11_WRITTEN), style="paper") == FIG11_WRITTEN
 
 
 def test_table1_of_the_third_paper() -> None:
@@ -191,7 +191,7 @@ def test_table1_of_the_third_paper() -> None:
         CloseGripper(), MoveTo(up), Dwell(0.05), Unreadable("endCannon()")])
     assert [c.line for c in program] == list(range(2, 11))
     assert program[0].reason == "unknown command initCannon"
-    assert write_text(program).splitlines()[:3] == [
+    assert write_text(program, style="paper").splitlines()[:3] == [
         "initCannon()", 'Message("take part part_e1")', "MoveTo({{-0.03, 1.62, -0.25}, {0, 0, 1}, {1, 0, 0}})"]
 
 
@@ -233,7 +233,7 @@ def test_unreadable_lines_keep_text_and_line_and_are_written_back() -> None:
 
 def test_strings_escape_and_read_back() -> None:
     message = Message('say "hi"\\ \n\tthere\r')
-    text = write_text(Program([message]))
+    text = write_text(Program([message]), style="paper")
     assert text == 'Message("say \\"hi\\"\\\\ \\n\\tthere\\r")\n'
     assert read_text(text) == Program([message])
 
@@ -277,7 +277,7 @@ def test_commands1_reads_with_its_values_and_lines(xsd: etree.XMLSchema) -> None
 @needs_nist
 def test_commands1_through_text_and_back(xsd: etree.XMLSchema) -> None:
     program = read_xml(COMMANDS1)
-    text = write_text(program)
+    text = write_text(program, style="paper")
     assert text.splitlines()[7] == "MoveThroughTo({{1.5, 1, 1}, {0, 0, -1}, {1, 0, 0}}, {{1.5, 1, 0.0001}, {0, 0, -1}, {1, 0, 0}}, 2)"
     again = write_xml(read_text(text), xsd)
     assert xsd.validate(etree.fromstring(again))
@@ -308,15 +308,15 @@ def test_every_xsd_command_through_xml_and_text(xsd: etree.XMLSchema) -> None:
     back = read_xml(data, xsd)
     assert back == program
     assert [c.line for c in back[:3]] == [3, 4, 7]
-    assert read_text(write_text(back)) == program
-    assert read_xml(write_xml(read_text(write_text(program)))) == program
+    assert read_text(write_text(back, style="paper")) == program
+    assert read_xml(write_xml(read_text(write_text(program, style="paper")))) == program
 
 
 @pytest.mark.parametrize("command, name", [
     (SetCoordinateFrame("RobotBase"), "SetCoordinateFrame"), (StartObjectScan("part_b_1"), "StartObjectScan"),
     (StopObjectScan(), "StopObjectScan"), (StopMotion(1), "StopMotion")])
 def test_commands_the_early_schema_lacks_cannot_be_written_as_xml(command, name: str) -> None:
-    text = f"InitCanon()\nDwell(1)\n\n{write_text(Program([command]))}EndCanon(0)\n"
+    text = f"InitCanon()\nDwell(1)\n\n{write_text(Program([command]), style='paper')}EndCanon(0)\n"
     program = read_text(text, name="prog.crcl")
     assert program[2] == command and program[2].line == 4
     with pytest.raises(InputError) as err:
@@ -442,7 +442,7 @@ _ANY = st.one_of(
 @given(st.lists(_ANY, max_size=8))
 def test_any_program_round_trips_through_text(commands: list) -> None:
     program = Program(commands)
-    back = read_text(write_text(program))
+    back = read_text(write_text(program, style="paper"))
     assert back == program
     assert [c.line for c in back] == list(range(1, len(commands) + 1))
 
@@ -453,7 +453,7 @@ def test_any_xsd_program_round_trips_through_xml_and_text(middle: list) -> None:
     program = Program([InitCanon(), *middle, EndCanon()])
     data = write_xml(program)
     assert read_xml(data) == program
-    assert read_xml(write_xml(read_text(write_text(read_xml(data))))) == program
+    assert read_xml(write_xml(read_text(write_text(read_xml(data), style="paper")))) == program
 
 
 # --- the command line ---------------------------------------------------------------------------
@@ -463,7 +463,7 @@ def test_cli_converts_both_ways(tmp_path: Path, capsys, monkeypatch) -> None:
     monkeypatch.setenv("KITKB_NIST_DIR", str(NIST_DIR))  # the default CRCL.xsd wherever the checkout is
     text, xml = tmp_path / "c1.crcl", tmp_path / "out" / "c1.xml"
     assert main(["crcl", "convert", str(COMMANDS1), "-o", str(text)]) == 0
-    assert capsys.readouterr().err == f"kitkb: wrote {text} (CRCL text, 41 commands)\n"
+    assert capsys.readouterr().err == f"kitkb: wrote {text} (CRCL text, NIST's kittingViewer form, 41 commands)\n"
     assert main(["crcl", "convert", str(text), "-o", str(xml), "--xsd", str(XSD)]) == 0
     assert capsys.readouterr().err == f"kitkb: wrote {xml} (CRCL XML, 41 commands)\n"
     assert read_xml(xml, schema(XSD)) == read_xml(COMMANDS1)
@@ -477,8 +477,9 @@ def test_cli_keeps_unreadable_lines_in_text_and_notes_a_missing_schema(tmp_path:
 
     fig11 = tmp_path / "fig11.crcl"
     fig11.write_text(FIG11)
-    assert main(["crcl", "convert", str(fig11), "-o", str(tmp_path / "copy.crcl")]) == 0
-    assert capsys.readouterr().err == f"kitkb: wrote {tmp_path / 'copy.crcl'} (CRCL text, 24 commands; 1 unreadable line(s) kept)\n"
+    assert main(["crcl", "convert", str(fig11), "-o", str(tmp_path / "copy.crcl"), "--text-style", "paper"]) == 0
+    assert capsys.readouterr().err == (f"kitkb: wrote {tmp_path / 'copy.crcl'} (CRCL text, the paper's Fig. 11 form, "
+                                       "24 commands; 1 unreadable line(s) kept)\n")
     assert (tmp_path / "copy.crcl").read_text() == FIG11_WRITTEN
     monkeypatch.setattr(kb.cli.crcl, "default_xsd", lambda: None)
     good = tmp_path / "good.crcl"

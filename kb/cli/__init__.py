@@ -252,6 +252,10 @@ def _add_crcl(sub: Any) -> None:
                    help="CRCL.xsd to check XML against (default: $KITKB_NIST_DIR/CRCL.xsd, else "
                         "../shared/nist/CRCL.xsd beside the checkout; without one, XML is checked by "
                         "kitkb's own reader only)")
+    g.add_argument("--text-style", choices=["nist", "paper"], metavar="nist|paper",
+                   help="the layout of CRCL text written (.crcl): nist, NIST's kittingViewer form, which its "
+                        "parser reads (MoveThroughTo({ pose,<newline> pose }, n); the default), or paper, the "
+                        "first paper's Fig. 11 form (MoveThroughTo(pose, pose, n)); both are read")
 
 
 def _add_metrics(sub: Any) -> None:

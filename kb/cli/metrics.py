@@ -13,6 +13,7 @@ from kb.metrics import (METRICS, NAMES, UNITS, Robot, Score, StaticMetrics, read
                         static_metrics)
 from kb.metrics.motion import DEFAULT_MAX_ACCELERATION, DEFAULT_MAX_SPEED
 from kb.metrics.score import CONSTRAINT_METRICS, OBJECT_METRICS, OBJECT_NAMES
+from kb.metrics.steps import require_steps
 
 #: Index of TCE in a row's values: a command was executed when TCE grew.
 _TCE = METRICS.index("TCE")
@@ -41,7 +42,7 @@ def metrics(program: str, format: str, per_command: bool, max_speed: float | Non
     weights = read_weights(config) if config else None
     robot = _robot(max_speed, max_acceleration, length_unit)
     with out.progress(f"evaluating {program}"):
-        steps = read_steps(program)
+        steps = require_steps(read_steps(program), program)  # nothing understood is not a program
         result = static_metrics(steps, robot, rows=per_command or init is not None, source=program)
     played = None
     if init is not None:

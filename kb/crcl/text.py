@@ -1,17 +1,38 @@
-"""The text form of CRCL (the first paper's Fig. 11, the third paper's Table 1): one command
-per line, ``Name(arguments)`` in C++ call syntax.
+"""The text form of CRCL: ``Name(arguments)`` in C++ call syntax, one command per statement,
+in either of its two published layouts.
 
-Reading: names are case-sensitive (``initCannon()`` does not parse); spaces may stand
-between a name and its ``(``; numbers are C literals (``5``, ``-0.03``, ``1e-3``); strings
-are in double quotes (``\\"``, ``\\\\``, ``\\n``, ``\\r``, ``\\t`` escaped; typographic
-quotes “…” are read too); a pose is ``{{x, y, z}, {i, j, k}, {i, j, k}}``: point, Z axis,
-X axis. A command may go on over the next lines while its parentheses are open (as
-``MoveThroughTo`` in Fig. 11) until a line that starts another command. Blank lines and
-comment lines (first non-blank characters ``#`` or ``//``) are skipped. What does not parse
-becomes an :class:`~kb.crcl.commands.Unreadable` with its text and first line.
+* **NIST's form** (the kittingViewer's ``commandFiles`` and its parser, ``CommandParser`` in
+  usnistgov/el-robotics-core): a ``MoveThroughTo`` holds its poses in braces, one pose a line,
+  a newline right after each comma between poses, the count after the closing brace::
 
-Writing: one command per line, ``EndCanon`` with its reason, millimeters as ``"mm"``;
-an unreadable command is written back as it was read.
+      MoveThroughTo({ {{1.5,1,1}, {0,0,-1}, {1,0,0}},
+        {{1.5,1,0.0001}, {0,0,-1}, {1,0,0}} }, 2)
+
+  every other command on one line; length units ``"inch"``, ``"millimeter"``, ``"meter"``.
+* **The first paper's form** (Fig. 11): the poses of a ``MoveThroughTo`` are its first
+  arguments, without braces around them (``MoveThroughTo(pose, pose, 2)``), and millimetres
+  may be ``"mm"``.
+
+Reading takes both, and a pose is ``{{x, y, z}, {i, j, k}, {i, j, k}}`` in both (point, Z axis,
+X axis). Names are case-sensitive (``initCannon()`` does not parse); spaces may stand between a
+name and its ``(``; numbers are C literals (``5``, ``-0.03``, ``.5``, ``1e-3``, hexadecimal
+``0x1.8p1``, as ``strtod`` reads them); strings are in double quotes (``\\"``, ``\\\\``,
+``\\n``, ``\\r``, ``\\t`` escaped, any other backslash kept as it stands; typographic quotes “…” are
+read too). A command may go on over the next lines while its brackets are open, until a line
+that starts another command; it keeps the line where it starts. Blank lines and comment lines
+(first non-blank characters ``#`` or ``//``; kitkb's, NIST's parser has none) are skipped.
+What does not parse becomes an :class:`~kb.crcl.commands.Unreadable` with its text and first
+line.
+
+Writing (:func:`write_text`): NIST's form by default (``style="nist"``), which NIST's parser
+reads back as kitkb does, or refuses to write: a command that parser does not know
+(``SetCoordinateFrame``, ``StartObjectScan``, ``StopObjectScan``, ``StopMotion``), a message it
+cannot hold (empty, a double quote, a line break, a NUL, or a backslash kitkb would read as an
+escape: NIST's parser has no escapes), an ``EndCanon`` reason outside a C ``int``, or a line
+longer than its 200-byte line buffer holds (:data:`NIST_LINE_BYTES`; a pose first tries a
+compact spelling of the same numbers) is an :class:`~kb.core.errors.InputError` at the
+command's line. ``style="paper"`` writes the paper's form, one command a line, strings escaped,
+millimetres as ``"mm"``. Either way an unreadable command is written back as it was read.
 """
 
 from __future__ import annotations
@@ -25,14 +46,15 @@ from typing import Any, Iterable, Iterator
 from kb.core import limits
 from kb.core.errors import InputError
 from kb.core.files import utf8_lines
-from kb.crcl.commands import (COMMANDS, Command, EndCanon, MoveThroughTo, Program, SetLengthUnits,
-                              Unreadable)
+from kb.crcl.commands import (COMMANDS, Command, EndCanon, Message, MoveStraightTo, MoveThroughTo, MoveTo, Program,
+                              SetLengthUnits, Unreadable)
 from kb.crcl.pose import Pose
 
 _START = re.compile(r"\s*[A-Za-z_]\w*\s*\(")
 _TOKEN = re.compile(r"""
     \s*(?:
-      (?P<number>[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)
+      (?P<hex>[+-]?0[xX](?:[0-9a-fA-F]+\.?[0-9a-fA-F]*|\.[0-9a-fA-F]+)(?:[pP][+-]?\d+)?)
+    | (?P<number>[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)
     | (?P<name>[A-Za-z_]\w*)
     | "(?P<string>(?:[^"\\\n]|\\.)*)"
     | \u201c(?P<curly>[^\u201d\n]*)\u201d
@@ -191,6 +213,11 @@ def _value(tokens: list[tuple[str, str]], pos: int) -> tuple[Any, int]:
         if is_int and len(text) > 4000:  # int() refuses more than sys.get_int_max_str_digits() (4300)
             raise _Bad(f"a number of {len(text):,} digits")
         return (int(text) if is_int else float(text)), pos + 1
+    if kind == "hex":  # a C99 hexadecimal floating constant, as strtod reads it
+        try:
+            return float.fromhex(text), pos + 1
+        except OverflowError:
+            raise _Bad(f"{text} is too large for a number") from None
     if kind == "string":
         return _Str(_UNESCAPE.sub(lambda m: _ESCAPES.get(m.group(1), m.group(0)), text)), pos + 1
     if (kind, text) == ("punct", "{"):
@@ -211,7 +238,10 @@ def _build(cls: type[Command], args: list[Any], line: int) -> Command:
     if cls is MoveThroughTo:
         if len(args) < 2 or type(args[-1]) is not int:
             raise _Bad("expected poses and their number")
-        poses = tuple(_pose(a) for a in args[:-1])
+        given = args[:-1]
+        if len(given) == 1 and _pose_list(given[0]):  # NIST's form: the poses in braces
+            given = given[0]
+        poses = tuple(_pose(a) for a in given)
         if args[-1] != len(poses):
             raise _Bad(f"{args[-1]} poses announced, {len(poses)} given")
         return MoveThroughTo(poses, line=line)
@@ -240,6 +270,12 @@ def _convert(kind: Any, arg: Any, name: str) -> Any:
     return arg
 
 
+def _pose_list(arg: Any) -> bool:
+    """Whether ``arg`` is a braced list of poses (NIST's ``{ pose, pose }``), not one pose."""
+    return bool(isinstance(arg, list) and arg and isinstance(arg[0], list) and arg[0]
+                and isinstance(arg[0][0], list))
+
+
 def _pose(arg: Any) -> Pose:
     if (not isinstance(arg, list) or len(arg) != 3
             or not all(isinstance(v, list) and len(v) == 3 for v in arg)
@@ -251,9 +287,140 @@ def _pose(arg: Any) -> Pose:
 
 # --- writing ----------------------------------------------------------------------------------
 
-def write_text(program: Program) -> str:
-    """The text form of ``program``: one line per command, ending with a newline."""
-    return "".join(f"{_line(c)}\n" for c in program)
+#: The layouts :func:`write_text` writes: NIST's kittingViewer form (the default), the paper's Fig. 11.
+TEXT_STYLES = ("nist", "paper")
+#: The longest line NIST's parser reads whole, in bytes without its newline: it reads a line with
+#: ``fgets`` into ``char lineIn[TEXTSIZE]``, TEXTSIZE 200, which keeps 199 bytes and the end
+#: NUL; the newline is one of the 199, and ``MoveThroughTo`` needs it after each comma.
+NIST_LINE_BYTES = 198
+#: The commands NIST's parser reads (``CommandParser::readCommandFile``).
+NIST_COMMANDS = frozenset({
+    "InitCanon", "EndCanon", "Message", "Dwell", "MoveTo", "MoveStraightTo", "MoveThroughTo", "OpenGripper",
+    "CloseGripper", "OpenToolChanger", "CloseToolChanger", "SetLengthUnits", "SetAngleUnits", "SetAbsoluteSpeed",
+    "SetRelativeSpeed", "SetAbsoluteAcceleration", "SetRelativeAcceleration", "SetEndAngleTolerance",
+    "SetEndPointTolerance", "SetIntermediatePointTolerance"})
+#: A C ``int`` (``sscanf("%d")``), the type of EndCanon's reason in NIST's parser.
+_C_INT = (-2 ** 31, 2 ** 31 - 1)
+#: A backslash kitkb's reader takes as an escape (NIST's parser reads every backslash as it stands).
+_ESCAPE_READ = re.compile(r'\\(?:[nrt"\\]|$)')
+#: Between two poses of a MoveThroughTo: NIST's parser needs the newline right after the comma.
+_POSE_BREAK = ",\n  "
+_MESSAGE_PROBLEMS = (('"', "a double quote"), ("\n", "a line break"), ("\r", "a carriage return"),
+                     ("\0", "a NUL character"))
+
+
+def write_text(program: Program, style: str = "nist") -> str:
+    """The text form of ``program``, each statement ending with a newline: NIST's form
+    (``style="nist"``, the default) or the first paper's (``"paper"``), as the module says.
+
+    In NIST's form a command that NIST's parser would not read back as kitkb reads it is an
+    :class:`~kb.core.errors.InputError` naming the program's source and the command's line
+    (:func:`nist_unwritable` says why)."""
+    if style == "paper":
+        return "".join(f"{_line(c)}\n" for c in program)
+    if style != "nist":
+        raise ValueError(f"unknown CRCL text style {style!r}: {' or '.join(TEXT_STYLES)}")
+    return "".join(f"{_nist_statement(c, program.source)}\n" for c in program)
+
+
+def statement(command: Command, style: str = "nist") -> str:
+    """The text of one command in ``style`` (NIST's form: its lines joined by ``\\n``; an
+    InputError where NIST's form cannot hold it)."""
+    return write_text(Program([command]), style).removesuffix("\n")
+
+
+def nist_unwritable(command: Command) -> str | None:
+    """Why ``command`` cannot be written in NIST's text form so that NIST's parser reads what
+    kitkb reads (None when it can); an :class:`~kb.crcl.commands.Unreadable` is written back
+    as it stands, so it can."""
+    if isinstance(command, Unreadable):
+        return None
+    problem = _nist_problem(command)
+    if problem is not None:
+        return problem
+    longest = _longest_line(_nist_text(command, compact=True))
+    if longest > NIST_LINE_BYTES:
+        return (f"{type(command).__name__} needs a line of {longest} bytes, more than the {NIST_LINE_BYTES} "
+                "NIST's parser reads on a line (its 200-byte line buffer)")
+    return None
+
+
+def _nist_statement(command: Command, source: str | None) -> str:
+    if isinstance(command, Unreadable):
+        return command.text
+    problem = _nist_problem(command)
+    if problem is None:
+        text = _nist_text(command, compact=False)
+        if len(text) <= NIST_LINE_BYTES // 4 or _longest_line(text) <= NIST_LINE_BYTES:
+            return text
+        text = _nist_text(command, compact=True)  # the same numbers, spelt shorter
+        if _longest_line(text) <= NIST_LINE_BYTES:
+            return text
+        problem = nist_unwritable(command)
+    raise InputError(f"{problem}; NIST's CRCL text form cannot hold it (the paper's form can: "
+                     "--text-style paper)", source, command.line)
+
+
+def _nist_problem(command: Command) -> str | None:
+    """What NIST's parser cannot read of ``command``, but for its lines' length."""
+    name = type(command).__name__
+    if name not in NIST_COMMANDS:
+        return f"{name} is not a command of NIST's CRCL text form (the kittingViewer's parser)"
+    if isinstance(command, Message):
+        text = command.message
+        if not text:
+            return "an empty Message (NIST's parser reads one character or more between the quotes)"
+        for char, what in _MESSAGE_PROBLEMS:
+            if char in text:
+                return f"a Message holding {what}"
+        if _ESCAPE_READ.search(text):
+            return ("a Message holding a backslash that kitkb reads as an escape (\\\\, \\\", \\n, \\r, \\t, "
+                    "or one at its end); NIST's parser has no escapes")
+    if isinstance(command, EndCanon) and not _C_INT[0] <= command.reason <= _C_INT[1]:
+        return f"EndCanon({command.reason}): NIST's parser reads the reason as a C int"
+    return None
+
+
+def _longest_line(text: str) -> int:
+    """The UTF-8 bytes of the longest line of ``text``."""
+    return max(len(line.encode()) if not line.isascii() else len(line) for line in text.split("\n"))
+
+
+def _nist_text(command: Command, compact: bool) -> str:
+    """``command`` as NIST's files write it (``compact``: poses without spaces, numbers without
+    a leading zero or exponent padding: the same values in fewer bytes)."""
+    name = type(command).__name__
+    if isinstance(command, MoveThroughTo):
+        poses = [_nist_pose(p, compact) for p in command.waypoints]
+        return f"{name}({{ {_POSE_BREAK.join(poses)} }}, {len(poses)})"
+    if isinstance(command, (MoveTo, MoveStraightTo)):
+        return f"{name}({_nist_pose(command.end_position, compact)})"
+    if isinstance(command, Message):
+        return f'{name}("{command.message}")'
+    args = []
+    for f in fields(command):
+        if f.name == "line":
+            continue
+        value = getattr(command, f.name)
+        args.append(f'"{value}"' if isinstance(value, str) else str(value) if isinstance(value, int)
+                    else _short(value) if compact else _number(value))
+    return f"{name}({', '.join(args)})"
+
+
+def _nist_pose(pose: Pose, compact: bool) -> str:
+    """``{{x,y,z}, {i,j,k}, {i,j,k}}`` as the kittingViewer's files have it (compact: no spaces)."""
+    number = _short if compact else _number
+    triples = ("{" + ",".join(number(v) for v in vec) + "}" for vec in (pose.point, pose.z_axis, pose.x_axis))
+    return "{" + ("," if compact else ", ").join(triples) + "}"
+
+
+def _short(x: float) -> str:
+    """:func:`_number` in fewer characters that ``strtod`` reads as the same value: ``.5`` for
+    ``0.5``, ``1e-5`` for ``1e-05``."""
+    mantissa, e, exponent = _number(x).partition("e")
+    if mantissa.startswith(("0.", "-0.")):
+        mantissa = mantissa.replace("0.", ".", 1)
+    return f"{mantissa}e{int(exponent)}" if e else mantissa
 
 
 def _line(command: Command) -> str:

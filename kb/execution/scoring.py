@@ -21,8 +21,9 @@ SHOWN_CLASSES = ("Kit", "KitTray", "Part", "PartsTray", "EndEffector", "EndEffec
 
 
 def crcl_lines(commands: Iterable[Command]) -> list[str]:
-    """A program's statements in kitkb's CRCL text form, one per command."""
-    return write_text(Program(list(commands))).splitlines()
+    """A program's statements in the first paper's CRCL text form, one line per command (NIST's
+    form puts a MoveThroughTo on several lines and refuses what its parser cannot read)."""
+    return write_text(Program(list(commands)), style="paper").splitlines()
 
 
 def kit_goals(belief: Belief, spec: ProblemSpec, by_name: dict[str, str]) -> list[KitGoal]:

@@ -19,7 +19,7 @@ from __future__ import annotations
 import math
 import re
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Iterable, Iterator
+from typing import TYPE_CHECKING, Any, Iterable, Iterator, Literal
 
 from kb.core import limits
 from kb.core.errors import InputError
@@ -121,6 +121,18 @@ def read_steps(path: str | Path) -> list[Step]:
         raise InputError(f"cannot read: {exc.strerror or exc}", path) from None
 
 
+def require_steps(steps: list[Step], source: str | Path | None = None) -> list[Step]:
+    """``steps``, if one of them is a command understood; else an
+    :class:`~kb.core.errors.InputError` at the first unreadable line saying what was looked for
+    (a file of which nothing is read is not a program: its metrics would be a success of nothing)."""
+    if any(step[0] != "Unreadable" for step in steps):
+        return steps
+    from kb.crcl.files import nothing_understood
+    first = steps[0] if steps else None
+    form = "xml" if source is not None and Path(source).suffix.lower() == ".xml" else "text"
+    raise nothing_understood(source, len(steps), first[1] if first else None, first[2][1] if first else "", form)
+
+
 def _text_lines(f: Any) -> Iterator[str]:
     """The lines of a text file with their ``\\n`` (:func:`text_steps` takes them off where it
     needs to), the first without a byte order mark."""
@@ -150,9 +162,29 @@ def text_steps(lines: Iterable[str], name: str | None = None) -> Iterator[Step]:
 def _text_steps(lines: Iterable[str], name: str | None) -> Iterator[Step]:
     slow: list[str] = []
     first = 0
+    through: _Through | None = None
     for number, line in enumerate(lines, 1):
+        if through is not None:
+            done = through.add(line)
+            if done is None:  # a pose of the middle
+                continue
+            if done is not False:
+                through = None
+                yield done
+                continue
+            # not NIST's layout after all: its lines go the slow way, and this line after them
+            first, slow, through = through.first, through.text(), None
         step = _fast(line, number)
         if step is None:
+            start = _THROUGH_FIRST.fullmatch(line)
+            if start is not None:
+                values = tuple(map(float, start.groups()))
+                if math.isfinite(sum(values)):
+                    if slow:  # the MoveThroughTo starts a statement in kb.crcl too
+                        yield from _slow(slow, first, name)
+                        slow = []
+                    through = _Through(number, line, values)
+                    continue
             if not slow and _skipped(line):
                 continue
             if not slow:
@@ -163,6 +195,8 @@ def _text_steps(lines: Iterable[str], name: str | None) -> Iterator[Step]:
             yield from _slow(slow, first, name)
             slow = []
         yield step
+    if through is not None:  # the file ends inside it
+        first, slow = through.first, through.text()
     if slow:
         yield from _slow(slow, first, name)
 
@@ -198,6 +232,47 @@ _ONE_POSE = re.compile(_POSE)
 _MOVE = re.compile(rf"\s*(MoveTo|MoveStraightTo)\s*\(\s*{_POSE}\s*\)\s*")
 _POSES = re.compile(rf"((?:{_POSE_ANY}\s*,\s*)+)({_INT.pattern})")
 _VALUES = re.compile(_NUM)
+
+
+#: NIST's MoveThroughTo over several lines (``MoveThroughTo({ pose,`` / ``pose,`` / ``pose }, n)``).
+_THROUGH_FIRST = re.compile(rf"\s*MoveThroughTo\s*\(\s*\{{\s*{_POSE}\s*,\s*")
+_THROUGH_NEXT = re.compile(rf"\s*{_POSE}\s*,\s*")
+_THROUGH_LAST = re.compile(rf"\s*{_POSE}\s*\}}\s*,\s*({_INT.pattern})\s*\)\s*")
+#: One line of NIST's MoveThroughTo: the poses in braces, then their number.
+_BRACED_POSES = re.compile(rf"\{{\s*((?:{_POSE_ANY}\s*,\s*)*{_POSE_ANY})\s*\}}\s*,\s*({_INT.pattern})")
+
+
+class _Through:
+    """A MoveThroughTo in NIST's layout read fast, a pose a line. :meth:`add` takes the next
+    line: None, a pose of the middle (go on); the step, at the last pose and the count; False,
+    anything else (the line is not taken: :meth:`text` gives the lines taken back, for kb.crcl
+    to read with the lines after them)."""
+
+    __slots__ = ("first", "lines", "poses", "size", "longest")
+
+    def __init__(self, first: int, line: str, values: tuple[float, ...]) -> None:
+        self.first, self.lines, self.poses = first, [line], [values]
+        self.size, self.longest = len(line), limits.LITERAL.value()
+
+    def add(self, line: str) -> Step | None | Literal[False]:
+        """Take ``line`` if it goes on NIST's layout; see the class."""
+        if self.longest is not None and self.size + len(line) > self.longest:
+            return False  # kb.crcl says how long the statement is
+        m = _THROUGH_NEXT.fullmatch(line)
+        last = None if m is not None else _THROUGH_LAST.fullmatch(line)
+        if m is None and last is None:
+            return False
+        values = tuple(map(float, (m or last).groups()[:9]))  # type: ignore[union-attr]
+        if not math.isfinite(sum(values)) or (last is not None and int(last.group(10)) != len(self.poses) + 1):
+            return False  # kb.crcl says what is wrong
+        self.lines.append(line)
+        self.size += len(line)
+        self.poses.append(values)
+        return None if last is None else ("MoveThroughTo", self.first, tuple(self.poses))
+
+    def text(self) -> list[str]:
+        """The lines taken, without their newlines."""
+        return [line.removesuffix("\n") for line in self.lines]
 
 
 def _fast(line: str, number: int) -> Step | None:
@@ -242,13 +317,14 @@ def _simple(kind: str, number_text: str | None, text: str | None, number: int) -
 
 
 def _fast_move(kind: str, args: str, number: int) -> Step | None:
-    if kind == "MoveThroughTo":
-        m = _POSES.fullmatch(args)
+    if kind == "MoveThroughTo":  # the paper's poses, or NIST's in braces
+        m = _POSES.fullmatch(args) or _BRACED_POSES.fullmatch(args)
         if m is None:
             return None
         values = tuple(map(float, _VALUES.findall(m.group(1))))
         count = len(values) // 9
-        if int(m.group(2)) != count or not math.isfinite(math.fsum(values)):
+        # a sum of finite numbers can overflow (math.fsum would raise): such a line takes the slow path
+        if int(m.group(2)) != count or not math.isfinite(sum(values)):
             return None
         return kind, number, tuple(values[i:i + 9] for i in range(0, len(values), 9))
     m = _ONE_POSE.fullmatch(args)
