@@ -93,7 +93,7 @@ def talk(port: int, data: bytes, answers: int = 1) -> list[str]:
         while answers:
             raw = reader.readline()
             assert raw.endswith(b"\n"), f"connection closed early, after {lines}"
-            line = raw.decode().rstrip("\n")
+            line = raw.decode().rstrip("\r\n")  # the sensor port ends lines in CR LF, as USARSim
             lines.append(line)
             answers -= line == END
         return lines
@@ -169,8 +169,9 @@ def test_inspect_over_the_wire() -> None:
 
 def test_a_malformed_sensor_line_gets_an_error_and_the_server_keeps_serving() -> None:
     with served(SimulatedCell(INIT)) as (server, remote):
-        lines = talk(server.sensor_port, b"garbage\n{Name}\n{Class Part} {Name x}\n\n{Colour red}\n"
-                                         b"{Name part_a_1}\n", answers=6)
+        # (an empty line, {Name} and {Class Part} {Name x} are USARTruth queries: tests/test_usartruth_clients.py)
+        lines = talk(server.sensor_port, b"garbage\n{Name a} {name b}\n{Inspect part_a_1} {Name x}\n{Class Part} text\n"
+                                         b"{Colour red}\n{Name part_a_1}\n", answers=6)
         errors = [line for line in lines if line.startswith("{Error ")]
         assert len(errors) == 5 and lines.count(END) == 6
         assert "not a line of key-value fields: 'garbage'" in errors[0]

@@ -188,6 +188,30 @@ PARTS = Limit(
 #: Every limit, in the order docs/limits.md lists them.
 ALL = (FILE_BYTES, STATEMENTS, LITERAL, NESTING, CRCL_COMMANDS, PARTS)
 
+# --- bounds on what a peer sends (docs/limits.md, "Bounds on a cell's answers") ----------------
+#: Peak memory per byte of a cell's answer while kitkb reads it: the bytes, the decoded lines,
+#: the observations parsed from them (a 100,000-object sensor answer, 21 MB: 112 MB peak, 5.3
+#: bytes a byte, 1,120 a line; docs/limits.md).
+BYTES_PER_ANSWER_BYTE = 6
+#: Peak memory per line of a cell's answer (its text and the observation parsed from it).
+BYTES_PER_ANSWER_LINE = 1200
+
+CELL_SECONDS = Limit(
+    "the time a cell's answer takes", "KITKB_MAX_CELL_SECONDS", "seconds",
+    "one answer of a cell (kb.crcl.RemoteCell, kitkb run --cell): from sending the request to "
+    "its {End} line; also the time to connect",
+    lambda: 30)
+CELL_LINES = Limit(
+    "lines in a cell's answer", "KITKB_MAX_CELL_LINES", "lines",
+    "the lines of one answer of a cell before its {End}",
+    lambda: _round(memory_budget() / BYTES_PER_ANSWER_LINE))
+CELL_BYTES = Limit(
+    "a cell's answer's size", "KITKB_MAX_CELL_BYTES", "bytes",
+    "the bytes of one answer of a cell, its {End} line included",
+    lambda: _round(memory_budget() / BYTES_PER_ANSWER_BYTE))
+#: The bounds on a peer's answer, in the order docs/limits.md lists them.
+CELL_BOUNDS = (CELL_SECONDS, CELL_LINES, CELL_BYTES)
+
 
 def check_file_size(path: object, size: int | None = None) -> None:
     """Refuse a file larger than :data:`FILE_BYTES` before it is read (``size``: its size, if

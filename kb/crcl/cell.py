@@ -137,19 +137,22 @@ def execute_program(cell: CellInterface, commands: Sequence[Command]) -> list[St
 
 # --- USARTruth's text form --------------------------------------------------------------------
 
-def truth_line(obs: Observation) -> str:
-    """The USARTruth line of an observation (numbers with ``repr``: they read back the same);
-    ``{Sku ...}`` follows when the observation has one."""
+def truth_line(obs: Observation, sku: bool = True) -> str:
+    """The USARTruth line of an observation (numbers with ``repr``: they read back the same):
+    USARTruth's five fields, then ``{Sku ...}`` when ``sku`` and the observation has one."""
     def vec(v: tuple[float, ...]) -> str:
         return ",".join(repr(float(x)) for x in v)
     line = (f"{{Name {obs.name}}} {{Class {obs.cls}}} {{Time {float(obs.time)!r}}} "
             f"{{Location {vec(obs.location)}}} {{Rotation {vec(obs.orientation)}}}")
-    return line + (f" {{Sku {obs.sku}}}" if obs.sku is not None else "")
+    return line + (f" {{Sku {obs.sku}}}" if sku and obs.sku is not None else "")
 
 
 def parse_truth_line(line: str) -> Observation:
-    """The observation of a USARTruth line; ValueError naming what is missing or malformed."""
+    """The observation of a USARTruth line (keys in any case, other fields ignored); ValueError
+    naming what is missing or malformed."""
     fields = dict(FIELD.findall(line))
+    if not all(k in fields for k in _KEYS):  # keys in another case
+        fields = {k.capitalize(): v for k, v in FIELD.findall(line)}
     missing = [k for k in _KEYS if k not in fields]
     if missing:
         raise ValueError(f"USARTruth line without {', '.join(missing)}: {line!r}")

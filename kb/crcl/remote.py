@@ -5,61 +5,98 @@ for an in-process cell.
 
 One persistent connection per port, made on first use. Before each request a connection the
 cell has closed (or that holds unread bytes) is replaced by a new one; a sensor query that
-fails on a reused connection is sent once more on a new one. A program is never sent twice: a
-connection lost after sending it is a :class:`~kb.core.errors.CellError` (what the cell did is
-then unknown). Every failure to reach the cell, a timeout or an answer outside the protocol is
-a :class:`~kb.core.errors.CellError` naming ``host:port``.
+fails on a reused connection because the cell closed it is sent once more on a new one. A
+program is never sent twice: a connection lost after sending it is a
+:class:`~kb.core.errors.CellError` (what the cell did is then unknown). Every failure to reach
+the cell, an answer outside the protocol or past its bounds is a
+:class:`~kb.core.errors.CellError` naming ``host:port`` (exit code 2).
+
+Every answer is bounded (:class:`Bounds`): in total time from the request to its ``{End}``
+(not per ``recv``: a peer that keeps sending lines without ``{End}`` is stopped at the bound
+too), in lines, in bytes, and each line at :data:`~kb.crcl.wire.MAX_LINE` bytes. The defaults
+are the named limits ``KITKB_MAX_CELL_SECONDS``, ``KITKB_MAX_CELL_LINES`` and
+``KITKB_MAX_CELL_BYTES`` (:mod:`kb.core.limits`, docs/limits.md); a peer past one is given up
+as soon as it is, the error naming the bound and the variable that raises it.
 """
 
 from __future__ import annotations
 
-import io
 import select
 import socket
+import time
+from dataclasses import dataclass, replace
 from typing import Literal, Sequence
 
+from kb.core import limits
 from kb.core.errors import CellError
 from kb.crcl.cell import NOT_EXECUTED, Observation, Status, parse_truth_line
 from kb.crcl.commands import Command, EndCanon, InitCanon, Program
-from kb.crcl.wire import (COMMAND_PORT, END, MAX_LINE, SENSOR_PORT, action_message, fields, frame_message,
-                          length_line, parse_address, parse_status_line, query_line)
+from kb.crcl.wire import (COMMAND_PORT, END, EXTRA_FIELDS, MAX_LINE, SENSOR_PORT, action_message, fields,
+                          frame_message, length_line, parse_address, parse_status_line, query_line)
 from kb.crcl.xml import unwritable, write_xml
+
+#: bytes asked of the socket at a time
+_CHUNK = 1 << 16
+
+
+@dataclass(frozen=True)
+class Bounds:
+    """How much of one answer a client waits for (None: no bound): ``seconds`` from the
+    request to its ``{End}`` (and to connect), ``lines`` before ``{End}``, ``bytes`` in all."""
+
+    seconds: float | None
+    lines: int | None
+    bytes: int | None
+
+    @classmethod
+    def from_env(cls) -> "Bounds":
+        """The named limits in force (:data:`kb.core.limits.CELL_BOUNDS`); an
+        :class:`~kb.core.errors.InputError` for a malformed variable."""
+        return cls(limits.CELL_SECONDS.value(), limits.CELL_LINES.value(), limits.CELL_BYTES.value())
+
+
+class _Past(Exception):
+    """An answer past one of its bounds (the message says which): never retried."""
 
 
 class Connection:
-    """One persistent connection to ``host:port``: a request is bytes out, lines in up to ``{End}``."""
+    """One persistent connection to ``host:port``: a request is bytes out, lines in up to
+    ``{End}``, within ``bounds``."""
 
-    def __init__(self, host: str, port: int, timeout: float, role: str) -> None:
-        self.host, self.port, self.timeout, self.role = host, port, timeout, role
+    def __init__(self, host: str, port: int, bounds: Bounds, role: str) -> None:
+        self.host, self.port, self.bounds, self.role = host, port, bounds, role
         self.sock: socket.socket | None = None
-        self.reader: io.BufferedReader | None = None
 
     @property
     def address(self) -> str:
         """``host:port``."""
         return f"{self.host}:{self.port}"
 
+    @property
+    def timeout(self) -> float | None:
+        """The bound on an answer's time (and on connecting), in seconds."""
+        return self.bounds.seconds
+
     def request(self, data: bytes, *, retry: bool) -> list[str]:
-        """Send ``data`` and return the answer's lines before ``{End}``; with ``retry`` a failure
-        on a reused connection is tried once more on a new one."""
+        """Send ``data`` and return the answer's lines before ``{End}``; with ``retry`` a
+        connection the cell closed under a reused connection is tried once more on a new one."""
         for attempt in (0, 1):
             reused = self._usable()
             if not reused:
                 self._connect()
             try:
-                assert self.sock is not None
-                self.sock.sendall(data)
-                return self._answer()
+                return self._exchange(data)
+            except _Past as exc:
+                self.close()
+                raise CellError(str(exc), self.address) from None
             except (OSError, EOFError, ValueError) as exc:
                 self.close()
-                if retry and reused and attempt == 0:
+                if retry and reused and attempt == 0 and not isinstance(exc, (TimeoutError, ValueError)):
                     continue
                 raise CellError(self._why(exc), self.address) from None
         raise AssertionError("unreachable")  # pragma: no cover
 
     def _why(self, exc: BaseException) -> str:
-        if isinstance(exc, TimeoutError):
-            return f"no answer from the {self.role} port within {self.timeout:g} s"
         if isinstance(exc, EOFError):
             return f"the {self.role} port closed the connection before {END}"
         if isinstance(exc, ValueError):
@@ -85,49 +122,114 @@ class Connection:
             why = "timed out" if isinstance(exc, TimeoutError) else (exc.strerror or str(exc))
             raise CellError(f"cannot reach the cell's {self.role} port: {why}", self.address) from None
         self.sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-        self.reader = self.sock.makefile("rb")
 
-    def _answer(self) -> list[str]:
-        lines = []
-        assert self.reader is not None
+    def _exchange(self, data: bytes) -> list[str]:
+        """Send ``data``, read the answer up to ``{End}`` within the bounds."""
+        sock = self.sock
+        assert sock is not None
+        seconds = self.bounds.seconds
+        deadline = None if seconds is None else time.monotonic() + seconds
+        self._wait(sock, deadline)
+        try:
+            sock.sendall(data)
+        except TimeoutError:
+            raise _Past(f"the {self.role} port did not take the request within {self._bound(limits.CELL_SECONDS)}") \
+                from None
+        lines: list[str] = []
+        pending = b""  # the line begun, not ended yet
+        received = 0
+        bounds, most = self.bounds, self.bounds.lines
+        end = END.encode()
         while True:
-            raw = self.reader.readline(MAX_LINE + 1)
-            if not raw.endswith(b"\n"):
-                if len(raw) > MAX_LINE:
-                    raise ValueError(f"a line longer than {MAX_LINE} bytes")
+            self._wait(sock, deadline, lines, received)
+            try:
+                chunk = sock.recv(_CHUNK)
+            except TimeoutError:
+                self._wait(sock, deadline, lines, received, expired=True)
+                raise
+            if not chunk:
                 raise EOFError
-            line = raw.decode("utf-8", "replace").rstrip("\r\n")
-            if line.strip() == END:
-                return lines
-            lines.append(line)
+            received += len(chunk)
+            if bounds.bytes is not None and received > bounds.bytes:
+                raise _Past(self._past(limits.CELL_BYTES, lines, received))
+            head, newline, pending = (pending + chunk).rpartition(b"\n")
+            if len(pending) >= MAX_LINE:
+                raise ValueError(f"a line longer than {MAX_LINE} bytes")
+            if not newline:
+                continue
+            raws = head.split(b"\n")
+            for k, raw in enumerate(raws):
+                if len(raw) >= MAX_LINE:
+                    raise ValueError(f"a line longer than {MAX_LINE} bytes")
+                if raw.strip() == end:
+                    if k + 1 < len(raws) or pending:  # bytes after the answer: the next request starts anew
+                        self.close()
+                    return lines
+                lines.append(raw.decode("utf-8", "replace").rstrip("\r"))
+                if most is not None and len(lines) > most:
+                    raise _Past(self._past(limits.CELL_LINES, lines, received))
+
+    def _wait(self, sock: socket.socket, deadline: float | None, lines: list[str] | None = None,
+              received: int = 0, expired: bool = False) -> None:
+        """Let the socket wait until ``deadline`` at most; :class:`_Past` when it has come."""
+        if deadline is None:
+            sock.settimeout(None)
+            return
+        left = deadline - time.monotonic()
+        if expired or left <= 0:
+            raise _Past(self._past(limits.CELL_SECONDS, lines or [], received))
+        sock.settimeout(left)
+
+    def _bound(self, limit: limits.Limit) -> str:
+        """The bound of ``limit`` in force on this connection, and the variable that raises it."""
+        if limit is limits.CELL_SECONDS:
+            shown = f"{self.bounds.seconds:g} s"
+        else:
+            shown = limit.show(int((self.bounds.lines if limit is limits.CELL_LINES else self.bounds.bytes) or 0))
+        return f"{shown} (the bound on {limit.name}; set {limit.env} to raise it)"
+
+    def _past(self, limit: limits.Limit, lines: list[str], received: int) -> str:
+        """Why an answer is given up: the bound it passed, and what had come of it."""
+        if limit is limits.CELL_SECONDS and not received:
+            return f"no answer from the {self.role} port within {self._bound(limit)}"
+        what = {limits.CELL_SECONDS: "took longer than", limits.CELL_LINES: "had more lines than",
+                limits.CELL_BYTES: "was longer than"}[limit]
+        return (f"the {self.role} port's answer {what} {self._bound(limit)} without {END} "
+                f"({len(lines):,} lines, {limits.CELL_BYTES.show(received)} so far)")
 
     def close(self) -> None:
         """Close the connection (the next request opens a new one)."""
-        for thing in (self.reader, self.sock):
-            if thing is not None:
-                try:
-                    thing.close()
-                except OSError:
-                    pass
-        self.sock = self.reader = None
+        if self.sock is not None:
+            try:
+                self.sock.close()
+            except OSError:
+                pass
+        self.sock = None
 
 
 class RemoteCell:
     """A :class:`~kb.crcl.cell.CellInterface` over kitkb's cell protocol (:mod:`kb.crcl.wire`):
-    sensor queries on ``sensor_port``, CRCL XML programs on ``command_port`` of ``host``;
-    ``timeout``: seconds to connect and to wait for each answer. For one thread at a time."""
+    sensor queries on ``sensor_port``, CRCL XML programs on ``command_port`` of ``host``.
+    ``bounds``: how much of each answer to wait for (default: :meth:`Bounds.from_env`, the
+    named limits); ``timeout``: its ``seconds`` instead (to connect, and for each answer in
+    all). Sensor queries ask for kitkb's extra fields (``{Fields Sku}``). For one thread at a
+    time."""
 
     def __init__(self, host: str = "127.0.0.1", sensor_port: int = SENSOR_PORT,
-                 command_port: int = COMMAND_PORT, timeout: float = 10.0) -> None:
-        self.sensor = Connection(host, sensor_port, timeout, "sensor")
-        self.command = Connection(host, command_port, timeout, "command")
+                 command_port: int = COMMAND_PORT, timeout: float | None = None,
+                 bounds: Bounds | None = None) -> None:
+        self.bounds = bounds if bounds is not None else Bounds.from_env()
+        if timeout is not None:
+            self.bounds = replace(self.bounds, seconds=timeout)
+        self.sensor = Connection(host, sensor_port, self.bounds, "sensor")
+        self.command = Connection(host, command_port, self.bounds, "command")
 
     @classmethod
-    def from_address(cls, address: str, timeout: float = 10.0) -> "RemoteCell":
+    def from_address(cls, address: str, timeout: float | None = None, bounds: Bounds | None = None) -> "RemoteCell":
         """The cell at ``HOST:PORT`` (command port PORT + 1) or ``HOST:SENSOR_PORT,COMMAND_PORT``
         (:func:`kb.crcl.wire.parse_address`)."""
         host, sensor, command = parse_address(address)
-        return cls(host, sensor, command, timeout)
+        return cls(host, sensor, command, timeout, bounds)
 
     def __repr__(self) -> str:
         return f"RemoteCell(sensor {self.sensor.address}, command {self.command.address})"
@@ -137,7 +239,7 @@ class RemoteCell:
         """Objects of a class (local name or IRI) or of a name, as the cell's sensor reports them."""
         if by not in ("class", "name"):
             raise ValueError(f"by must be 'class' or 'name', not {by!r}")
-        lines = self._query(query_line(by, query))
+        lines = self._query(query_line(by, query, EXTRA_FIELDS))
         try:
             return [parse_truth_line(line) for line in lines]
         except ValueError as exc:
@@ -152,7 +254,7 @@ class RemoteCell:
         return quality == ["ok"]
 
     def _query(self, line: str) -> list[str]:
-        lines = self.sensor.request((line + "\n").encode(), retry=True)
+        lines = self.sensor.request((line + "\r\n").encode(), retry=True)
         for line in lines:
             for key, value in _fields(line, self.sensor):
                 if key.lower() == "error":

@@ -1,23 +1,42 @@
 """kitkb's cell protocol on the wire: two TCP ports, UTF-8 lines of ``{Key value}`` fields
-(USARTruth's key-value style, seed 004 §3.2), each line ending in ``\\n``.
+(USARTruth's key-value style, seed 004 §3.2).
 
-Sensor port (default :data:`SENSOR_PORT` 3989, USARTruth's). The client sends one query a
-line and gets the answer lines, then ``{End}``; connections stay open for more queries::
+Sensor port (default :data:`SENSOR_PORT` 3989, USARTruth's): USARSim's USARTruth protocol, so
+the USARTruth clients of NIST and GTRI (el-robotics-core) read it. The client sends one query a
+line (``\n`` or ``\r\n``) and gets the answer lines, each ending in ``\r\n`` as USARSim's,
+then ``{End}``; connections stay open for more queries. A query is any of these fields, on one
+line, in any order, keys in any case, with or without spaces between them::
 
-    {Class Part}         -> one truth_line per placed object of the class (local name or IRI,
-                            subclasses included), in name order, then {End}
-    {Name part_a_1}      -> the truth_line of that object (local name or IRI), then {End}
-    {Inspect part_a_1}   -> {Name part_a_1} {Quality ok|defective}, then {End}
-    anything else        -> {Error <message>}, then {End}
+    {class C}            objects of class C: a kitting class (local name in any case, or IRI;
+                         subclasses included), or Unreal's names for them: a package prefix is
+                         dropped (USARPhysObj.Part is Part), Actor is every object, WCObject
+                         every SolidObject, Pawn every Robot (:func:`kb.sim.sensor.truth_class`)
+    {name N}             the object named N (its local name or IRI)
+    {class C} {name N}   the object named N if it is of class C
+    (an empty line, or empty values)   every placed object
+    {Fields Sku}         kitkb's fields beyond USARTruth's, in this query's answer (below)
+    {Inspect part_a_1}   kitkb's quality inspection (alone on its line):
+                         {Name part_a_1} {Quality ok|defective}, then {End}
 
-A truth line is ``{Name IRI} {Class C} {Time t} {Location x,y,z} {Rotation r,p,y} [{Sku S}]``
-(:func:`kb.crcl.cell.truth_line`). Keys are read case-insensitively.
+The answer is one truth line per placed object asked for, in name order, then ``{End}``; a
+query that matches nothing (an unknown class or name) is ``{End}`` alone, as USARSim answered.
+A truth line has USARTruth's five fields and no other (GTRI's client refuses a line with any
+other field)::
+
+    {Name IRI} {Class C} {Time t} {Location x,y,z} {Rotation r,p,y}
+
+and, when the query asks for it with ``{Fields Sku}``, ``{Sku S}`` after them (the SKU the
+sensor recognises; :func:`kb.crcl.cell.truth_line`). kitkb's :class:`~kb.crcl.remote.RemoteCell`
+asks for it in every query. A line that is not a query (text outside fields, an unknown key, a
+key given twice, Inspect beside another key) is answered ``{Error <message>}``, then
+``{End}``; no USARTruth client sends one. docs/execution.md says what still differs from
+USARSim (IRIs for Unreal names, kitkb's frame and units).
 
 Command port (default :data:`COMMAND_PORT` 3990). The client sends a header line
 ``{Length N}`` and then exactly N bytes: one CRCL.xsd instance (a ``CRCLProgram`` document,
 :func:`kb.crcl.xml.write_xml`; at most :data:`MAX_PROGRAM` bytes). The cell executes every
 command of the program in order (InitCanon and EndCanon included), stops at the first that
-fails, and answers one line per command, then ``{End}``::
+fails, and answers one line per command (ending in ``\n``), then ``{End}``::
 
     {Line n} {Status done|error} {Message text}
 
@@ -40,12 +59,15 @@ kitkb's two conventions, CRCL ``Message`` commands a cell of this protocol does 
   executes those and nothing else. Elsewhere ``kitkb-frame`` is an ordinary message.
 
 Text put into a field has ``{`` and ``}`` replaced by ``(`` and ``)`` and line breaks and tabs
-by spaces (:func:`clean`): a value never holds a brace.
+by spaces (:func:`clean`): a value never holds a brace. Either side reads lines of at most
+:data:`MAX_LINE` bytes; how much of an answer a client waits for is bounded too
+(:class:`kb.crcl.remote.RemoteCell`).
 """
 
 from __future__ import annotations
 
 import re
+from dataclasses import dataclass
 
 from kb.core.errors import InputError
 from kb.crcl.cell import FIELD, Status
@@ -65,6 +87,15 @@ MAX_LINE = 1 << 16
 #: Largest program the command port takes (bytes).
 MAX_PROGRAM = 1 << 24
 QUERIES = ("class", "name", "inspect")
+#: The fields of a USARTruth answer line: all a USARTruth client reads (GTRI's refuses others).
+TRUTH_FIELDS = ("Name", "Class", "Time", "Location", "Rotation")
+#: kitkb's fields beyond them, in an answer only when its query asks (``{Fields Sku}``).
+EXTRA_FIELDS = ("Sku",)
+#: The line end of the sensor port's answers (USARSim's).
+CRLF = "\r\n"
+_QUERY_KEYS = ("class", "name", "fields", "inspect")
+#: A query's field: ``{key value}``, ``{key}`` or ``{ key  value }`` (USARSim trims both).
+_QUERY_FIELD = re.compile(r"\{\s*(\w+)(?:\s+([^{}]*?))?\s*\}")
 _UNSAFE = str.maketrans({"{": "(", "}": ")", "\n": " ", "\r": " ", "\t": " "})
 _LENGTH = re.compile(r"\s*\{Length (\d{1,9})\}\s*", re.IGNORECASE)
 _WHITESPACE = re.compile(r"\s")
@@ -95,23 +126,64 @@ def error_line(message: str) -> str:
 
 # --- the sensor port --------------------------------------------------------------------------
 
-def query_line(kind: str, value: str) -> str:
-    """The sensor query ``{Class value}``, ``{Name value}`` or ``{Inspect value}``; ValueError
-    for another kind or a value that is empty or holds braces or line breaks."""
+@dataclass(frozen=True)
+class Query:
+    """One sensor-port query: objects of class ``cls`` and name ``name`` ("": any), with
+    kitkb's ``fields`` (of :data:`EXTRA_FIELDS`) in the answer; or the inspection of ``inspect``."""
+
+    cls: str = ""
+    name: str = ""
+    fields: tuple[str, ...] = ()
+    inspect: str = ""
+
+
+def query_line(kind: str, value: str, fields: tuple[str, ...] | list[str] = ()) -> str:
+    """The sensor query ``{Class value}``, ``{Name value}`` or ``{Inspect value}``, with
+    ``{Fields ...}`` when ``fields`` (of :data:`EXTRA_FIELDS`) are asked for; ValueError for
+    another kind or field, or a value that is empty or holds braces or line breaks."""
     if kind not in QUERIES:
         raise ValueError(f"a sensor query is by {', '.join(QUERIES)}, not {kind!r}")
     if not value.strip() or clean(value) != value:
         raise ValueError(f"cannot query {value!r}: empty, or with braces or line breaks")
-    return field(kind.capitalize(), value)
+    unknown = [f for f in fields if f not in EXTRA_FIELDS]
+    if unknown:
+        raise ValueError(f"no field {unknown[0]!r}: the extra fields are {', '.join(EXTRA_FIELDS)}")
+    line = field(kind.capitalize(), value)
+    return line + (" " + field("Fields", ",".join(fields)) if fields and kind != "inspect" else "")
 
 
-def parse_query(line: str) -> tuple[str, str]:
-    """(kind, value) of a sensor query line (kind ``class``, ``name`` or ``inspect``); ValueError
-    naming what is wrong."""
-    found = fields(line)
-    if len(found) != 1 or found[0][0].lower() not in QUERIES or not found[0][1].strip():
-        raise ValueError(f"expected one Class, Name or Inspect field, not {line.strip()[:80]!r}")
-    return found[0][0].lower(), found[0][1].strip()
+def parse_query(line: str) -> Query:
+    """The :class:`Query` of a sensor-port line, read as USARSim read it (keys in any case,
+    fields with or without spaces between them, empty values meaning any); ValueError naming
+    what is wrong for a line that is not a query."""
+    found: dict[str, str] = {}
+    for key, value in _QUERY_FIELD.findall(line):
+        k = key.lower()
+        if k not in _QUERY_KEYS:
+            raise ValueError(f"unknown key {key!r} in {line.strip()[:80]!r}: a query has class, name, fields "
+                             "or inspect")
+        if k in found:
+            raise ValueError(f"key {key!r} twice in {line.strip()[:80]!r}")
+        found[k] = value.strip()
+    rest = _QUERY_FIELD.sub("", line).strip()
+    if rest:
+        raise ValueError(f"not a line of key-value fields: {line.strip()[:80]!r}")
+    if "inspect" in found:
+        if len(found) > 1 or not found["inspect"]:
+            raise ValueError(f"an Inspect query names one part and nothing else, not {line.strip()[:80]!r}")
+        return Query(inspect=found["inspect"])
+    return Query(found.get("class", ""), found.get("name", ""), _extra(found.get("fields", "")))
+
+
+def _extra(text: str) -> tuple[str, ...]:
+    """The extra fields a ``{Fields ...}`` value names (comma or space separated, any case)."""
+    known = {f.lower(): f for f in EXTRA_FIELDS}
+    out = []
+    for word in filter(None, re.split(r"[\s,]+", text)):
+        if word.lower() not in known:
+            raise ValueError(f"no field {word!r} to ask for: the extra fields are {', '.join(EXTRA_FIELDS)}")
+        out.append(known[word.lower()])
+    return tuple(dict.fromkeys(out))
 
 
 # --- the command port -------------------------------------------------------------------------

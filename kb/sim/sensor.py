@@ -1,7 +1,8 @@
 """The simulated sensor: focus-of-attention queries on ground truth, and USARTruth's text form.
 
-Seed 004 §3.2: a query names a class or an object; the answer is one key-value line per
-matching object::
+Seed 004 §3.2: a query names a class or an object (:func:`observe`), or both
+(:func:`observe_where`; :func:`truth_class` reads a USARTruth client's Unreal class names);
+the answer is one key-value line per matching object::
 
     {Name part_a_1} {Class Part} {Time 12.5} {Location 1.0,2.0,0.3} {Rotation 0.0,0.0,1.57}
 
@@ -24,7 +25,7 @@ import math
 import zlib
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Any, Callable, Literal, Sequence
+from typing import Any, Callable, Iterable, Literal, Sequence
 
 import numpy as np
 
@@ -34,7 +35,8 @@ from kb.sim.noise import SensorNoise
 from kb.sim.world import SKU, World
 from kb.spatial.scene import class_ancestors
 
-__all__ = ["Sensor", "SensorError", "matches", "most_specific", "observe", "parse_truth_line", "rpy", "truth_line"]
+__all__ = ["Sensor", "SensorError", "matches", "most_specific", "observe", "observe_where", "parse_truth_line", "rpy",
+           "truth_class", "truth_line"]
 
 #: what a sensor can do wrong besides the pose noise, as its errors are recorded
 SENSOR_ERROR_KINDS: tuple[str, ...] = ("misdetection", "misclassification")
@@ -73,6 +75,33 @@ def matches(world: World, i: int, query: str, by: Literal["class", "name"]) -> b
     raise ValueError(f"by must be 'class' or 'name', not {by!r}")
 
 
+#: Unreal's classes a USARTruth client may ask for, and the kitting class each stands for
+#: ("": every object). USARSim's USARTruth answered an empty class with its Pawns (robots);
+#: kitkb answers every object, as NIST's client means by ``{class Engine.Actor}``.
+UNREAL_CLASSES = {"actor": "", "wcobject": str(KTW.SolidObject), "pawn": str(KTW.Robot)}
+
+
+def truth_class(text: str, known: Iterable[str]) -> str | None:
+    """The class IRI a USARTruth query's ``{class text}`` asks for, among the ``known`` class
+    IRIs: "" for every object (an empty value, Unreal's ``Actor``); an IRI as it is; a local
+    name of a kitting class in any case (Unreal's class names are), after Unreal's package
+    prefix is dropped (``USARPhysObj.Part`` is ``Part``, ``Engine.Actor`` is ``Actor``,
+    :data:`UNREAL_CLASSES`); None for a class the cell does not know (nothing answers it)."""
+    text = text.strip()
+    if not text:
+        return ""
+    if ":" in text:
+        return text
+    local = text.rsplit(".", 1)[-1]
+    if local.lower() in UNREAL_CLASSES:
+        return UNREAL_CLASSES[local.lower()]
+    ktw = str(KTW)
+    if ktw + local in known:
+        return ktw + local
+    folded = {c[len(ktw):].lower(): c for c in known if c.startswith(ktw)}
+    return folded.get(local.lower())
+
+
 def observe(world: World, query: str, by: Literal["class", "name"], time: float,
             noise: "tuple[float, float] | SensorNoise" = (0.0, 0.0), rng: np.random.Generator | None = None,
             sensor: "Sensor | None" = None) -> list[Observation]:
@@ -82,13 +111,25 @@ def observe(world: World, query: str, by: Literal["class", "name"], time: float,
     to each coordinate, drawn from ``rng``; none is drawn when both are 0. A ``sensor`` brings
     its own noise and generators instead (:meth:`Sensor.report`).
     """
+    if by not in ("class", "name"):
+        raise ValueError(f"by must be 'class' or 'name', not {by!r}")
+    return observe_where(world, time, cls=query if by == "class" else None, name=query if by == "name" else None,
+                         noise=noise, rng=rng, sensor=sensor)
+
+
+def observe_where(world: World, time: float, cls: str | None = None, name: str | None = None,
+                  noise: "tuple[float, float] | SensorNoise" = (0.0, 0.0), rng: np.random.Generator | None = None,
+                  sensor: "Sensor | None" = None) -> list[Observation]:
+    """Observations of the placed objects of class ``cls`` and name ``name`` (None: any; as
+    :func:`matches` reads them), in name order, as :func:`observe` makes them."""
     skus: dict[str, str] = {}  # name -> its SKU, as World.sku gives it (one pass, not one per object)
     for s, o in world.facts.get(SKU, ()):
         if s not in skus or o < skus[s]:
             skus[s] = o
     placed = ~(np.isnan(world.poses[:, 0, 0]) | np.isnan(world.local_lo[:, 0]))
     chosen = [i for i in sorted(range(len(world)), key=lambda k: world.names[k])
-              if placed[i] and matches(world, i, query, by)]
+              if placed[i] and (cls is None or matches(world, i, cls, "class"))
+              and (name is None or matches(world, i, name, "name"))]
     if not chosen:
         return []
     if sensor is None:

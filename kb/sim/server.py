@@ -3,8 +3,10 @@ around one :class:`~kb.sim.cell.SimulatedCell`, so :class:`kb.crcl.remote.Remote
 client speaking the protocol — drives it as it would a real cell.
 
 Two threaded TCP servers (stdlib ``socketserver``, a thread per connection, connections kept
-open): the sensor port answers USARTruth-style queries, the command port executes CRCL XML
-programs. One lock serialises every access to the cell, so a program runs whole between two
+open): the sensor port answers USARTruth queries as USARSim did (NIST's and GTRI's USARTruth
+clients read it: combined ``{class C} {name N}`` queries, an empty line for every object,
+CR LF line ends, USARTruth's five fields unless kitkb's are asked for), the command port
+executes CRCL XML programs. One lock serialises every access to the cell, so a program runs whole between two
 queries. Nothing a client sends stops the server: a malformed query or program gets an error
 answer, a dropped connection ends only its own thread.
 
@@ -21,13 +23,13 @@ import threading
 from typing import Any, Sequence
 
 from kb.core.errors import CellError, InputError
-from kb.crcl.cell import Status, run_in_order, truth_line
+from kb.crcl.cell import Observation, Status, run_in_order, truth_line
 from kb.crcl.commands import Command, Message
-from kb.crcl.wire import (COMMAND_PORT, END, MAX_LINE, SENSOR_PORT, error_line, field, parse_action,
+from kb.crcl.wire import (COMMAND_PORT, CRLF, END, MAX_LINE, SENSOR_PORT, Query, error_line, field, parse_action,
                           parse_frame, parse_length, parse_query, status_line)
 from kb.crcl.xml import read_xml
 from kb.sim.cell import SimulatedCell
-from kb.sim.sensor import matches
+from kb.sim.sensor import matches, observe_where, truth_class
 
 
 #: The status of a command that is only a program's frame.
@@ -45,6 +47,7 @@ class CellServer:
                  command_port: int = COMMAND_PORT) -> None:
         self.cell = cell
         self.lock = threading.Lock()
+        self._known: tuple[tuple[int, int] | None, frozenset[str]] = (None, frozenset())
         self.sensor = _listen(host, sensor_port, _SensorHandler, self)
         try:
             self.command = _listen(host, command_port, _CommandHandler, self)
@@ -96,18 +99,42 @@ class CellServer:
 
     # --- the protocol ---------------------------------------------------------------------
     def answer_query(self, line: str) -> list[str]:
-        """The answer to one sensor-port line: truth lines, an inspection or an error; ``{End}`` last."""
+        """The answer to one sensor-port line (:mod:`kb.crcl.wire`): truth lines (``{End}``
+        alone when nothing matches), an inspection or an error; ``{End}`` last."""
         try:
-            kind, value = parse_query(line)
+            query = parse_query(line)
             with self.lock:
-                if kind == "inspect":
-                    ok = self.cell.inspect(self._resolve(value))
-                    return [field("Name", value) + " " + field("Quality", "ok" if ok else "defective"), END]
-                return [truth_line(o) for o in self.cell.sense(value, by=kind)] + [END]  # type: ignore[arg-type]
+                if query.inspect:
+                    ok = self.cell.inspect(self._resolve(query.inspect))
+                    return [field("Name", query.inspect) + " " + field("Quality", "ok" if ok else "defective"), END]
+                sku = "Sku" in query.fields
+                return [truth_line(o, sku) for o in self._observe(query)] + [END]
         except ValueError as exc:
             return [error_line(str(exc)), END]
         except Exception as exc:  # a bug of ours: answered, and the server keeps serving
             return [error_line(f"internal error: {type(exc).__name__}: {exc}"), END]
+
+    def _observe(self, query: Query) -> list[Observation]:
+        """The placed objects a query asks for, as the cell senses them now: by class or by name
+        alone as ``cell.sense`` gives them, else of the class and the name (either may be any)."""
+        cell = self.cell
+        if not query.cls:
+            return cell.sense(query.name, by="name") if query.name else \
+                observe_where(cell.world, cell.time, sensor=cell.sensor)
+        cls = truth_class(query.cls, self._classes())
+        if cls is None:  # a class the cell does not have: nothing answers it
+            return []
+        if not query.name:
+            return cell.sense(cls, by="class") if cls else observe_where(cell.world, cell.time, sensor=cell.sensor)
+        return observe_where(cell.world, cell.time, cls=cls or None, name=query.name, sensor=cell.sensor)
+
+    def _classes(self) -> frozenset[str]:
+        """Every class IRI of the cell's objects (kept while the world has the same objects)."""
+        world = self.cell.world
+        key = (id(world), len(world))
+        if self._known[0] != key:
+            self._known = (key, frozenset().union(*world.classes))
+        return self._known[1]
 
     def answer_program(self, data: bytes) -> list[str]:
         """The answer to one CRCL XML program: a status line per command, or one error line
@@ -238,6 +265,8 @@ class _Handler(socketserver.StreamRequestHandler):
 
     server: _Listener
     disable_nagle_algorithm = True
+    #: what ends an answer's lines
+    newline = "\n"
 
     def handle(self) -> None:
         try:
@@ -259,7 +288,7 @@ class _Handler(socketserver.StreamRequestHandler):
 
     def reply(self, lines: list[str]) -> None:
         """Send ``lines``."""
-        self.wfile.write(("\n".join(lines) + "\n").encode("utf-8"))
+        self.wfile.write((self.newline.join(lines) + self.newline).encode("utf-8"))
 
 
 class _TooLong(Exception):
@@ -267,6 +296,8 @@ class _TooLong(Exception):
 
 
 class _SensorHandler(_Handler):
+    newline = CRLF  # USARSim's
+
     def serve(self) -> None:
         try:
             while (line := self.read_line()) is not None:
