@@ -22,7 +22,8 @@ from kb.shacl import constraints as C
 from kb.shacl import paths
 from kb.shacl.shape import Constraint, Shape
 from kb.shacl.sparql import SparqlC, check_validators, compile_sparql
-from kb.shacl.terms import key_of
+from kb.shacl.terms import XSD_NS, key_of
+
 TARGET_PREDICATES = (SH.targetClass, SH.targetNode, SH.targetSubjectsOf, SH.targetObjectsOf)
 
 #: SHACL predicates that may appear on a shape and that the engine understands.
@@ -34,6 +35,19 @@ KNOWN = {
     SH.maxInclusive, SH.minLength, SH.maxLength, SH.pattern, SH["in"], SH.hasValue, SH.closed,
     SH.sparql, *TARGET_PREDICATES,
 }
+
+
+#: ``D kitkbsh:readAs B`` in a shapes graph: a literal typed ``D`` (an OWL datatype definition,
+#: which OWL 2 gives no lexical space, though NIST's tools wrote ``"0.8"^^:positiveDecimal``) is
+#: read as the literal of the XSD datatype ``B`` with the same lexical form: sh:datatype D wants
+#: that form in B's lexical space, and comparisons (sh:minExclusive ...) use B's value.
+READ_AS = URIRef("https://w3id.org/kitkb/shapes#readAs")
+
+
+def read_as(g: Graph) -> dict[str, str]:
+    """The ``kitkbsh:readAs`` declarations of ``g``: datatype IRI -> XSD datatype IRI."""
+    return {str(d): str(b) for d, b in g.subject_objects(READ_AS)
+            if isinstance(d, URIRef) and isinstance(b, URIRef) and str(b).startswith(XSD_NS)}
 
 
 @dataclass
@@ -83,6 +97,7 @@ class Compiler:
         self.prefixes = prefixes
         self.shapes: dict[Node, Shape] = {}
         self.custom = _custom_parameters(g)
+        self.read_as = read_as(g)
 
     def key(self, term: Node) -> str:
         return key_of(term, rdf11_strings=self.rdf11)
@@ -133,7 +148,7 @@ class Compiler:
         for cls in g.objects(n, SH["class"]):
             add(C.ClassC(s, self.key(cls)))
         for dt in g.objects(n, SH.datatype):
-            add(C.DatatypeC(s, self.key(dt)))
+            add(C.DatatypeC(s, self.key(dt), self.read_as))
         for kind in g.objects(n, SH.nodeKind):
             add(C.NodeKindC(s, kind))
         for which in ("min", "max"):
@@ -151,7 +166,7 @@ class Compiler:
                     add(C.LengthC(s, which, limit))
         for which in ("minExclusive", "minInclusive", "maxExclusive", "maxInclusive"):
             for v in g.objects(n, SH[which]):
-                add(C.RangeC(s, which, v))
+                add(C.RangeC(s, which, v, self.read_as))
         flags = self._one(n, SH.flags)
         for pat in g.objects(n, SH.pattern):
             add(C.PatternC(s, str(pat), str(flags) if flags is not None else None))

@@ -22,7 +22,7 @@ from rdflib.term import Node
 from kb.core.namespaces import SH
 from kb.shacl.index import RDF_TYPE
 from kb.shacl.shape import Constraint, Context, Hit, Pairs, PerValue, Shape
-from kb.shacl.terms import XSD_NS, XSD_STRING, key_of, split_literal, to_node
+from kb.shacl.terms import XSD_NS, XSD_STRING, key_of, literal_datatype, split_literal, to_node
 
 
 RDF_LANGSTRING = "http://www.w3.org/1999/02/22-rdf-syntax-ns#langString"
@@ -135,26 +135,50 @@ _FAST_KEYS = {
 }
 
 
+def as_base(key: str, read_as: dict[str, str]) -> str:
+    """The key of a literal of a datatype the shapes graph reads as another (``D
+    kitkbsh:readAs xsd:decimal``: ``"7"^^D`` -> ``"7"^^xsd:decimal``); other keys unchanged."""
+    if not read_as or key[0] != '"':
+        return key
+    dt = literal_datatype(key)
+    base = read_as.get(dt) if dt is not None else None
+    if base is None:
+        return key
+    return key[: key.rindex('"') + 1] + f"^^<{base}>"
+
+
 class DatatypeC(PerValue):
     component = SH.DatatypeConstraintComponent
 
-    def __init__(self, shape: Shape, datatype: str) -> None:
+    def __init__(self, shape: Shape, datatype: str, read_as: dict[str, str] | None = None) -> None:
         super().__init__(shape)
         self.datatype = datatype[1:-1]
         fast = _FAST_KEYS.get(self.datatype)
         self.fast = re.compile(fast).fullmatch if fast else None
+        #: Datatypes read as XSD ones (``kitkbsh:readAs``): ``"7"^^D`` is ``"7"^^xsd:decimal``,
+        #: so sh:datatype xsd:decimal accepts it and ``"abc"^^D`` is ill-formed.
+        self.read_as = read_as or {}
+        #: The datatype whose lexical space a literal of ``self.datatype`` must be in, else None.
+        self.base = self.read_as.get(self.datatype)
 
     def check(self, ctx: Context, pairs: Pairs, out: list[Hit]) -> None:
-        fast, rule, rdf11 = self.fast, self.datatype, ctx.rdf11_strings
+        fast, ok = self.fast, self.ok
         for focus, values in pairs:
             for v in values:
                 if fast is not None and fast(v):
                     continue
-                if not datatype_matches(v, rule, rdf11):
+                if not ok(ctx, v):
                     out.append(self.hit(focus, v))
 
     def ok(self, ctx: Context, value: str) -> bool:
-        return datatype_matches(value, self.datatype, ctx.rdf11_strings)
+        if datatype_matches(value, self.datatype, ctx.rdf11_strings):
+            if self.base is None:
+                return True
+            return datatype_matches(as_base(value, self.read_as), self.base, ctx.rdf11_strings)
+        if self.read_as:
+            read = as_base(value, self.read_as)
+            return read != value and datatype_matches(read, self.datatype, ctx.rdf11_strings)
+        return False
 
     def generic(self, value: str | None) -> str:
         return f"Value is not Literal with datatype {self.datatype}"
@@ -214,13 +238,15 @@ class RangeC(PerValue):
         "maxInclusive": lambda c: c <= 0,
     }
 
-    def __init__(self, shape: Shape, which: str, bound: Node) -> None:
+    def __init__(self, shape: Shape, which: str, bound: Node, read_as: dict[str, str] | None = None) -> None:
         super().__init__(shape)
         self.component = SH[which[0].upper() + which[1:] + "ConstraintComponent"]
         self.which = which
         self.bound = bound
         self.test = self.TESTS[which]
         self._memo: dict[str, bool] = {}
+        #: Datatypes read as others (``kitkbsh:readAs``): compared by the other's value.
+        self.read_as = read_as or {}
 
     def ok(self, ctx: Context, value: str) -> bool:
         if value[0] != '"':
@@ -237,6 +263,7 @@ class RangeC(PerValue):
         if not isinstance(bound, Literal):
             return False
         bv = bound.value
+        value = as_base(value, self.read_as)
         if isinstance(bv, (int, Decimal)) and not isinstance(bv, bool) and not bound.ill_typed:
             m = _NUMBER_KEY.fullmatch(value)
             if m:  # a well-formed xsd:decimal/xsd:integer: rdflib compares the Python values
@@ -244,6 +271,11 @@ class RangeC(PerValue):
                 return bool(self.test((d > bv) - (d < bv)))
         v = to_node(value)
         assert isinstance(v, Literal)
+        if v.value is None and v.datatype is not None and not str(v.datatype).startswith(XSD_NS) \
+                and str(v.datatype) != RDF_LANGSTRING:
+            # a datatype neither XSD's nor read as one: SPARQL's < is a type error, so the
+            # value is not within the bound (rdflib would order it by its datatype's IRI)
+            return False
         if isinstance(bound.value, str) != isinstance(v.value, str):
             return False
         try:
@@ -434,14 +466,27 @@ class ListC(PerValue):
 
     def check(self, ctx: Context, pairs: Pairs, out: list[Hit]) -> None:
         values = _distinct_values(pairs)
-        fails = [m.failing(ctx, values) for m in self.members]
-        n = len(self.members)
-
-        def ok(v: str) -> bool:
-            passed = sum(1 for f in fails if v not in f)
-            return passed == n if self.which == "and" else passed >= 1 if self.which == "or" else passed == 1
-
-        out.extend(self.hit(f, v) for f, vals in pairs for v in vals if not ok(v))
+        if self.which == "xone":
+            fails = [m.failing(ctx, values) for m in self.members]
+            bad = {v for v in values if sum(1 for f in fails if v not in f) != 1}
+        elif self.which == "or":  # each member judges only the values no earlier one passed
+            rest = values
+            for m in self.members:
+                if not rest:
+                    break
+                failed = m.failing(ctx, rest)
+                rest = [v for v in rest if v in failed]
+            bad = set(rest)
+        else:  # and: each member judges only the values every earlier one passed
+            bad = set()
+            rest = values
+            for m in self.members:
+                if not rest:
+                    break
+                failed = m.failing(ctx, rest)
+                bad |= failed
+                rest = [v for v in rest if v not in failed]
+        out.extend(self.hit(f, v) for f, vals in pairs for v in vals if v in bad)
 
     def ok(self, ctx: Context, value: str) -> bool:
         if self.which == "and":

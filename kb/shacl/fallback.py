@@ -6,14 +6,15 @@ pySHACL refuses some shapes graphs instead of validating (a ``ValidationFailure`
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 from collections.abc import Iterable
 
-from rdflib import RDF, Graph
+from rdflib import RDF, Graph, Literal, URIRef
 from rdflib.term import Node
 
 from kb.core.namespaces import SH
-from kb.shacl.compiler import TARGET_PREDICATES
+from kb.shacl.compiler import TARGET_PREDICATES, read_as
 from kb.shacl.result import ShaclResult
 from kb.shacl.shape import ShapeError
 
@@ -67,6 +68,7 @@ def pyshacl_results(data: Graph, shapes: Graph, ont: Graph | None, shapes_named:
     from pyshacl.errors import ReportableRuntimeError
 
     shape = shapes_named[0] if shapes_named else None
+    data, back = _read_as_base(data, shapes)
     try:
         _, report, _ = pyshacl.validate(data, shacl_graph=shapes, ont_graph=ont, inference="none",
                                         advanced=advanced, allow_warnings=True)
@@ -74,7 +76,31 @@ def pyshacl_results(data: Graph, shapes: Graph, ont: Graph | None, shapes_named:
         raise ShapeError(shape, f"pySHACL, which evaluates it, cannot: {_text(exc)}") from None
     if not isinstance(report, Graph):  # pySHACL's ValidationFailure, returned instead of a report
         raise ShapeError(shape, f"pySHACL, which evaluates it, refuses it: {_text(report)}")
-    return results_from_report(report)
+    results = results_from_report(report)
+    if back:
+        results = [dataclasses.replace(r, value=back.get(r.value, r.value)) if r.value in back else r
+                   for r in results]
+    return results
+
+
+def _read_as_base(data: Graph, shapes: Graph) -> tuple[Graph, dict[Node, Node]]:
+    """``data`` with the literals of the datatypes the shapes read as XSD ones
+    (``kitkbsh:readAs``) typed with those (pySHACL knows nothing of the declaration), and the
+    way back from each new literal to the one written; ``data`` itself when it has none."""
+    aliases = read_as(shapes)
+    if not aliases:
+        return data, {}
+    typed = {URIRef(d): URIRef(b) for d, b in aliases.items()}
+    out = Graph()
+    back: dict[Node, Node] = {}
+    found = False
+    for s, p, o in data:
+        if isinstance(o, Literal) and o.datatype in typed:
+            new = Literal(str(o), datatype=typed[o.datatype])
+            back.setdefault(new, o)
+            o, found = new, True
+        out.add((s, p, o))
+    return (out, back) if found else (data, {})
 
 
 def _text(exc: object) -> str:

@@ -22,7 +22,7 @@ from kb.core.namespaces import NAMESPACE_MAP, NIST_SOAP, PREFIXES, SH
 from kb.model.owl import is_w3c
 from kb.shacl import ShaclResult
 from kb.validation import rules
-from kb.validation.shapes import EXPECTS, SHAPES_NS
+from kb.validation.shapes import EXPECTS, READ_AS, SHAPES_NS
 from kb.validation.suggest import closest
 
 RULE = URIRef(SHAPES_NS + "rule")
@@ -42,13 +42,13 @@ def diagnostics(results: Iterable[ShaclResult], src: Any, data: Graph, shapes: G
     """The report lines of the SHACL ``results`` for ``src`` (``data``: what was validated;
     ``user``: the users' shapes, whose results say the shape's own sh:message)."""
     out = []
-    for r in _one_closed_result_each(results, data, shapes):
-        comp = str(r.component).rpartition("#")[2].removesuffix("ConstraintComponent")
-        rule = str(shapes.value(r.source_shape, RULE) or _COMPONENT_RULES.get(comp, comp.lower()))
-        if comp == "Or" and _or_has_class(shapes, r.source_shape):
-            rule = "class"
-        if isinstance(r.path, Node) and shapes.value(r.path, SH.inversePath) is not None:
-            rule = "inverse-functional"
+    kept = _one_closed_result_each(results, data, shapes)
+    named = [(r, _rule(r, shapes)) for r in kept]
+    # a value of the wrong type (or ill-formed) is not also out of range: one finding
+    mistyped = {(r.focus, r.path, r.value) for r, rule in named if rule == "datatype"}
+    for r, rule in named:
+        if rule == "value-range" and (r.focus, r.path, r.value) in mistyped:
+            continue
         if _suppressed(rule, r, ctx, namer, src, data) or not _mentions(rules.graph_of(src), r.focus):
             continue
         if user is not None and (r.source_shape, None, None) in user:
@@ -59,6 +59,17 @@ def diagnostics(results: Iterable[ShaclResult], src: Any, data: Graph, shapes: G
         out.append(Diagnostic(str(src.path), _result_line(rule, r, src, data), severity,  # type: ignore[arg-type]
                               message, rule, namer.name(r.focus, src)))
     return out
+
+
+def _rule(r: ShaclResult, shapes: Graph) -> str:
+    """The rule name of a result: the shape's ``kitkbsh:rule``, else after its component."""
+    comp = str(r.component).rpartition("#")[2].removesuffix("ConstraintComponent")
+    rule = str(shapes.value(r.source_shape, RULE) or _COMPONENT_RULES.get(comp, comp.lower()))
+    if comp == "Or" and _or_has_class(shapes, r.source_shape):
+        rule = "class"
+    if isinstance(r.path, Node) and shapes.value(r.path, SH.inversePath) is not None:
+        rule = "inverse-functional"
+    return rule
 
 
 def _one_closed_result_each(results: Iterable[ShaclResult], data: Graph, shapes: Graph) -> list[ShaclResult]:
@@ -122,8 +133,8 @@ def _types_of(data: Graph, node: Node) -> list[tuple[Node, URIRef]]:
 def _message(rule: str, r: ShaclResult, src: Any, data: Graph, shapes: Graph, namer: "Namer") -> str:
     f = namer.name(r.focus, src)
     p = namer.name(r.path, src) if isinstance(r.path, URIRef) else ""
-    v = namer.name(r.value, src) if r.value is not None else ""
-    expects = str(shapes.value(r.source_shape, EXPECTS) or "")
+    v = namer.name(r.value, src, typed=rule == "datatype") if r.value is not None else ""
+    expects = _expects(shapes, r.source_shape, namer, src)
     classes = _classes_of(shapes, r.source_shape)
     if rule == "class" and classes:  # spelled with the file's prefixes
         expects = "an individual of " + " or ".join(namer.name(c, src) for c in classes)
@@ -139,7 +150,9 @@ def _message(rule: str, r: ShaclResult, src: Any, data: Graph, shapes: Graph, na
         inv = shapes.value(r.path, SH.inversePath)
         owners = sorted(namer.name(s, src) for s in data.subjects(inv, r.focus))
         return f"{f} is the {namer.name(inv, src)} of more than one individual ({', '.join(owners)})"
-    if rule in ("datatype", "enumeration", "value-range", "class", "node-kind", "pattern"):
+    if rule == "value-range":
+        return f"{p} of {f} is {v}, out of range: expected {expects or _bound(r, shapes)}"
+    if rule in ("datatype", "enumeration", "class", "node-kind", "pattern"):
         extra = ""
         if rule == "class" and isinstance(r.value, URIRef):
             types = sorted(namer.name(t, src) for t in data.objects(r.value, RDF.type)
@@ -157,6 +170,34 @@ def _message(rule: str, r: ShaclResult, src: Any, data: Graph, shapes: Graph, na
         return template.replace("{$this}", f).replace("{?this}", f).replace("{?value}", v) \
             .replace("{$value}", v)
     return f"{f}: {r.message}"
+
+
+def _expects(shapes: Graph, shape: Node, namer: "Namer", src: Any) -> str:
+    """What a generated property shape wants, in words (``kitkbsh:expects``), led by the name of
+    the model's datatype where it is one read as an XSD type (``ktw:positiveDecimal, an
+    xsd:decimal > 0``), spelt with the file's prefixes."""
+    words = str(shapes.value(shape, EXPECTS) or "")
+    defined = [d for d in _datatypes_of(shapes, shape) if (d, READ_AS, None) in shapes]
+    if words and defined:
+        names = " or ".join(namer.name(d, src) for d in defined)
+        return f"{names}, an {words}" if words.startswith("xsd:") else f"{names}, {words}"
+    return words
+
+
+def _datatypes_of(shapes: Graph, shape: Node) -> list[Node]:
+    """The sh:datatype values of a shape, directly or as sh:or alternatives."""
+    found = list(shapes.objects(shape, SH.datatype))
+    for head in shapes.objects(shape, SH["or"]):
+        found += [d for alt in Collection(shapes, head) for d in shapes.objects(alt, SH.datatype)]
+    return found
+
+
+def _bound(r: ShaclResult, shapes: Graph) -> str:
+    """The bound a value-range result broke, in words (``> 0``)."""
+    comp = str(r.component).rpartition("#")[2].removesuffix("ConstraintComponent")
+    facet = comp[0].lower() + comp[1:]
+    words = {"minExclusive": ">", "minInclusive": ">=", "maxExclusive": "<", "maxInclusive": "<="}
+    return f"{words.get(facet, facet)} {shapes.value(r.source_shape, SH[facet])}"
 
 
 def _user_message(r: ShaclResult, src: Any, shapes: Graph, namer: "Namer") -> str:
@@ -226,6 +267,10 @@ _NUMERIC = {XSD.decimal, XSD.integer, XSD.double, XSD.float, XSD.nonNegativeInte
             XSD.nonPositiveInteger, XSD.negativeInteger, XSD.long, XSD.int, XSD.short, XSD.byte}
 
 
+#: Numbers whose type a Turtle reader sees without ``^^`` (``1``, ``1.5``).
+_BARE = {XSD.decimal, XSD.integer}
+
+
 class Namer:
     """Compact names: the file's own prefixes first (``:part_a_1``), then kitkb's (``ktw:Point``)."""
 
@@ -235,12 +280,14 @@ class Namer:
         self._spaces += [(NIST_SOAP, "nistsoap"), (str(RDF), "rdf"), (str(RDFS), "rdfs"), (str(OWL), "owl"),
                          ("http://www.w3.org/2001/XMLSchema#", "xsd")]
 
-    def name(self, term: Node | None, src: Any = None) -> str:
-        """``:local``, ``prefix:local``, a literal in Turtle, or ``<iri>``."""
+    def name(self, term: Node | None, src: Any = None, typed: bool = False) -> str:
+        """``:local``, ``prefix:local``, a literal in Turtle, or ``<iri>`` (``typed``: a number
+        with its datatype too, where it is not a decimal or an integer)."""
         if term is None:
             return ""
         if isinstance(term, Literal):
-            if term.datatype in _NUMERIC and term.value is not None:
+            bare = _BARE if typed else _NUMERIC
+            if term.datatype in bare and term.value is not None:
                 return str(term)
             if term.datatype is not None and term.datatype != XSD.string:
                 return f'"{term}"^^{self.name(term.datatype, src)}'

@@ -60,6 +60,14 @@ _BASE_PREFIXES = {
 
 #: Integer types a plain xsd:integer literal may stand for, with their lower bound.
 _INTEGER_MIN = {XSD.nonNegativeInteger: 0, XSD.positiveInteger: 1}
+#: The facets of a datatype restriction that become SHACL constraints of the same name.
+_FACETS = ("minExclusive", "minInclusive", "maxExclusive", "maxInclusive", "pattern", "minLength",
+           "maxLength", "length")
+_FACET_WORDS = {"minExclusive": ">", "minInclusive": ">=", "maxExclusive": "<", "maxInclusive": "<=",
+                "pattern": "matching", "minLength": "of length >=", "maxLength": "of length <=",
+                "length": "of length"}
+#: Where generated shapes say that a literal typed with a datatype is read as another.
+READ_AS = URIRef(SHAPES_NS + "readAs")
 
 
 @dataclass
@@ -133,23 +141,58 @@ class DerivedShapes:
                 values += [_literal(Literal(str(v))), _literal(Literal(str(v), datatype=XSD.NMTOKEN))]
             words = ", ".join(str(v) for v in info.values)
             return [f"sh:in ( {' '.join(values)} )"], f"one of {words}"
-        if info is not None and info.base is not None:
-            lines, words = self._datatype_constraints(info.base)
-            for facet, value in sorted(info.facets.items()):
-                name = _split(str(facet))[1]
-                if name in ("minExclusive", "minInclusive", "maxExclusive", "maxInclusive",
-                            "pattern", "minLength", "maxLength", "length"):
-                    lines.append(f"sh:{name} {_literal(value)}")
-                    words += f", {name} {value}"
-            return lines, words
-        if dt == XSD.decimal:
-            return ["sh:or ( [ sh:datatype xsd:decimal ] [ sh:datatype xsd:integer ] )"], "xsd:decimal"
+        base, names, facets = self._definition(dt)
+        alts, lines, words = self._base_type(base)
+        if alts and names:  # a literal typed with the defined datatype is read as its base
+            alts += [self.qname(n) for n in names]
+        out = ([_alternatives(alts)] if alts else []) + lines
+        shown = []
+        for facet, value in sorted(facets, key=lambda fv: _facet_order(fv[0])):
+            name = _split(str(facet))[1]
+            if name in _FACETS:
+                out.append(f"sh:{name} {_literal(value)}")
+                shown.append(f"{_FACET_WORDS[name]} {value}")
+        if shown:  # "xsd:decimal > 0"; the report adds the datatype's name, in the file's prefixes
+            words += (" " if words.startswith("xsd:") else ", ") + ", ".join(shown)
+        return out, words
+
+    def _definition(self, dt: Node) -> tuple[Node, list[URIRef], list[tuple[Node, Literal]]]:
+        """The datatype a definition (``DatatypeDefinition(D DatatypeRestriction(B ...))``,
+        possibly of another defined datatype) restricts in the end, the named datatypes on the
+        way (``D``, ...) and all their facets."""
+        names: list[URIRef] = []
+        facets: list[tuple[Node, Literal]] = []
+        seen: set[Node] = set()
+        info = self.model.datatype_info(dt)
+        while info is not None and info.values is None and info.base is not None and dt not in seen:
+            seen.add(dt)
+            if isinstance(dt, URIRef):
+                names.append(dt)
+            facets += sorted(info.facets.items())
+            dt = info.base
+            info = self.model.datatype_info(dt)
+        return dt, names, facets
+
+    def _base_type(self, dt: Node) -> tuple[list[str], list[str], str]:
+        """(sh:datatype alternatives, other constraint lines, the type in words) of a datatype
+        that is not a definition."""
+        if dt == XSD.decimal:  # a Turtle 1 is an xsd:integer, which XSD counts as a decimal
+            return ["xsd:decimal", "xsd:integer"], [], "xsd:decimal"
         if dt in _INTEGER_MIN:  # a Turtle 3 is an xsd:integer: accept it with the type's bound
-            return [f"sh:or ( [ sh:datatype {self.qname(dt)} ] [ sh:datatype xsd:integer ] )",
-                    f"sh:minInclusive {_INTEGER_MIN[dt]}"], self.qname(dt)
-        if str(dt).startswith(str(XSD)) or dt == RDF.langString:
-            return [f"sh:datatype {self.qname(dt)}"], self.qname(dt)
-        return ["sh:nodeKind sh:Literal"], "a literal"
+            return [self.qname(dt), "xsd:integer"], [f"sh:minInclusive {_INTEGER_MIN[dt]}"], self.qname(dt)
+        if _is_xsd(dt):
+            return [self.qname(dt)], [], self.qname(dt)
+        return [], ["sh:nodeKind sh:Literal"], "a literal"
+
+    def read_as(self) -> dict[URIRef, URIRef]:
+        """The model's named datatype definitions whose base is an XSD datatype: a literal typed
+        with one is read as that datatype (``kitkbsh:readAs``, see :mod:`kb.shacl.compiler`)."""
+        out = {}
+        for d in self.model.datatypes:
+            base, names, _ = self._definition(d)
+            if names and isinstance(base, URIRef) and _is_xsd(base) and base != RDF.langString:
+                out[d] = base
+        return out
 
     # --- shapes per class ---------------------------------------------------------------
 
@@ -181,12 +224,13 @@ class DerivedShapes:
                 b[0], b[1] = max(b[0], r.min), min(b[1], r.max)
                 if not _plain(self.model, r):
                     lines, words = self._value_constraints([r.on], self._kind(r.prop))  # type: ignore[list-item]
-                    ps.value += lines
+                    ps.value += [line for line in lines if line not in ps.value]  # one check each
                     ps.expects = words
             elif r.on is not None and (r.min > 0 or r.max < UNBOUNDED):
                 ps.value.append(self._qualified(r))
             if r.all_values is not None and r.all_values not in self._ranges(r.prop):
-                ps.value += self._value_constraints([r.all_values], self._kind(r.prop))[0]
+                lines = self._value_constraints([r.all_values], self._kind(r.prop))[0]
+                ps.value += [line for line in lines if line not in ps.value]
         for p, (lo, hi) in lo_hi.items():
             ilo, ihi = self._inherited_bounds(c, p)
             ps = shapes[p]
@@ -289,6 +333,10 @@ class DerivedShapes:
         out.append("")
         if self.header:
             out += [f"# {line}".rstrip() for line in self.header.splitlines()] + [""]
+        read_as = self.read_as()
+        if read_as:
+            out += [f"{self.qname(d)} kitkbsh:readAs {self.qname(b)} ." for d, b in sorted(read_as.items())]
+            out.append("")
         for c in sorted(self.model.classes):
             out += [b + "\n" for b in self._class_block(c)]
         for p in sorted(self.model.properties):
@@ -308,6 +356,22 @@ def _plain(model: OwlModel, r: Restriction) -> bool:
         return True
     info = model.properties.get(r.prop)
     return info is not None and r.on in info.ranges
+
+
+def _alternatives(datatypes: list[str]) -> str:
+    """``sh:datatype D``, or ``sh:or`` of one ``sh:datatype`` each (the commonest first)."""
+    if len(datatypes) == 1:
+        return f"sh:datatype {datatypes[0]}"
+    return "sh:or ( " + " ".join(f"[ sh:datatype {d} ]" for d in datatypes) + " )"
+
+
+def _facet_order(facet: Node) -> int:
+    name = _split(str(facet))[1]
+    return _FACETS.index(name) if name in _FACETS else len(_FACETS)
+
+
+def _is_xsd(dt: Node) -> bool:
+    return isinstance(dt, URIRef) and (str(dt).startswith(str(XSD)) or dt == RDF.langString)
 
 
 def _split(iri: str) -> tuple[str, str]:
