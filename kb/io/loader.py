@@ -9,17 +9,22 @@ Import resolution (:func:`resolve_import`) never touches the network nor an arbi
 
 1. a shipped ontology whose IRI it is (:func:`catalog`);
 2. a file named on the command line whose ontology IRI it is;
-3. kitkb's ``kitting.ttl`` if the IRI ends with ``kittingWorkstationClasses.owl`` (the
-   NIST model; its namespace is mapped onto ours);
+3. kitkb's ``kitting.ttl`` if the IRI ends with ``kittingWorkstationClasses.owl`` or
+   ``kittingClasses.owl`` (NIST's 2013 and 2012 models; their namespaces are mapped onto ours);
 4. a file named on the command line with the IRI's file name (``.../soapClasses.owl``);
-5. a file with the IRI's file name in the folder of the importing file (same-folder rule);
+5. the file a Protégé catalog (``catalog-v001.xml`` in the folder of the importing file) gives
+   for the IRI, if it lies in that folder or below;
+6. a file with the IRI's file name in the folder of the importing file (same-folder rule);
 otherwise it is a warning at the line of the import.
 """
 
 from __future__ import annotations
 
+import re
+import xml.etree.ElementTree as ElementTree
+from contextlib import contextmanager
 from pathlib import Path
-from typing import Iterable, Sequence
+from typing import Iterable, Iterator, Sequence
 from urllib.parse import unquote, urlsplit
 
 from rdflib import BNode, Graph, URIRef
@@ -32,13 +37,33 @@ from kb.core.files import note_input
 from kb.core.limits import check_file_size, deep_calls
 from kb.core.memory import gc_paused
 from kb.core.resources import ontology_path
+from kb.io import nist2012
 from kb.io.lines import LineIndex, build_index
 from kb.io.lines.turtle import TargetedTurtleIndex
-from kb.io.parsing import Triple, decode, detect_format, new_graph, parse_text, strip_slash_comments
+from kb.io.parsing import Triple, check_xml, new_graph, parse_text, prepare
 from kb.io.views import TripleView
 
-_NIST_MODEL_FILE = "kittingWorkstationClasses.owl"
+#: File names of NIST's kitting models (2013, 2012): an import of either is kitkb's model.
+_NIST_MODEL_FILES = ("kittingWorkstationClasses.owl", "kittingClasses.owl")
 _VOCABULARY = (str(RDF), str(RDFS), str(OWL), str(XSD))
+#: The file name Protégé gives the catalog it writes beside an ontology.
+PROTEGE_CATALOG = "catalog-v001.xml"
+#: Rules of the loader's warnings about parts of a file that are not read (every command
+#: that reads files shows them, not only ``validate``: see :func:`reading_notes`).
+NOT_READ_RULES = frozenset({"nist-2012-term"})
+_notes: list[list[Diagnostic]] = []
+
+
+@contextmanager
+def reading_notes() -> Iterator[list[Diagnostic]]:
+    """Collect, while the ``with`` block runs, the warnings of :data:`NOT_READ_RULES` of every
+    file loaded (for a command to show: what it read and did not understand)."""
+    found: list[Diagnostic] = []
+    _notes.append(found)
+    try:
+        yield found
+    finally:
+        _notes.remove(found)
 
 
 class Source:
@@ -196,13 +221,18 @@ class Source:
             yield parent
             node = parent[0]
 
-    def _build_index(self) -> LineIndex:
+    def text(self) -> str | None:
+        """The file's text as it was parsed (:func:`kb.io.parsing.prepare`), None if it cannot
+        be read again."""
         try:
-            text = self.path.read_bytes().decode("utf-8-sig")
-        except (OSError, UnicodeDecodeError):
+            return prepare(self.path.read_bytes(), self.path).text
+        except (OSError, InputError):
+            return None
+
+    def _build_index(self) -> LineIndex:
+        text = self.text()
+        if text is None:
             return LineIndex()
-        if self.format == "ofn":
-            text, _ = strip_slash_comments(text, self.path)
         try:
             with deep_calls():  # the readers recurse once per level of nesting
                 return build_index(text, self.format, self.path.resolve().as_uri())
@@ -244,6 +274,11 @@ class KnowledgeBase:
         """Every source's warnings, in source order."""
         return [w for s in self.sources for w in s.warnings]
 
+    @property
+    def unresolved_imports(self) -> list[Diagnostic]:
+        """The warnings of the imports that were not resolved, in source order."""
+        return [w for w in self.warnings if w.rule == "unresolved-import"]
+
 
 def catalog() -> dict[str, Path]:
     """Ontology IRI (and known aliases) -> shipped file."""
@@ -253,6 +288,7 @@ def catalog() -> dict[str, Path]:
         ns.SOAP_ONTOLOGY: ontology_path("soap.ttl"),
         ns.KITTING_DOMAIN_ONTOLOGY: ontology_path("kitting-domain.ttl"),
         ns.NIST_ONTOLOGY: kitting,
+        ns.NIST_ONTOLOGY_2012: kitting,
     }
 
 
@@ -274,19 +310,60 @@ def _load_file(path: Path) -> Source:
         raise InputError("is a folder, not a file", path) from None
     except OSError as exc:
         raise InputError(f"cannot read: {exc.strerror or exc}", path) from None
-    text = decode(data, path)
-    fmt = detect_format(text, path)
-    warnings: list[Diagnostic] = []
-    if fmt == "ofn":
-        text, warnings = strip_slash_comments(text, path)
+    prepared = prepare(data, path)
+    text, fmt, warnings = prepared.text, prepared.format, prepared.warnings
     terms: dict[str, URIRef] = {}
     prefixes: dict[str, str] = {}
-    triples = parse_text(text, fmt, path, terms, prefixes, raw=data)
+    triples = parse_text(text, fmt, path, terms, prefixes, raw=data if prepared.utf8 else None)
+    if any(iri.startswith(ns.NIST_KTW_2012) for iri in terms):
+        triples = nist2012.read_groups(triples, path, lambda local: _first_line(text, local))
     a, ontology, imports_ = (terms.get(str(t)) for t in (RDF.type, OWL.Ontology, OWL.imports))
     onto = next((s for s, p, o in triples if o is ontology and p is a), None) if ontology is not None else None
     imports = [str(o) for s, p, o in triples if p is imports_ and s == onto] if imports_ is not None else []
     ontology_iri = str(onto) if isinstance(onto, URIRef) else None
+    warnings += _not_mapped(terms, triples, text, path)
+    for notes in _notes:
+        notes.extend(w for w in warnings if w.rule in NOT_READ_RULES)
     return Source(path, fmt, None, ontology_iri, imports, warnings, triples=triples, prefixes=prefixes)
+
+
+_DECLARED_TERMS = frozenset(map(str, (OWL.Class, OWL.ObjectProperty, OWL.DatatypeProperty,
+                                       OWL.AnnotationProperty, RDFS.Datatype)))
+
+
+def _not_mapped(terms: dict[str, URIRef], triples: list[Triple], text: str, path: Path) -> list[Diagnostic]:
+    """A warning naming the classes and properties of NIST's 2012 namespace that have no
+    counterpart in kitkb's model (kept as they are, so no rule of kitkb reads them), each at
+    its first line. (NIST's 2012 files name their individuals in that namespace too.)"""
+    ns2012 = ns.NIST_KTW_2012
+    if not any(iri.startswith(ns2012) for iri in terms):
+        return []
+    a = terms.get(str(RDF.type))
+    found: set[str] = set()
+    for s, p, o in triples:
+        if str(p).startswith(ns2012):
+            found.add(str(p))
+        if p is a and isinstance(o, URIRef):
+            if str(o).startswith(ns2012):
+                found.add(str(o))
+            elif str(o) in _DECLARED_TERMS and str(s).startswith(ns2012):
+                found.add(str(s))
+    names = sorted(iri[len(ns2012):] for iri in found if len(iri) > len(ns2012))
+    if not names:
+        return []
+    lines = {name: _first_line(text, name) for name in names}
+    names.sort(key=lambda n: (lines[n] or 0, n))
+    shown = [f"{n} (line {lines[n]})" if lines[n] else n for n in names[:8]]
+    more = f" and {len(names) - 8} more" if len(names) > 8 else ""
+    return [Diagnostic(str(path), lines[names[0]], "warning",
+                       f"{len(names)} term(s) of NIST's 2012 kitting vocabulary <{ns2012}> have no counterpart "
+                       f"in kitkb's model and are not read: {', '.join(shown)}{more} (docs/validation.md, "
+                       "\"NIST's 2012 vocabulary\")", rule="nist-2012-term")]
+
+
+def _first_line(text: str, local: str) -> int | None:
+    m = re.search(r"[:#]" + re.escape(local) + r"(?![\w-])", text)
+    return text.count("\n", 0, m.start()) + 1 if m else None
 
 
 def load(paths: Sequence[str | Path], *, resolve_imports: bool = True) -> KnowledgeBase:
@@ -338,15 +415,43 @@ def resolve_import(iri: str, importer: Source, named: Sequence[Source]) -> Path 
         if source.ontology_iri and source.ontology_iri.rstrip("#/") == bare:
             return source.path
     name = _file_name(bare)
-    if name == _NIST_MODEL_FILE:
+    if name in _NIST_MODEL_FILES:
         return table[ns.KITTING_ONTOLOGY]
     if not name:
         return None
     for source in named:
         if source.path.name == name:
             return source.path
+    listing = protege_catalog(importer.path.parent)
+    listed = listing.get(iri) or listing.get(bare)
+    if listed is not None:
+        return listed
     sibling = importer.path.parent / name
     return sibling if sibling.is_file() else None
+
+
+def protege_catalog(folder: Path) -> dict[str, Path]:
+    """IRI -> file of the Protégé catalog (``catalog-v001.xml``, OASIS XML catalog ``uri``
+    entries) in ``folder``; only files in that folder or below (nothing is fetched, no path
+    leads out). Empty when there is no catalog or it cannot be read."""
+    path = folder / PROTEGE_CATALOG
+    try:
+        text = path.read_text("utf-8")
+        check_xml(text, path)
+        root = ElementTree.fromstring(text)
+    except (OSError, UnicodeDecodeError, InputError, ElementTree.ParseError):
+        return {}
+    top = folder.resolve()
+    out: dict[str, Path] = {}
+    for element in root.iter():
+        if element.tag.rsplit("}", 1)[-1] != "uri" or not element.get("name") or not element.get("uri"):
+            continue
+        target = unquote(urlsplit(element.get("uri", "")).path) if element.get("uri", "").startswith("file:") \
+            else unquote(element.get("uri", ""))
+        found = (folder / target).resolve()
+        if (found == top or top in found.parents) and found.is_file():
+            out.setdefault(element.get("name", ""), found)
+    return out
 
 
 def _file_name(iri: str) -> str:
@@ -358,6 +463,20 @@ def _file_name(iri: str) -> str:
 
 def _unresolved(iri: str, importer: Source, extra: str = "") -> Diagnostic:
     line = importer.line_of(URIRef(importer.ontology_iri), OWL.imports, URIRef(iri)) if importer.ontology_iri else None
-    return Diagnostic(str(importer.path), line, "warning", f"import <{iri}> not resolved{extra}; "
-                      "only shipped ontologies and files named on the command line are used",
-                      rule="unresolved-import")
+    if line is None:
+        line = _import_line(importer, iri)
+    name = _file_name(iri.rstrip("#/"))
+    where = f" (no {name} beside {importer.path.name}, in a {PROTEGE_CATALOG} there, or on the command line)" \
+        if name and not extra else ""
+    return Diagnostic(str(importer.path), line, "warning", f"import <{iri}> not resolved{extra}{where}; "
+                      "only shipped ontologies and files named on the command line or found beside the "
+                      "importing file are used", rule="unresolved-import")
+
+
+def _import_line(importer: Source, iri: str) -> int | None:
+    """The line of the import of ``iri`` found in the importing file's text."""
+    text = importer.text()
+    if not text:
+        return None
+    at = text.find(iri)
+    return text.count("\n", 0, at) + 1 if at >= 0 else None

@@ -7,10 +7,14 @@ through :data:`kb.core.namespaces.NAMESPACE_MAP` on the way into rdflib terms.
 
 from __future__ import annotations
 
+import codecs
 import logging
 import re
 import xml.parsers.expat
+from dataclasses import dataclass, field
+from functools import lru_cache
 from itertools import islice
+from urllib.parse import quote
 from pathlib import Path
 from typing import Iterable
 
@@ -20,7 +24,9 @@ from rdflib import BNode, Graph, Literal, URIRef
 from kb.core.diagnostics import Diagnostic
 from kb.core import limits
 from kb.core.errors import InputError
-from kb.core.namespaces import NAMESPACE_MAP, PREFIXES
+from kb.core.namespaces import (KTW, NAMESPACE_MAP, NIST_2012_RENAMES, NIST_2012_UNMAPPED, NIST_KTW_2012,
+                                 PREFIXES)
+from kb.core.resources import ontology_path
 from kb.patches.rdflib import memory_graph
 
 Triple = tuple[URIRef | BNode, URIRef, URIRef | BNode | Literal]
@@ -57,17 +63,45 @@ class _QuietIllTypedLiterals(logging.Filter):
 logging.getLogger("rdflib.term").addFilter(_QuietIllTypedLiterals())
 
 
-_MAPPED = tuple(NAMESPACE_MAP)
+_MAPPED = (*NAMESPACE_MAP, NIST_KTW_2012)
 
 
 def map_iri(iri: str) -> str:
-    """``iri`` with a foreign namespace (NIST kitting) rewritten to ours."""
+    """``iri`` with a foreign namespace (NIST kitting) rewritten to ours (a term of NIST's 2012
+    namespace only where :func:`nist_2012_name` finds its counterpart)."""
     if not iri.startswith(_MAPPED):  # one C call for the common case
         return iri
+    if iri.startswith(NIST_KTW_2012):
+        return _map_2012(iri)
     for old, new in NAMESPACE_MAP.items():
         if iri.startswith(old):
             return new + iri[len(old):]
     return iri
+
+
+@lru_cache(maxsize=4096)
+def _map_2012(iri: str) -> str:
+    name = nist_2012_name(iri[len(NIST_KTW_2012):])
+    return iri if name is None else str(KTW) + name
+
+
+def nist_2012_name(local: str) -> str | None:
+    """kitkb's local name for the term ``local`` of NIST's 2012 namespace (``kittingClasses.owl#``):
+    the same name, or its 2013 renaming (:data:`kb.core.namespaces.NIST_2012_RENAMES`), when
+    kitkb's model has it; None when it has no counterpart (the term is kept as it is)."""
+    if local in NIST_2012_UNMAPPED:
+        return None
+    name = NIST_2012_RENAMES.get(local, local)
+    return name if name in model_names() else None
+
+
+@lru_cache(maxsize=1)
+def model_names() -> frozenset[str]:
+    """The local names of the classes, properties and datatypes of kitkb's kitting model."""
+    ktw = str(KTW)
+    quads = ox.parse(path=str(ontology_path("kitting.ttl")), format=ox.RdfFormat.TURTLE)
+    return frozenset(q.subject.value[len(ktw):] for q in quads
+                     if isinstance(q.subject, ox.NamedNode) and q.subject.value.startswith(ktw))
 
 
 def make_literal(lexical: str, lang: str | None, datatype: str | None) -> Literal:
@@ -93,13 +127,67 @@ def new_graph(triples: Iterable[Triple] = (), prefixes: dict[str, str] | None = 
 
 # --- text and format ---------------------------------------------------------------------
 
+_BOMS = ((codecs.BOM_UTF8, "utf-8"), (codecs.BOM_UTF32_LE, "utf-32-le"), (codecs.BOM_UTF32_BE, "utf-32-be"),
+         (codecs.BOM_UTF16_LE, "utf-16-le"), (codecs.BOM_UTF16_BE, "utf-16-be"))
+# an XML declaration's encoding, read from the bytes of an ASCII-compatible file's first line
+_DECLARED = re.compile(rb"""<\?xml[ \t\r\n][^>]*?encoding[ \t\r\n]*=[ \t\r\n]*(["'])([^"'>]*)\1""")
+_DECLARATION = re.compile(r"""(<\?xml[ \t\r\n][^>]*?encoding[ \t\r\n]*=[ \t\r\n]*)(["'])([^"'>]*)\2""")
+
+
 def decode(data: bytes, path: Path) -> str:
-    """``data`` as UTF-8 text, or an InputError at the line of the first bad byte."""
+    """``data`` as text (see :func:`decode_text`)."""
+    return decode_text(data, path)[0]
+
+
+def decode_text(data: bytes, path: Path) -> tuple[str, str]:
+    """``data`` as text, and the encoding it was read in: by its byte order mark, else the
+    encoding its XML declaration names (``<?xml version="1.0" encoding="ISO-8859-1"?>``; any
+    encoding Python's codecs know), else UTF-8. The declaration in the text then says UTF-8
+    (what the parsers are given). An unknown encoding is an InputError at line 1, a byte the
+    encoding cannot read one at its line."""
+    encoding, body, declared = _encoding_of(data, path)
+    text = _decoded(body, encoding, path, declared)
+    if encoding != "utf-8":
+        if detect_format(text, path) not in ("rdfxml", "owlxml"):  # Turtle, N-Triples: UTF-8 only
+            return _decoded(data, "utf-8", path, None).removeprefix("\ufeff"), "utf-8"
+        text = _DECLARATION.sub(lambda m: f"{m.group(1)}{m.group(2)}UTF-8{m.group(2)}", text, count=1)
+    return text, encoding
+
+
+def _decoded(body: bytes, encoding: str, path: Path, declared: str | None) -> str:
     try:
-        return data.decode("utf-8-sig")
+        return body.decode(encoding)
     except UnicodeDecodeError as exc:
-        line = data[: exc.start].count(b"\n") + 1
-        raise InputError(f"not UTF-8 text (byte 0x{data[exc.start]:02x})", path, line) from None
+        line = body[: exc.start].decode(encoding, "replace").count("\n") + 1
+        name = "UTF-8" if encoding == "utf-8" else encoding
+        raise InputError(f"not {name} text (byte 0x{body[exc.start]:02x})", path, line) from None
+    except LookupError:  # a codec that does not decode bytes to text (base64, rot13...)
+        raise InputError(f"unknown character encoding '{declared or encoding}'", path, 1) from None
+
+
+def _encoding_of(data: bytes, path: Path) -> tuple[str, bytes, str | None]:
+    """(codec name, the bytes to decode, the declared name) of ``data``."""
+    for bom, name in _BOMS:
+        if data.startswith(bom):
+            return name, data[len(bom):], None
+    if data.startswith(b"<\x00?\x00"):
+        return "utf-16-le", data, None
+    if data.startswith(b"\x00<\x00?"):
+        return "utf-16-be", data, None
+    m = _DECLARED.match(data, 0, 400)
+    if m is None:
+        return "utf-8", data, None
+    declared = m.group(2).decode("ascii", "replace").strip()
+    try:
+        info = codecs.lookup(declared)
+    except LookupError:
+        info = None
+    if info is None or not getattr(info, "_is_text_encoding", True):
+        raise InputError(f"unknown character encoding '{declared}' in the XML declaration", path, 1)
+    name = "utf-8" if info.name in ("utf-8", "utf-8-sig") else info.name
+    if name.startswith(("utf-16", "utf-32")):  # declared so, but written without a BOM in ASCII
+        raise InputError(f"the XML declaration says {declared} but the file is not written in it", path, 1)
+    return name, data, declared
 
 
 def detect_format(text: str, path: Path) -> str:
@@ -143,6 +231,273 @@ def _xml_flavour(head: str, path: Path) -> str:
     if local == "RDF" or path.suffix.lower() in (".rdf", ".owl", ".xml"):
         return "rdfxml"
     return "rdfxml"
+
+
+# --- reading a file's text ----------------------------------------------------------------
+
+@dataclass
+class Prepared:
+    """A file's text as the parsers and the line indexes read it: decoded, XML entities of
+    its internal DTD expanded, ``//`` comment lines blanked, ``file:`` paths made IRIs — line
+    for line the file as written, so ``file:line`` stays true. ``utf8``: the file's bytes are
+    UTF-8 (the Turtle parser may then read them instead of the text)."""
+
+    text: str
+    format: str
+    warnings: list[Diagnostic] = field(default_factory=list)
+    utf8: bool = True
+
+
+def prepare(data: bytes, path: Path) -> Prepared:
+    """The :class:`Prepared` text of a file's bytes; InputError for bytes no encoding reads,
+    an XML entity that is not allowed or that expands past the limits."""
+    text, encoding = decode_text(data, path)
+    fmt = detect_format(text, path)
+    warnings: list[Diagnostic] = []
+    if fmt in ("rdfxml", "owlxml"):
+        text = expand_entities(text, path)
+    elif fmt == "ofn":
+        text, warnings = strip_slash_comments(text, path)
+    text, repaired = repair_file_iris(text, fmt, path)
+    return Prepared(text, fmt, warnings + repaired, encoding == "utf-8")
+
+
+# --- internal DTD entities -----------------------------------------------------------------
+
+_PREDEFINED = frozenset({"lt", "gt", "amp", "apos", "quot"})
+_ENTITY_REF = re.compile(r"&([A-Za-z_:\u00C0-\uFFFF][\w.:\-\u00B7\u00C0-\uFFFF]*);")
+#: An entity's replacement may name others this deep (a deeper chain is refused).
+_MAX_ENTITY_DEPTH = 50
+#: A file's entities may make it this many times longer (past :data:`_EXPANSION_FLOOR`
+#: characters), as expat's own guard allows: more is an entity bomb.
+_AMPLIFICATION = 100
+_EXPANSION_FLOOR = 8 << 20
+# the pieces of an XML document's body a reference may sit in
+_XML_PIECE = re.compile(r"""<!--.*?-->|<!\[CDATA\[.*?\]\]>|<\?.*?\?>"""
+                        r"""|<[A-Za-z_:/][^<>"']*(?:(?:"[^"]*"|'[^']*')[^<>"']*)*>"""
+                        r"""|&([A-Za-z_:\u00C0-\uFFFF][\w.:\-\u00B7\u00C0-\uFFFF]*);""", re.S)
+_QUOTED = re.compile(r""""[^"]*"|'[^']*'""")
+
+
+def expand_entities(text: str, path: Path) -> str:
+    """``text`` with the general entities its internal DTD declares expanded and the DOCTYPE
+    blanked (its lines kept), as Protégé writes them (``<!DOCTYPE Ontology [<!ENTITY xsd
+    "...">]>``, ``&xsd;`` in attributes). Entities may refer to one another; what they expand
+    to is measured before anything is expanded: one entity past :data:`kb.core.limits.LITERAL`
+    or the whole file past :data:`kb.core.limits.FILE_BYTES` (an entity bomb) is an InputError,
+    as are parameter and external entities and attribute-list declarations. A reference in
+    element content keeps its line: line breaks in the replacement become ``&#10;``."""
+    span = _doctype(text)
+    if span is None:
+        return text
+    start, end = span
+    decls = _entity_decls(text[:end], path)
+    body = text[end:]
+    expanded = _Expansions(decls, path)
+    for name in decls:  # a bomb is refused whether it is used or not
+        expanded.size(name)
+    if any(f"&{name};" in body for name in decls):
+        refs = _references(body, decls)
+        total = len(text) + sum(expanded.size(name) - length for name, _, length in refs)
+        allowed = max(_EXPANSION_FLOOR, _AMPLIFICATION * len(text))
+        if total > allowed:
+            first = text.count("\n", 0, end + refs[0][1]) + 1 if refs else None
+            raise InputError(f"XML entities would expand this file to {total:,} characters, "
+                             f"{total / len(text):,.0f} times its size: over the amplification limit "
+                             f"({_AMPLIFICATION} times, an entity bomb)", path, first)
+        limits.FILE_BYTES.check(total, path, None, f"{total:,} characters once its XML entities are expanded")
+        body = _XML_PIECE.sub(lambda m: _substitute(m, decls, expanded), body)
+    return text[:start] + "\n" * text.count("\n", start, end) + body
+
+
+def _doctype(text: str) -> tuple[int, int] | None:
+    """(start, end) of the DOCTYPE declaration if it has an internal subset, else None."""
+    pos, n = 0, len(text)
+    while pos < n:
+        while pos < n and text[pos] in "\ufeff \t\r\n":
+            pos += 1
+        if text.startswith("<?", pos) or text.startswith("<!--", pos):
+            close = text.find("?>" if text.startswith("<?", pos) else "-->", pos)
+            if close < 0:
+                return None
+            pos = close + 2
+            continue
+        break
+    if not text.startswith("<!DOCTYPE", pos):
+        return None
+    i, subset, seen = pos + 9, False, False
+    while i < n:
+        c = text[i]
+        if c in "\"'":
+            close = text.find(c, i + 1)
+            if close < 0:
+                return None
+            i = close + 1
+            continue
+        if subset and (text.startswith("<!--", i) or text.startswith("<?", i)):
+            close = text.find("-->" if text.startswith("<!--", i) else "?>", i)
+            if close < 0:
+                return None
+            i = close + 2
+        elif c == "[" and not subset:
+            subset = seen = True
+        elif c == "]" and subset:
+            subset = False
+        elif c == ">" and not subset:
+            return (pos, i + 1) if seen else None
+        i += 1
+    return None
+
+
+def _entity_decls(prolog: str, path: Path) -> dict[str, tuple[str, int]]:
+    """name -> (replacement text, line) of the general entities the internal DTD of
+    ``prolog`` (the text up to the end of the DOCTYPE) declares; InputError for a parameter,
+    external or unparsed entity, or an attribute-list declaration."""
+    parser = xml.parsers.expat.ParserCreate()
+    parser.SetParamEntityParsing(xml.parsers.expat.XML_PARAM_ENTITY_PARSING_NEVER)
+    decls: dict[str, tuple[str, int]] = {}
+
+    def entity_decl(name, is_param, value, base, system_id, public_id, notation):  # noqa: ANN001
+        line = parser.CurrentLineNumber
+        if is_param:
+            raise InputError(f"XML parameter entity '{name}' is not allowed", path, line)
+        if value is None:
+            raise InputError(f"external XML entity '{name}' is not allowed (nothing is fetched)", path, line)
+        decls.setdefault(name, (value, line))
+
+    def attlist(*args) -> None:  # noqa: ANN002
+        raise InputError("an XML attribute-list declaration (<!ATTLIST>) is not read (its default values "
+                         "would be lost)", path, parser.CurrentLineNumber)
+
+    parser.EntityDeclHandler = entity_decl
+    parser.UnparsedEntityDeclHandler = lambda name, *a: entity_decl(name, False, None, None, "x", None, None)
+    parser.AttlistDeclHandler = attlist
+    parser.ExternalEntityRefHandler = lambda *a: 1
+    try:
+        parser.Parse((prolog + "<_/>").encode("utf-8"), True)
+    except xml.parsers.expat.ExpatError as exc:
+        raise InputError(f"XML syntax error: {xml.parsers.expat.ErrorString(exc.code)}", path, exc.lineno) from None
+    return decls
+
+
+class _Expansions:
+    """What each declared entity expands to: sizes first (no text built), then the text."""
+
+    def __init__(self, decls: dict[str, tuple[str, int]], path: Path):
+        self.decls, self.path = decls, path
+        self._sizes: dict[str, int] = {}
+        self._texts: dict[str, str] = {}
+
+    def size(self, name: str, depth: int = 0, chain: tuple[str, ...] = ()) -> int:
+        """Characters ``name`` expands to; InputError past the limits or for a cycle."""
+        if name in self._sizes:
+            return self._sizes[name]
+        value, line = self.decls[name]
+        if name in chain:
+            raise InputError(f"XML entity '{name}' refers to itself", self.path, line)
+        if depth > _MAX_ENTITY_DEPTH:
+            raise InputError(f"XML entities refer to one another more than {_MAX_ENTITY_DEPTH} deep",
+                             self.path, line)
+        n = len(value)
+        for m in _ENTITY_REF.finditer(value):
+            if m.group(1) in self.decls:
+                n += self.size(m.group(1), depth + 1, chain + (name,)) - len(m.group())
+        limits.LITERAL.check(n, self.path, line, f"XML entity '{name}' expands to {n:,} characters")
+        self._sizes[name] = n
+        return n
+
+    def text(self, name: str) -> str:
+        """The text ``name`` expands to (its size checked first)."""
+        if name not in self._texts:
+            self.size(name)
+            value = self.decls[name][0]
+            self._texts[name] = _ENTITY_REF.sub(
+                lambda m: self.text(m.group(1)) if m.group(1) in self.decls else m.group(), value)
+        return self._texts[name]
+
+
+def _references(body: str, decls: dict) -> list[tuple[str, int, int]]:
+    """(name, offset, length) of each reference to a declared entity in ``body``, in content
+    and in attribute values."""
+    out = []
+    for m in _XML_PIECE.finditer(body):
+        piece = m.group()
+        if m.group(1) is not None:
+            if m.group(1) in decls:
+                out.append((m.group(1), m.start(), len(piece)))
+        elif piece.startswith("<") and not piece.startswith(("<!", "<?")) and "&" in piece:
+            out.extend((r.group(1), m.start() + q.start() + r.start(), len(r.group()))
+                       for q in _QUOTED.finditer(piece) for r in _ENTITY_REF.finditer(q.group())
+                       if r.group(1) in decls)
+    return out
+
+
+def _substitute(m: re.Match, decls: dict, expanded: _Expansions) -> str:
+    piece = m.group()
+    if m.group(1) is not None:  # a reference in content
+        if m.group(1) not in decls:
+            return piece
+        value = expanded.text(m.group(1))
+        return value if "<" in value else value.replace("\r", "&#13;").replace("\n", "&#10;")
+    if piece.startswith(("<!", "<?")) or "&" not in piece:
+        return piece
+
+    def attribute(q: re.Match) -> str:
+        quote_char = q.group()[0]
+        inner = _ENTITY_REF.sub(lambda r: _in_attribute(expanded.text(r.group(1)), quote_char)
+                                if r.group(1) in decls else r.group(), q.group()[1:-1])
+        return quote_char + inner + quote_char
+
+    return _QUOTED.sub(attribute, piece)
+
+
+def _in_attribute(value: str, quote_char: str) -> str:
+    """An entity's text inside an attribute value: white space normalised (as XML does, so
+    no line is added), ``<`` and the delimiting quote escaped."""
+    value = value.replace("<", "&lt;").translate({9: " ", 10: " ", 13: " "})
+    return value.replace(quote_char, "&quot;" if quote_char == '"' else "&apos;")
+
+
+# --- file: paths that are not IRIs ---------------------------------------------------------
+
+# an IRI token of OWL functional syntax or Turtle (strings and comments skipped)
+_IRI_TOKENS = re.compile(r'"""(?:[^"\\]|\\.|"(?!""))*"""|\'\'\'(?:[^\'\\]|\\.|\'(?!\'\'))*\'\'\''
+                         r'|"(?:[^"\\\n]|\\.)*"|\'(?:[^\'\\\n]|\\.)*\'|<(file:[^<>"\n]*)>|<[^<>"\n]*>|#[^\n]*')
+_XML_FILE_IRIS = re.compile(r"""(?<==)(\s*)(["'])(file:[^"'<]*)\2|(?<=>)(\s*)(file:[^<]*?)(\s*)(?=<)""")
+# what an IRI cannot hold (RFC 3987) and a file path may: escaped as %XX
+_NOT_IRI = re.compile(r'[\x00-\x20"<>\\^`{|}\x7f]')
+
+
+def repair_file_iris(text: str, fmt: str, path: Path) -> tuple[str, list[Diagnostic]]:
+    """``text`` with each ``file:`` IRI that is not an IRI (a Windows path such as
+    ``file:C:\\Documents and Settings\\kitting.owl``: backslashes, spaces) rewritten as one
+    (``file:C:/Documents%20and%20Settings/kitting.owl``), with a warning at the first."""
+    if "file:" not in text:
+        return text, []
+    found: list[tuple[int, str, str]] = []
+
+    def fixed(iri: str, at: int) -> str:
+        if _NOT_IRI.search(iri) is None:
+            return iri
+        good = _NOT_IRI.sub(lambda c: quote(c.group(), safe=""), iri.replace("\\", "/"))
+        found.append((at, iri, good))
+        return good
+
+    if fmt in ("rdfxml", "owlxml"):
+        def xml_iri(m: re.Match) -> str:
+            if m.group(3) is not None:
+                return m.group(1) + m.group(2) + fixed(m.group(3), m.start(3)) + m.group(2)
+            return m.group(4) + fixed(m.group(5), m.start(5)) + m.group(6)
+        text = _XML_FILE_IRIS.sub(xml_iri, text)
+    elif fmt in ("ofn", "turtle", "ntriples"):
+        text = _IRI_TOKENS.sub(lambda m: m.group() if m.group(1) is None
+                               else "<" + fixed(m.group(1), m.start(1)) + ">", text)
+    if not found:
+        return text, []
+    at, bad, good = found[0]
+    more = f" ({len(found) - 1} more in this file)" if len(found) > 1 else ""
+    return text, [Diagnostic(str(path), text.count("\n", 0, at) + 1, "warning",
+                             f"<{bad}> is a file path, not an IRI; read as <{good}>{more}", rule="file-iri")]
 
 
 # --- XML safety ----------------------------------------------------------------------------
@@ -220,6 +575,7 @@ def parse_text(text: str, fmt: str, path: Path, terms: dict | None = None,
     if fmt in ("ofn", "turtle"):
         check_nesting(text, path, fmt)
     rewritten = fmt in ("ofn", "owlxml")
+    written = text  # the file's text (a line in py-horned-owl's RDF/XML is not the file's)
     if rewritten:
         text = _horned_to_rdfxml(text, fmt, path, prefixes)
         fmt = "rdfxml"
@@ -234,9 +590,12 @@ def parse_text(text: str, fmt: str, path: Path, terms: dict | None = None,
             prefixes.setdefault(name, map_iri(iri))
         return triples
     except SyntaxError as exc:
-        raise InputError(_syntax_message(exc), path, exc.lineno) from None
+        message = _syntax_message(exc)
+        line = None if rewritten else exc.lineno
+        raise InputError(message, path, line or locate_message(message, written)) from None
     except (ValueError, OSError) as exc:
-        raise InputError(f"cannot parse: {exc}", path) from None
+        message = f"cannot parse: {_one_line(str(exc))}"
+        raise InputError(message, path, locate_message(message, written)) from None
 
 
 def check_nesting(text: str, path: Path, fmt: str = "ofn") -> None:
@@ -264,7 +623,28 @@ def check_nesting(text: str, path: Path, fmt: str = "ofn") -> None:
 def _syntax_message(exc: SyntaxError) -> str:
     msg = str(exc.msg if exc.msg else exc)
     msg = re.sub(r"^Parser error [^:]*: ", "", msg)
-    return f"syntax error: {msg}".splitlines()[0]
+    return _one_line(f"syntax error: {msg}")
+
+
+def _one_line(message: str) -> str:
+    """``message`` on one line of at most 300 characters."""
+    text = " ".join(message.split())
+    return text if len(text) <= 300 else text[:297] + "..."
+
+
+_QUOTED_PART = re.compile(r"'([^'\n]{2,200})'|\"([^\"\n]{2,200})\"|<([^<>\s]{2,200})>")
+
+
+def locate_message(message: str, text: str) -> int | None:
+    """The line of ``text`` where the first quoted part of a library's ``message`` (an IRI,
+    an entity, a token it names) is written, None if none is."""
+    for m in _QUOTED_PART.finditer(message):
+        part = next(g for g in m.groups() if g is not None)
+        for candidate in (part, f"&{part};", part.replace("\\\\", "\\")):
+            at = text.find(candidate)
+            if at >= 0:
+                return text.count("\n", 0, at) + 1
+    return None
 
 
 _HORNED_POS = re.compile(r"line_col: Pos\(\((\d+), (\d+)\)\)")
@@ -296,8 +676,30 @@ def _horned_error(raw: str, text: str, fmt: str, path: Path) -> InputError:
     if m := _HORNED_EXPECTED.search(raw):
         detail = f"expected {m.group(1).replace(', ', ' or ')}" if m.group(1) else "unexpected input"
     else:
-        detail = re.sub(r"^Failed to open ontology: ", "", raw).splitlines()[0][:200] if raw else "unreadable"
-    return InputError(f"{kind}: {detail}", path, line)
+        detail = _rust_message(raw)
+    return InputError(_one_line(f"{kind}: {detail}"), path, line or locate_message(raw, text))
+
+
+_RUST_TEXT = re.compile(r'^\w+\("((?:[^"\\]|\\.)*)"')
+_RUST_VARIANT = re.compile(r"^(?:\w*Error\()*([A-Z]\w*)(?:\(([^()]*)\))?")
+
+
+def _rust_message(raw: str) -> str:
+    """A sentence from py-horned-owl's error, which is a Rust debug string such as
+    ``ValidityError("Missing Element: expected IRI", BytePosition(162))`` or
+    ``ParserError(UnrecognizedEntity(1..4, "xsd"), Unknown)``."""
+    text = re.sub(r"^Failed to open ontology: ", "", raw.strip())
+    if not text:
+        return "unreadable"
+    if m := _RUST_TEXT.match(text):
+        return m.group(1)
+    if m := _RUST_VARIANT.match(text):
+        words = re.sub(r"(?<=[a-z])(?=[A-Z])", " ", m.group(1)).lower()
+        names = re.findall(r'"((?:[^"\\]|\\.)*)"', m.group(2) or "")
+        if m.group(1) == "UnrecognizedEntity" and names:
+            return f"undeclared XML entity &{names[0]};"
+        return words + "".join(f" '{n}'" for n in names)
+    return text
 
 
 def _convert(quads: Iterable[ox.Quad], iris: dict, path: Path | None = None,
