@@ -21,6 +21,11 @@ For each plan action (seed 004 §4, seed 002 §4-5):
    current state with the same goal (:mod:`kb.planning.replan`), or stop — the executor's
    base :class:`kb.execution.recovery.Recovery`.
 
+At the end of a run the goal is checked from the whole cell sensed anew, every part lying in a
+goal kit is inspected through the cell (:meth:`Executor.inspect_kits`), and each kit is scored
+on that (:mod:`kb.metrics.kits`): what is sensed and inspected at the end, not what was
+believed or inspected during the run.
+
 With a sensor that is not exact (``accuracy``, a :class:`~kb.sim.noise.SensorNoise`), the
 executor looks again where one look is not enough (:mod:`.looks`): the belief filters the
 looks (:mod:`.belief`), the objects a motion target is computed from get enough looks first,
@@ -57,7 +62,7 @@ from kb.execution.steps import Fields, Step, Stop, parse_plan
 from kb.execution.targets import TargetError, Targets, parse as parse_target, raised
 from kb.model.definitions import Definitions, variable_classes
 from kb.model.failures import EFF, PRE, FailureModel
-from kb.metrics.kits import score_kits
+from kb.metrics.kits import KitGoal, score_kits
 from kb.model.soap import ActionSpec, DomainSpec
 from kb.planning.problem import ProblemSpec
 from kb.planning.state import pddl_name
@@ -66,6 +71,8 @@ from kb.spatial.rcc8 import DEFAULT_TOLERANCE
 
 log = logging.getLogger("kitkb.execution")
 SOLID = str(KTW.SolidObject)
+#: the predicate a kit's slot needs of its part besides its place and SKU (an inspection)
+QUALITY = "part-quality-ok"
 #: sensings of a neighbourhood before it is given up for the whole cell
 NEIGHBOURHOOD_ROUNDS = 4
 #: target functions -> their arguments whose pose must be known within what a gripper or tool
@@ -154,12 +161,22 @@ class Executor(Recovery):
         except Exception:  # noqa: BLE001 - the goal cannot be decided: it does not hold
             log.exception("the goal could not be checked")
             rec.goal_holds = False
+        goals = None
+        try:  # the kits as sensed for the goal, the parts in them inspected now
+            goals = kit_goals(self.belief, self.spec, self.by_name)
+            self.inspect_kits(goals)
+        except CellError:
+            raise
+        except Exception:  # noqa: BLE001 - a score that cannot be made is left out, the run stands
+            log.exception("the kits could not be inspected")
+            goals = None
         rec.ended = time.perf_counter()
         if rec.sensor is not None:
             rec.sensor["queries"] = self.looks.count
             rec.sensor["undecidable"] = sum(len(c.undecidable) for c in rec.checks)
-        try:  # on the cell as sensed for the goal
-            rec.kits = score_kits(kit_goals(self.belief, self.spec, self.by_name), self.evaluator())
+        try:
+            if goals is not None:
+                rec.kits = score_kits(goals, self.evaluator())
             rec.scene = scene_data(self.belief)
         except Exception:  # noqa: BLE001 - a score that cannot be made is left out, the run stands
             log.exception("the kits could not be scored")
@@ -534,6 +551,24 @@ class Executor(Recovery):
             if counts[left[0]].get(tuple(left[1:]), 0) != counts[right[0]].get(tuple(right[1:]), 0):
                 return False
         return True
+
+    def inspect_kits(self, goals: list[KitGoal]) -> None:
+        """Inspect, through the cell, every part that lies in a goal kit as sensed now (after
+        :meth:`goal_holds`): a kit's score rests on what is sensed and inspected at the end of
+        the run, not on what inspections during it said (a part may have changed since, and a
+        run that found its kit built inspected nothing). Nothing is asked when the domain has no
+        ``part-quality-ok``."""
+        if QUALITY not in self.defs.predicates:
+            return
+        ev = self.evaluator()
+        for goal in goals:
+            try:
+                parts, _kits, truth = ev.table("part-location-kit", None, [goal.kit])
+            except KitkbError:  # a kit the scene does not know: nothing lies in it
+                continue
+            for part, inside in zip(parts, np.asarray(truth).reshape(-1)):
+                if inside:
+                    self.belief.passed_inspection(part, self.cell.inspect(part))
 
     def _say(self, text: str) -> None:
         if self.progress is not None:
