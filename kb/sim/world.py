@@ -43,7 +43,7 @@ from rdflib import Literal, URIRef
 from kb.core.errors import InputError
 from kb.core.namespaces import KTW, local_name
 from kb.core.units import Units
-from kb.spatial.rcc8 import DEFAULT_TOLERANCE, HEADING_MERGE, frame_boxes, headings, world_boxes
+from kb.spatial.rcc8 import DEFAULT_TOLERANCE, HEADING_MERGE, depth_tolerance, frame_boxes, headings, world_boxes
 from kb.spatial.scene import STAND_INS, Scene
 from kb.spatial.transforms import invert
 
@@ -263,21 +263,31 @@ class World:
         it differ by rounding) a container wins over the object it stands on. Footprints are compared
         in each candidate support's frame (:meth:`boxes_in_frames`): a turned tray holds what
         lies inside it, not what lies inside its world box.
+
+        Thin and narrow objects (docs/soap.md, "Tolerance"): footprints overlap when they do by
+        more than :func:`kb.spatial.rcc8.depth_tolerance` (the tolerance, or half the narrower
+        footprint: a 0.5 mm shaft lying on a table rests on it), and two heights are equal
+        within the tolerance or half the height of a support thinner than twice it (a part let
+        go over a 0.3 mm washer lying in a tray rests on the washer, not inside it on the floor).
         """
         skip = set(self.subtree(i)) | exclude
         js = np.array(self.solids(skip), np.int64)
-        best = (0.0, 0, -1)
+        best = (0.0, 0, -1, TOLERANCE)  # (height, container first, support, tolerance of its height)
         if not len(js):
             return best[0], best[2]
         (lo, hi), (jlo, jhi) = self.boxes_in_frames(i, js)
         t = TOLERANCE
-        overlap = ((np.minimum(hi[:, :2], jhi[:, :2]) - np.maximum(lo[:, :2], jlo[:, :2])) > t).all(axis=1)
+        deep = depth_tolerance(t, hi[:, :2] - lo[:, :2], jhi[:, :2] - jlo[:, :2])
+        overlap = ((np.minimum(hi[:, :2], jhi[:, :2]) - np.maximum(lo[:, :2], jlo[:, :2])) > deep).all(axis=1)
         inside = ((lo[:, :2] >= jlo[:, :2] - t) & (hi[:, :2] <= jhi[:, :2] + t)).all(axis=1)
         contained = self.open_top[js] & inside & (jlo[:, 2] <= lo[:, 2] + t)
         below = ~contained & overlap & (jhi[:, 2] <= lo[:, 2] + t)
+        level = depth_tolerance(t, jhi[:, 2] - jlo[:, 2])
         for k in np.flatnonzero(contained | below):
-            cand = (float(jlo[k, 2]), 1, int(js[k])) if contained[k] else (float(jhi[k, 2]), 0, int(js[k]))
-            if cand[0] > best[0] + t or (cand[0] >= best[0] - t and cand[1:2] > best[1:2]):
+            top = float(jlo[k, 2]) if contained[k] else float(jhi[k, 2])
+            cand = (top, int(contained[k]), int(js[k]), float(level[k]))
+            same = min(cand[3], best[3])
+            if cand[0] > best[0] + same or (cand[0] >= best[0] - same and cand[1] > best[1]):
                 best = cand
         return best[0], best[2]
 

@@ -14,8 +14,11 @@ Relations and masks
     the set of names of one pair, :func:`world_boxes` the world boxes of oriented local boxes.
 
 Decision per axis, subject interval ``[a0, a1]``, object interval ``[b0, b1]``, tolerance
-``t >= 0``; the first rule that applies gives the axis's one RCC8 relation (so the eight are
-jointly exhaustive and pairwise disjoint):
+``t >= 0``. Each of the four bound pairs (a0, b0), (a1, b1), (a1, b0), (a0, b1) is compared
+with a tolerance of its own, ``t`` or 0 (see "Thin boxes" below: 0 where the two bounds are not
+each other's nearest, so that a box thinner than ``2 t`` is never taken for a point); ``|x - b|
+<= t`` below means "within that pair's tolerance". The first rule that applies gives the
+axis's one RCC8 relation (so the eight are jointly exhaustive and pairwise disjoint):
 
     ====  ======================================================  ===================
     rule  condition                                               relation
@@ -37,11 +40,28 @@ Cardinal directions, on each axis independently of the RCC8 relation: ``A-Plus``
 ``a1 <= b1 + t`` (it does not reach beyond it). With DC or EC they mean "entirely on the +
 (-) side" for intervals longer than ``2 t``.
 
+Thin boxes
+    A comparison of bounds (a_i, b_j) has the tolerance ``t`` only when they are each other's
+    nearest: ``|a_i - b_j|`` is no larger than the distance from b_j to the subject's other
+    bound, nor than the distance from a_i to the object's other bound; else its tolerance is 0
+    (the comparison is exact). So a bound stands in for one face of a box, never for both: a
+    washer 0.343 mm thick lying on its tray's floor has its bottom at the floor and its top
+    0.343 mm above it: the floor's nearest washer bound is the bottom, so the top is compared
+    with the floor exactly and the washer is TPP of the tray on z, not EC ("under the floor")
+    as it was with one tolerance for all four pairs.
+    A box thinner than ``2 t`` is decided by the side of the other box's face its middle lies
+    on, and keeps the whole tolerance for gaps (a washer 0.5 mm above a table still rests on
+    it). Nothing changes where both boxes are wider than ``2 t`` on the axis (two bounds of a
+    box cannot then both be within ``t`` of one bound), nor for a point (its two bounds are
+    equally near: a point at the end of an interval is EC to it). docs/soap.md, "Tolerance",
+    has the reasoning. :func:`depth_tolerance` is the same rule for a penetration depth or a
+    gap measured along an axis (the simulated cell's support test, plausibility checks).
+
 Floating point: every test compares one subject bound with one object bound shifted by the
-tolerance, ``b - t`` or ``b + t`` (``|x - b| <= t`` is read as ``b - t <= x <= b + t``,
-``b1 < a0 - t`` as ``a0 > b1 + t``; equal in exact arithmetic). :func:`relate` and
-:func:`relate_pair` both evaluate exactly these comparisons in float64, so they agree bit for
-bit, ties included.
+pair's tolerance, ``b - t`` or ``b + t`` (``|x - b| <= t`` is read as ``b - t <= x <= b + t``,
+``b1 < a0 - t`` as ``a0 > b1 + t``; equal in exact arithmetic); which pairs keep ``t`` is
+decided on the float64 distances ``|a_i - b_j|``. :func:`relate` and :func:`relate_pair` both
+evaluate exactly these comparisons in float64, so they agree bit for bit, ties included.
 
 Oriented boxes
     :func:`relate_oriented` relates boxes given by poses: each pair in the frame of its object,
@@ -56,8 +76,8 @@ Tolerance
     of the boxes: the state files are in metres, so 1 mm (boxes in millimetres would need
     ``tol=1.0``). Two bounds no farther apart than ``tol`` count as equal: a gap of 0.5 mm
     between a part and a table is EC, a gap of 2 mm is DC. Intervals shorter than ``2 tol``
-    are at the resolution of the tolerance and follow the table literally (a point at the end
-    of an interval is EC to it, rule 3 before rule 4).
+    keep their extent ("Thin boxes" above); a point at the end of an interval is EC to it
+    (rule 3 before rule 4).
 
 Kernel
     Per axis the decision depends only on the ternary comparisons (below / within tolerance /
@@ -68,7 +88,11 @@ Kernel
     of a chunk of objects follow from its rank among those thresholds, so two small tables
     indexed by rank give each row of indexes by a row gather and an add, in uint8/uint16,
     block by block in cache (see the comment "Vectorised kernel" below; figures in
-    ``docs/benchmarks.md``). Few subjects use broadcast comparisons instead.
+    ``docs/benchmarks.md``). Few subjects use broadcast comparisons instead. The kernels give
+    every pair the tolerance ``t``; then the pairs with a box thinner than ``2 t`` (and
+    rounding) on an axis where they are not DC are decided again with the bound pairs' own
+    tolerances (:func:`_masks_exact`): only those can differ (on an axis where two intervals
+    are apart, no bound pair is within the tolerance).
 """
 
 from __future__ import annotations
@@ -80,8 +104,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from kb.spatial.frames import HEADING_MERGE, frame_boxes, heading_groups, headings, world_boxes
 
-__all__ = ["BIT", "DEFAULT_TOLERANCE", "HEADING_MERGE", "RELATIONS", "frame_boxes", "heading_groups", "headings",
-           "reframe", "relate", "relate_oriented", "relate_pair", "relate_rows", "world_boxes"]
+__all__ = ["BIT", "DEFAULT_TOLERANCE", "HEADING_MERGE", "RELATIONS", "depth_tolerance", "frame_boxes", "heading_groups",
+           "headings", "reframe", "relate", "relate_oriented", "relate_pair", "relate_rows", "world_boxes"]
 
 #: The eight RCC8 relations of one axis, in mask order.
 RCC8: tuple[str, ...] = ("DC", "EC", "PO", "EQ", "TPP", "NTPP", "TPPi", "NTPPi")
@@ -99,6 +123,9 @@ BIT: dict[str, int] = {name: 1 << i for i, name in enumerate(RELATIONS)}
 #: Tolerance in the boxes' unit of length (metres in the state files: 1 mm).
 DEFAULT_TOLERANCE: float = 0.001
 
+#: The three DC bits: a pair with one of them is apart in every frame.
+_DC_ANY = np.uint32(BIT["X-DC"] | BIT["Y-DC"] | BIT["Z-DC"])
+
 FloatArray = NDArray[np.float64]
 
 
@@ -106,42 +133,64 @@ FloatArray = NDArray[np.float64]
 # Reference: one pair in plain Python
 # ---------------------------------------------------------------------------------------------
 
-def _axis_rcc8(a0: float, a1: float, b0: float, b1: float, t: float) -> str:
-    """The RCC8 relation of subject interval [a0, a1] to object interval [b0, b1] (rules 1-6)."""
-    def near(x: float, b: float) -> bool:  # |x - b| <= t
-        return b - t <= x <= b + t
+def _pair_tolerances(a0: float, a1: float, b0: float, b1: float, t: float) -> tuple[float, float, float, float]:
+    """The tolerances of the bound pairs (a0, b0), (a1, b1), (a1, b0), (a0, b1): ``t`` where
+    the two bounds are each other's nearest, else 0 (module docstring, "Thin boxes")."""
+    d00, d11, d10, d01 = abs(a0 - b0), abs(a1 - b1), abs(a1 - b0), abs(a0 - b1)
+    return (t if d00 <= min(d10, d01) else 0.0, t if d11 <= min(d01, d10) else 0.0,
+            t if d10 <= min(d00, d11) else 0.0, t if d01 <= min(d00, d11) else 0.0)
 
-    if a1 < b0 - t or a0 > b1 + t:
-        return "DC"
-    if near(a0, b0) and near(a1, b1):
-        return "EQ"
-    if near(a1, b0) or near(a0, b1):
-        return "EC"
-    tangential = near(a0, b0) or near(a1, b1)
-    if a0 >= b0 - t and a1 <= b1 + t:
-        return "TPP" if tangential else "NTPP"
-    if a0 <= b0 + t and a1 >= b1 - t:  # b0 >= a0 - t and b1 <= a1 + t
-        return "TPPi" if tangential else "NTPPi"
-    return "PO"
+
+def _code(x: float, b: float, t: float) -> int:
+    """0 when ``x`` is below ``b`` beyond ``t``, 1 within ``t`` of it, 2 above beyond ``t``."""
+    return 0 if x < b - t else (2 if x > b + t else 1)
+
+
+def _axis_codes(a0: float, a1: float, b0: float, b1: float, t: float) -> tuple[int, int, int, int]:
+    """The ternary codes (c00, c11, c10, c01) of subject interval [a0, a1] against object
+    interval [b0, b1], each bound pair with its own tolerance."""
+    t00, t11, t10, t01 = _pair_tolerances(a0, a1, b0, b1, t)
+    return _code(a0, b0, t00), _code(a1, b1, t11), _code(a1, b0, t10), _code(a0, b1, t01)
 
 
 def relate_pair(a_lo: Sequence[float], a_hi: Sequence[float], b_lo: Sequence[float],
                 b_hi: Sequence[float], tol: float = DEFAULT_TOLERANCE) -> frozenset[str]:
     """The relations (names of :data:`RELATIONS`) of subject box a to object box b.
 
-    Plain Python, straight from the decision table of the module docstring; the reference for
-    :func:`relate`. Each argument is a 3-sequence (x, y, z) of one box corner.
+    Plain Python, straight from the decision table of the module docstring (rules 1-6 on each
+    axis's codes, :func:`_rcc8_of_codes`); the reference for :func:`relate`. Each argument is
+    a 3-sequence (x, y, z) of one box corner.
     """
     t = _check_tolerance(tol)
     names = []
     for k, axis in enumerate(AXES):
-        a0, a1, b0, b1 = float(a_lo[k]), float(a_hi[k]), float(b_lo[k]), float(b_hi[k])
-        names.append(f"{axis}-{_axis_rcc8(a0, a1, b0, b1, t)}")
-        if a0 >= b0 - t:
+        c00, c11, c10, c01 = _axis_codes(float(a_lo[k]), float(a_hi[k]), float(b_lo[k]), float(b_hi[k]), t)
+        names.append(f"{axis}-{_rcc8_of_codes(c00, c11, c10, c01)}")
+        if c00 >= 1:  # a0 >= b0 - t
             names.append(f"{axis}-Plus")
-        if a1 <= b1 + t:
+        if c11 <= 1:  # a1 <= b1 + t
             names.append(f"{axis}-Minus")
     return frozenset(names)
+
+
+def depth_tolerance(tol: float, *extents: ArrayLike) -> NDArray[np.float64]:
+    """The tolerance a depth measured along an axis (how far one box overlaps or enters
+    another, a gap) is compared with, for boxes of the given ``extents`` along that axis (numbers
+    or arrays that broadcast together): ``tol``, or half the smallest positive extent where
+    that is less.
+
+    The RCC8 decision's rule for thin boxes (module docstring, "Thin boxes") for checks that
+    measure a depth rather than compare bounds: a box thinner than ``2 tol`` counts as
+    entering another (or as resting on it, for an overlap of footprints) once its middle has,
+    not only beyond ``tol``, which it can never reach. A zero extent (a point, a plate of no
+    thickness) does not lower it. With every extent at least ``2 tol``, it is ``tol``.
+    """
+    t = _check_tolerance(tol)
+    arrays = [np.asarray(e, dtype=np.float64) for e in extents]
+    out = np.full(np.broadcast_shapes(*(a.shape for a in arrays)), t)
+    for a in arrays:
+        np.minimum(out, np.where(a > 0.0, a * 0.5, t), out=out)
+    return out
 
 
 def _check_tolerance(tol: float) -> float:
@@ -160,7 +209,7 @@ def _rcc8_of_codes(c00: int, c11: int, c10: int, c01: int) -> str:
     """Rules 1-6 on ternary codes ``cXY`` of subject bound X against object bound Y.
 
     0 = lower bound, 1 = upper bound; a code is 0 below (``a < b - t``), 1 within tolerance,
-    2 above (``a > b + t``). Mirrors :func:`_axis_rcc8` comparison for comparison.
+    2 above (``a > b + t``), ``t`` the bound pair's own tolerance (:func:`_pair_tolerances`).
     """
     if c10 == 0 or c01 == 2:
         return "DC"
@@ -269,13 +318,50 @@ def relate(a_lo: ArrayLike, a_hi: ArrayLike, b_lo: ArrayLike, b_hi: ArrayLike,
     b0s, b1s = _boxes(b_lo, b_hi, "object")
     n, m = a0s.shape[1], b0s.shape[1]
     if n < _RANK_MIN_SUBJECTS and n * m <= min(_FEW_PAIRS, _COMPARE_PAIRS):  # (the kernels' own tests shrink these)
-        return _masks_all_axes(a0s[:, :, None], a1s[:, :, None], b0s[:, None, :], b1s[:, None, :], t)
-    out = np.empty((n, m), dtype=np.uint32)
-    kernel, chunk = _plan(n)
-    for start in range(0, m, chunk):
-        cols = slice(start, min(m, start + chunk))
-        _run_blocks(kernel(_Thresholds(b0s[:, cols], b1s[:, cols], t), a0s, a1s), out, cols)
+        out = _masks_all_axes(a0s[:, :, None], a1s[:, :, None], b0s[:, None, :], b1s[:, None, :], t)
+    else:
+        out = np.empty((n, m), dtype=np.uint32)
+        kernel, chunk = _plan(n)
+        for start in range(0, m, chunk):
+            cols = slice(start, min(m, start + chunk))
+            _run_blocks(kernel(_Thresholds(b0s[:, cols], b1s[:, cols], t), a0s, a1s), out, cols)
+    _thin_again(out, a0s, a1s, b0s, b1s, t)
     return out
+
+
+def _thin(lo: FloatArray, hi: FloatArray, t: float) -> NDArray[np.bool_]:
+    """(3, n) for boxes given as (3, n) bounds: at most ``2 t`` across on that axis, rounding
+    allowed for (a relative 1e-12: far more than the few float64 roundings of the tests).
+    Only there can a bound pair whose tolerance is 0 change a code."""
+    return (hi - lo) <= 2.0 * t + 1e-12 * (np.abs(lo) + np.abs(hi) + t)
+
+
+#: The DC bit of each axis, shaped to weigh a (3, n) Boolean array.
+_DC_AXIS = np.array([BIT["X-DC"], BIT["Y-DC"], BIT["Z-DC"]], dtype=np.uint32)[:, None]
+
+
+def _thin_again(masks: NDArray[np.uint32], a0s: FloatArray, a1s: FloatArray, b0s: FloatArray, b1s: FloatArray,
+                t: float) -> None:
+    """Decide again, in place, with each bound pair's own tolerance (:func:`_masks_exact`), the
+    pairs of ``masks`` (decided with ``t`` for every bound pair) that have a box thin on some
+    axis (:func:`_thin`) and are not DC on that axis: the only ones whose bits can differ (on an
+    axis where two intervals are apart no bound pair is within the tolerance)."""
+    thin_a, thin_b = _thin(a0s, a1s, t), _thin(b0s, b1s, t)
+    rows, cols = np.flatnonzero(thin_a.any(axis=0)), np.flatnonzero(thin_b.any(axis=0))
+    if not (rows.size or cols.size):
+        return
+    i_parts, j_parts = [], []
+    if rows.size:  # a row's pairs that are not DC on one of its thin axes
+        dc = (thin_a[:, rows] * _DC_AXIS).sum(axis=0, dtype=np.uint32)[:, None]
+        i, j = np.nonzero((masks[rows] & dc) != dc)
+        i_parts.append(rows[i]), j_parts.append(j)
+    if cols.size:
+        dc = (thin_b[:, cols] * _DC_AXIS).sum(axis=0, dtype=np.uint32)[None, :]
+        i, j = np.nonzero((masks[:, cols] & dc) != dc)
+        i_parts.append(i), j_parts.append(cols[j])
+    i, j = np.concatenate(i_parts), np.concatenate(j_parts)  # a pair found twice gets the same mask twice
+    if i.size:
+        masks[i, j] = _masks_exact(a0s[:, i], a1s[:, i], b0s[:, j], b1s[:, j], t)
 
 
 def _masks_all_axes(a0s: FloatArray, a1s: FloatArray, b0s: FloatArray, b1s: FloatArray, t: float) -> NDArray[np.uint32]:
@@ -288,6 +374,29 @@ def _masks_all_axes(a0s: FloatArray, a1s: FloatArray, b0s: FloatArray, b1s: Floa
     for x, lo, hi in ((a0s, lo1, hi1), (a1s, lo0, hi0), (a1s, lo1, hi1), (a0s, lo0, hi0)):
         code = (x >= lo).view(np.uint8)
         code += (x >= hi).view(np.uint8)
+        if index is None:
+            index = code
+        else:
+            index *= np.uint8(3)
+            index += code
+    bits = _TABLES_FLAT[index + _AXIS_OFFSET[index.ndim]]
+    return bits[0] | bits[1] | bits[2]
+
+
+def _masks_exact(a0s: FloatArray, a1s: FloatArray, b0s: FloatArray, b1s: FloatArray, t: float) -> NDArray[np.uint32]:
+    """:func:`_masks_all_axes` with each bound pair's own tolerance (module docstring, "Thin
+    boxes": ``t`` where the two bounds are each other's nearest, else 0), as
+    :func:`relate_pair` decides: for the few pairs that need it (one row per pair, or a small
+    broadcast)."""
+    d00, d11 = np.abs(a0s - b0s), np.abs(a1s - b1s)
+    d10, d01 = np.abs(a1s - b0s), np.abs(a0s - b1s)
+    keep = (d01 <= np.minimum(d00, d11), d10 <= np.minimum(d00, d11),  # (a0, b1), (a1, b0),
+            d11 <= np.minimum(d01, d10), d00 <= np.minimum(d10, d01))  # (a1, b1), (a0, b0)
+    index = None  # c00 + 3 c11 + 9 c10 + 27 c01, Horner form from c01 down, in uint8
+    for x, b, k in zip((a0s, a1s, a1s, a0s), (b1s, b0s, b1s, b0s), keep):
+        tt = np.where(k, t, 0.0)
+        code = (x >= b - tt).view(np.uint8)
+        code += (x >= np.nextafter(b + tt, np.inf)).view(np.uint8)
         if index is None:
             index = code
         else:
@@ -482,10 +591,6 @@ def relate_oriented(a_poses: ArrayLike, a_lo: ArrayLike, a_hi: ArrayLike, b_pose
     return masks
 
 
-#: The three DC bits: a pair with one of them is apart in every frame.
-_DC_ANY = np.uint32(BIT["X-DC"] | BIT["Y-DC"] | BIT["Z-DC"])
-
-
 def reframe(masks: NDArray[np.uint32], a: tuple, b: tuple, b_yaw: FloatArray, tol: float = DEFAULT_TOLERANCE,
             a_rows: NDArray[np.intp] | None = None, b_rows: NDArray[np.intp] | None = None) -> None:
     """Decide again, in place, the pairs of world-box ``masks`` whose object is turned
@@ -518,7 +623,7 @@ def reframe(masks: NDArray[np.uint32], a: tuple, b: tuple, b_yaw: FloatArray, to
         alo, ahi = frame_boxes(a[0][ai], a[1][ai], a[2][ai], yaw)
         blo, bhi = frame_boxes(b[0][bj], b[1][bj], b[2][bj], yaw)
     # relate_rows without its checks: these are hulls of placed boxes, finite, lo <= hi
-    masks[i, j] = _masks_all_axes(alo.T, ahi.T, blo.T, bhi.T, _check_tolerance(tol))
+    masks[i, j] = _masks_exact(alo.T, ahi.T, blo.T, bhi.T, _check_tolerance(tol))
 
 
 def relate_rows(a_lo: ArrayLike, a_hi: ArrayLike, b_lo: ArrayLike, b_hi: ArrayLike,
@@ -528,4 +633,4 @@ def relate_rows(a_lo: ArrayLike, a_hi: ArrayLike, b_lo: ArrayLike, b_hi: ArrayLi
     t = _check_tolerance(tol)
     a0s, a1s = _boxes(a_lo, a_hi, "subject")
     b0s, b1s = _boxes(b_lo, b_hi, "object")
-    return _masks_all_axes(a0s, a1s, b0s, b1s, t)
+    return _masks_exact(a0s, a1s, b0s, b1s, t)

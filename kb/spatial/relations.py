@@ -93,9 +93,10 @@ class PairRelations:
         self._masks: dict[tuple, np.ndarray] = {}
         self._truth: dict[int, tuple[Mask, np.ndarray]] = {}  # id(test) -> test, (K, K) truth (whole scenes)
         self._all: np.ndarray | None = None  # (K, K) masks of every pair (whole scenes)
-        # unplaced objects get a far-away point box (DC from everything; masked out anyway)
+        # unplaced objects get a far-away box (DC from everything; masked out anyway), wide:
+        # not thin, so that relate does not decide their pairs with each other again
         self._lo = np.where(np.isnan(scene.lo), 1e30, scene.lo)
-        self._hi = np.where(np.isnan(scene.hi), 1e30, scene.hi)
+        self._hi = np.where(np.isnan(scene.hi), 2e30, scene.hi)
         self._yaw: np.ndarray | None = None  # each object's frame, on first use
 
     def truth(self, test: Mask, s: np.ndarray, o: np.ndarray) -> np.ndarray:
