@@ -1,27 +1,37 @@
 """Compile a SHACL shapes graph into Shape objects the engine evaluates in bulk.
 
-A shape the engine cannot evaluate exactly like pySHACL (an unknown SHACL parameter, a
-malformed property path, a custom constraint component, ``$shapesGraph``/``$currentShape`` in
-a SPARQL query) is recorded in :attr:`Program.unsupported` with the reason; the engine hands
-every top-level shape that reaches such a shape to pySHACL instead. A shape that no engine
-may evaluate (SPARQL the specification forbids, a query that does not parse, in a constraint
-or in the validator of a custom component it uses) raises :class:`kb.shacl.shape.ShapeError`.
+A shape the engine cannot evaluate exactly like pySHACL (a core component it leaves to
+pySHACL, a blank-node parameter value of a constraint component, ``$currentShape`` in a
+blank-node shape, a recursive shape) is recorded in :attr:`Program.unsupported` with the
+reason; the engine hands every top-level shape that reaches such a shape to pySHACL instead
+(with the SHACL instances it needs spelt out, :mod:`kb.shacl.fallback`). SPARQL-based
+constraint components are evaluated here (:mod:`kb.shacl.components`).
+
+A shape that no engine may evaluate, or whose constraint would be skipped, raises
+:class:`kb.shacl.shape.ShapeError`, never a silent "conforms": SPARQL the specification
+forbids or that does not parse, a term of the ``sh:`` namespace that is no SHACL term or that
+neither engine evaluates (:mod:`kb.shacl.vocabulary`; checked on every node of the shapes
+graph, so a misspelt ``sh:targetClas`` is caught too), a malformed RDF list or property path,
+a count that is not an integer, a pattern that is not a regular expression, an unknown node
+kind, an ``sh:property`` value without ``sh:path``, a constraint component kitkb cannot
+evaluate (:mod:`kb.shacl.components`).
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterable
-from dataclasses import dataclass, field
+import re
+from dataclasses import dataclass
 
 from rdflib import RDF, RDFS, BNode, Graph, Literal, URIRef
-from rdflib.collection import Collection
 from rdflib.term import Node
 
 from kb.core.namespaces import SH
+from kb.shacl import components as CC
 from kb.shacl import constraints as C
 from kb.shacl import paths
-from kb.shacl.shape import Constraint, Shape
-from kb.shacl.sparql import SparqlC, check_validators, compile_sparql
+from kb.shacl import vocabulary as V
+from kb.shacl.shape import Constraint, Shape, ShapeError
+from kb.shacl.sparql import SparqlC, compile_sparql
 from kb.shacl.terms import XSD_NS, key_of
 
 TARGET_PREDICATES = (SH.targetClass, SH.targetNode, SH.targetSubjectsOf, SH.targetObjectsOf)
@@ -62,30 +72,24 @@ class Program:
         return [c for s in self.shapes.values() for c in s.constraints if isinstance(c, SparqlC)]
 
 
-def _list(g: Graph, head: Node) -> list[Node]:
-    try:
-        return list(Collection(g, head))
-    except Exception:  # malformed list: nothing to compare against
-        return []
+def _list(g: Graph, head: Node, s: Shape, pred: URIRef) -> list[Node]:
+    """The members of the RDF list ``head`` (the value of ``pred`` on shape ``s``);
+    :class:`ShapeError` when it is not a well-formed list (it would constrain nothing)."""
+    members: list[Node] = []
+    seen: set[Node] = set()
+    node = head
+    while node != RDF.nil:
+        firsts, rests = list(g.objects(node, RDF.first)), list(g.objects(node, RDF.rest))
+        if len(firsts) != 1 or len(rests) != 1 or node in seen:
+            raise ShapeError(s.node, f"the value of sh:{_local(pred)} is not a well-formed RDF list", s.node)
+        seen.add(node)
+        members.append(firsts[0])
+        node = rests[0]
+    return members
 
 
-def _custom_parameters(g: Graph) -> dict[Node, list[Node]]:
-    """Parameter (its sh:path) -> the custom constraint components declaring it; a component
-    is typed sh:ConstraintComponent or a subclass of it (rdfs:subClassOf*, in ``g``)."""
-    kinds = {SH.ConstraintComponent}
-    todo = [SH.ConstraintComponent]
-    while todo:
-        for sub in g.subjects(RDFS.subClassOf, todo.pop()):
-            if sub not in kinds:
-                kinds.add(sub)
-                todo.append(sub)
-    params: dict[Node, list[Node]] = {}
-    for kind in kinds:
-        for comp in g.subjects(RDF.type, kind):
-            for p in g.objects(comp, SH.parameter):
-                for path in g.objects(p, SH.path):
-                    params.setdefault(path, []).append(comp)
-    return params
+def _local(term: Node) -> str:
+    return str(term).rpartition("#")[2]
 
 
 class Compiler:
@@ -96,7 +100,9 @@ class Compiler:
         self.rdf11 = rdf11_strings
         self.prefixes = prefixes
         self.shapes: dict[Node, Shape] = {}
-        self.custom = _custom_parameters(g)
+        self.components = CC.components(g)
+        self.params = CC.parameter_index(self.components)
+        self.pretenders = CC.pretenders(g, self.components)
         self.read_as = read_as(g)
 
     def key(self, term: Node) -> str:
@@ -116,13 +122,18 @@ class Compiler:
 
     def _fill(self, s: Shape) -> None:
         g, n = self.g, s.node
-        for p in set(g.predicates(n)):
-            if p in self.custom:
-                for comp in self.custom[p]:
-                    check_validators(g, self.prefixes, n, comp)
-                s.problems.append(f"custom constraint component parameter {p}")
-            elif str(p).startswith(str(SH)) and p not in KNOWN:
-                s.problems.append(f"unsupported SHACL parameter {p}")
+        used: list[CC.Component] = []
+        for p in sorted(set(g.predicates(n)), key=str):
+            if p in self.params:
+                used += [c for c in self.params[p] if c not in used]
+            elif p in self.pretenders:
+                raise ShapeError(n, f"{CC.spell(g, p)} is a parameter of {CC.spell(g, self.pretenders[p])}, which is no SHACL "
+                                    "instance of sh:ConstraintComponent (its rdf:type does not lead there by "
+                                    "rdfs:subClassOf), so its validators would never run", n)
+            elif str(p).startswith(str(SH)):
+                _check_term(g, n, p)
+                if p in V.PYSHACL:
+                    s.problems.append(f"{CC.spell(g, p)}, a SHACL core constraint kitkb's engine leaves to pySHACL")
         deact = self._one(n, SH.deactivated)
         s.deactivated = isinstance(deact, Literal) and deact.value is True
         sev = self._one(n, SH.severity)
@@ -135,13 +146,17 @@ class Compiler:
             s.path_node = path
             found = paths.read(g, path, self.key)
             if found is None:
-                s.problems.append(f"sh:path {path} is not a well-formed SHACL property path")
-                s.path = ("pred", "<urn:kitkb:unsupported-path>")
-            elif found[0] == "pred" or (found[0] == "inv" and found[1][0] == "pred"):
+                raise ShapeError(n, f"sh:path {CC.spell(g, path)} is not a well-formed SHACL property path", n)
+            if found[0] == "pred" or (found[0] == "inv" and found[1][0] == "pred"):
                 s.path = (found[0], found[1] if found[0] == "pred" else found[1][1])
             else:
                 s.path = ("path", found)
         self._constraints(s)
+        for comp in used:
+            found_c, problem = CC.constraints(g, self.prefixes, s, comp, self.rdf11)
+            if problem:
+                s.problems.append(problem)
+            s.constraints.extend(found_c)
 
     def _constraints(self, s: Shape) -> None:
         g, n, add = self.g, s.node, s.constraints.append
@@ -150,28 +165,26 @@ class Compiler:
         for dt in g.objects(n, SH.datatype):
             add(C.DatatypeC(s, self.key(dt), self.read_as))
         for kind in g.objects(n, SH.nodeKind):
+            if kind not in V.NODE_KINDS:
+                raise ShapeError(n, f"sh:nodeKind {CC.spell(g, kind)} is none of SHACL's six node kinds", n)
             add(C.NodeKindC(s, kind))
         for which in ("min", "max"):
             for v in g.objects(n, SH[which + "Count"]):
-                limit = C.literal_int(v)
-                if limit is None:
-                    s.problems.append(f"sh:{which}Count {v} is not an integer")
-                else:
-                    add(C.CountC(s, which, limit))
+                add(C.CountC(s, which, self._integer(s, which + "Count", v)))
             for v in g.objects(n, SH[which + "Length"]):
-                limit = C.literal_int(v)
-                if limit is None:
-                    s.problems.append(f"sh:{which}Length {v} is not an integer")
-                else:
-                    add(C.LengthC(s, which, limit))
+                add(C.LengthC(s, which, self._integer(s, which + "Length", v)))
         for which in ("minExclusive", "minInclusive", "maxExclusive", "maxInclusive"):
             for v in g.objects(n, SH[which]):
                 add(C.RangeC(s, which, v, self.read_as))
         flags = self._one(n, SH.flags)
         for pat in g.objects(n, SH.pattern):
-            add(C.PatternC(s, str(pat), str(flags) if flags is not None else None))
+            try:
+                add(C.PatternC(s, str(pat), str(flags) if flags is not None else None))
+            except re.error as exc:
+                raise ShapeError(n, f"sh:pattern {str(pat)!r} is not a regular expression kitkb reads: {exc}",
+                                 n) from None
         for head in g.objects(n, SH["in"]):
-            add(C.InC(s, [self.key(m) for m in _list(g, head)]))
+            add(C.InC(s, [self.key(m) for m in _list(g, head, s, SH["in"])]))
         for hv in g.objects(n, SH.hasValue):
             add(C.HasValueC(s, self.key(hv)))
         for other in g.objects(n, SH.node):
@@ -180,13 +193,17 @@ class Compiler:
             add(C.NotC(s, self._ref(s, other)))
         for which in ("and", "or", "xone"):
             for head in g.objects(n, SH[which]):
-                add(C.ListC(s, which, [self._ref(s, m) for m in _list(g, head)]))
+                add(C.ListC(s, which, [self._ref(s, m) for m in _list(g, head, s, SH[which])]))
         props = list(g.objects(n, SH.property))
+        for ps in props:
+            if self._one(ps, SH.path) is None:
+                raise ShapeError(n, f"the value {CC.spell(g, ps)} of its "
+                                    "sh:property has no sh:path (a property shape needs one)", ps)
         closed = self._one(n, SH.closed)
         if isinstance(closed, Literal) and closed.value is True:
             allowed = {self.key(p) for p in (self._one(ps, SH.path) for ps in props) if isinstance(p, URIRef)}
             for head in g.objects(n, SH.ignoredProperties):
-                allowed.update(self.key(m) for m in _list(g, head))
+                allowed.update(self.key(m) for m in _list(g, head, s, SH.ignoredProperties))
             add(C.ClosedC(s, allowed))
         for ps in props:
             add(C.PropertyC(s, self._ref(s, ps)))
@@ -197,6 +214,13 @@ class Compiler:
                     s.problems.append(problem)
                 elif c is not None:
                     add(c)
+
+    @staticmethod
+    def _integer(s: Shape, param: str, v: Node) -> int:
+        limit = C.literal_int(v)
+        if limit is None:
+            raise ShapeError(s.node, f"sh:{param} {v.n3()} is not an integer", s.node)
+        return limit
 
     def _ref(self, s: Shape, other: Node) -> Shape:
         ref = self.shape(other)
@@ -227,29 +251,97 @@ def _reachable_problems(s: Shape) -> list[str]:
     return found
 
 
-def _implicit_class_target(g: Graph, n: Node) -> bool:
-    if not ((n, RDF.type, SH.NodeShape) in g or (n, RDF.type, SH.PropertyShape) in g):
-        return False
-    classes = set(g.subjects(RDFS.subClassOf, RDFS.Class)) | {RDFS.Class}
-    return any(t in classes for t in g.objects(n, RDF.type))
+@dataclass
+class _Kinds:
+    """The SHACL classes a shapes graph's own rdfs:subClassOf reaches: its classes (SHACL
+    instances of rdfs:Class) and its shape types (of sh:NodeShape, sh:PropertyShape)."""
+
+    classes: set[Node]
+    shapes: set[Node]
+
+    @classmethod
+    def of(cls, g: Graph) -> "_Kinds":
+        return cls(CC.subclasses(g, RDFS.Class),
+                   CC.subclasses(g, SH.NodeShape) | CC.subclasses(g, SH.PropertyShape))
+
+    def implicit_target(self, g: Graph, n: Node) -> bool:
+        """A shape that is also a class has an implicit class target (SHACL 2.1.3.3)."""
+        types = set(g.objects(n, RDF.type))
+        return bool(types & self.shapes) and bool(types & self.classes)
 
 
 def targeted_shapes(g: Graph) -> set[Node]:
     """The shapes of ``g`` with a target: sh:targetClass, sh:targetNode, sh:targetSubjectsOf,
-    sh:targetObjectsOf, or a shape that is also a class (an implicit class target)."""
+    sh:targetObjectsOf, or a shape that is also a class (an implicit class target; both by
+    rdf:type/rdfs:subClassOf*)."""
     heads: set[Node] = set()
     for p in TARGET_PREDICATES:
         heads.update(g.subjects(p, None))
+    kinds = _Kinds.of(g)
     for n in set(g.subjects(RDF.type, None)):
-        if _implicit_class_target(g, n):
+        if kinds.implicit_target(g, n):
             heads.add(n)
     return heads
 
 
+#: Predicates that make their subject a shape (SHACL 2.1: a target, a constraint parameter).
+_SHAPE_PARAMETERS = (KNOWN | V.PYSHACL) - {RDF.type, SH.deactivated, SH.severity, SH.message, SH.name,
+                                            SH.description, SH.order, SH.group, SH.defaultValue, SH.prefixes,
+                                            SH.flags, SH.ignoredProperties}
+#: Predicates whose values are shapes (a node used so has no other role through them).
+_SHAPE_VALUES = {SH.property, SH.node, SH["not"], SH.qualifiedValueShape}
+
+
+def _check_term(g: Graph, n: Node, p: URIRef) -> None:
+    """:class:`ShapeError` when shape ``n``'s predicate ``p`` (of the ``sh:`` namespace) would
+    be skipped: no SHACL term, an advanced feature, or a term that belongs elsewhere (unless
+    ``n`` plays that other role too, as a shape that is its own sh:sparql constraint)."""
+    why = V.on_shape(p, KNOWN)  # type: ignore[arg-type]
+    if why and p in V.PROPERTIES and p not in V.ADVANCED and _other_role(g, n):
+        return
+    if why:
+        raise ShapeError(n, why, n)
+
+
+def _other_role(g: Graph, n: Node) -> bool:
+    """Is ``n`` the value of an ``sh:`` predicate that does not take a shape (sh:sparql, a
+    validator, sh:path ...)?"""
+    sh = str(SH)
+    return any(str(p).startswith(sh) and p not in _SHAPE_VALUES for p in g.predicates(None, n))
+
+
+def _shape_like(g: Graph) -> set[Node]:
+    """Nodes SHACL takes for shapes: SHACL instances of sh:NodeShape or sh:PropertyShape,
+    subjects of a target or of a constraint parameter."""
+    kinds = _Kinds.of(g)
+    found = {n for t in kinds.shapes for n in g.subjects(RDF.type, t)}
+    for p in (*TARGET_PREDICATES, *_SHAPE_PARAMETERS):
+        found.update(g.subjects(p, None))
+    return found
+
+
+def check_vocabulary(g: Graph) -> None:
+    """:class:`ShapeError` for a shape with a predicate of the ``sh:`` namespace that would be
+    skipped (:func:`_check_term`), reached from a target or not (a misspelt ``sh:targetClas``
+    leaves its shape without one), and for an sh:targetClass, sh:targetSubjectsOf or
+    sh:targetObjectsOf that is a literal (it would select nothing)."""
+    sh = str(SH)
+    for n in sorted(_shape_like(g), key=str):
+        for p in sorted(set(g.predicates(n)), key=str):
+            if str(p).startswith(sh):
+                _check_term(g, n, p)  # type: ignore[arg-type]
+    for p in (SH.targetClass, SH.targetSubjectsOf, SH.targetObjectsOf):
+        for node, value in g.subject_objects(p):
+            if isinstance(value, Literal):
+                raise ShapeError(node, f"sh:{_local(p)} {value.n3()} is a literal: it selects no focus node", node)
+
+
 def compile_program(g: Graph, *, rdf11_strings: bool, prefixes: dict[str, str]) -> Program:
     """Compile every shape of ``g`` that has a target (and the shapes they reach)."""
+    check_vocabulary(g)
     comp = Compiler(g, rdf11_strings=rdf11_strings, prefixes=prefixes)
     heads = targeted_shapes(g)
+    kinds = _Kinds.of(g)
     top: list[tuple[Shape, dict[URIRef, list[str]]]] = []
     unsupported: dict[Node, str] = {}
     for head in sorted(heads, key=lambda h: (isinstance(h, BNode), str(h))):
@@ -259,7 +351,7 @@ def compile_program(g: Graph, *, rdf11_strings: bool, prefixes: dict[str, str]) 
             unsupported[head] = "; ".join(problems)
             continue
         targets = {p: [comp.key(o) for o in g.objects(head, p)] for p in TARGET_PREDICATES}
-        if _implicit_class_target(g, head):
+        if kinds.implicit_target(g, head):
             targets[SH.targetClass].append(comp.key(head))
         top.append((s, targets))
     return Program(comp.shapes, top, unsupported)

@@ -2,7 +2,12 @@
 
 pySHACL refuses some shapes graphs instead of validating (a ``ValidationFailure`` report, a
 ``ReportableRuntimeError``, ``NotImplementedError`` for ``$shapesGraph``): that becomes a
-:class:`kb.shacl.shape.ShapeError` naming the shape handed over, never a report."""
+:class:`kb.shacl.shape.ShapeError` naming the shape handed over, never a report.
+
+pySHACL 0.40 takes a node for a shape, a constraint component, a validator or a class only by
+its ``rdf:type`` itself or one ``rdfs:subClassOf`` step, where SHACL says "SHACL instance"
+(``rdf:type/rdfs:subClassOf*``): the shapes graph it is given has those types spelt out
+(:func:`spelt_out`), so a component typed two steps down is not skipped there either."""
 
 from __future__ import annotations
 
@@ -10,11 +15,12 @@ import dataclasses
 import logging
 from collections.abc import Iterable
 
-from rdflib import RDF, Graph, Literal, URIRef
+from rdflib import RDF, RDFS, Graph, Literal, URIRef
 from rdflib.term import Node
 
 from kb.core.namespaces import SH
-from kb.shacl.compiler import TARGET_PREDICATES, read_as
+from kb.shacl.compiler import TARGET_PREDICATES, read_as, targeted_shapes
+from kb.shacl.components import subclasses
 from kb.shacl.result import ShaclResult
 from kb.shacl.shape import ShapeError
 
@@ -44,15 +50,16 @@ def results_from_report(report: Graph) -> list[ShaclResult]:
 def run_pyshacl(data: Graph, shapes: Graph, ont: Graph | None, only: Iterable[Node]) -> list[ShaclResult]:
     """Validate with pySHACL, keeping the targets of the shapes in ``only`` and no others."""
     keep = set(only)
+    shapes = spelt_out(shapes)
+    implicit = targeted_shapes(shapes) - keep
+    classes = subclasses(shapes, RDFS.Class)
     reduced = Graph()
     for prefix, ns in shapes.namespaces():
         reduced.bind(prefix, ns, override=True)
     for s, p, o in shapes:
         if p in TARGET_PREDICATES and s not in keep:
             continue
-        if p == RDF.type and s not in keep and o not in (SH.NodeShape, SH.PropertyShape) and (
-            (s, RDF.type, SH.NodeShape) in shapes or (s, RDF.type, SH.PropertyShape) in shapes
-        ):
+        if p == RDF.type and s in implicit and o in classes:
             continue  # an implicit class target of a shape we evaluate ourselves
         reduced.add((s, p, o))
     log.warning("pySHACL evaluates %d shape(s) the fast engine does not support: %s",
@@ -69,6 +76,7 @@ def pyshacl_results(data: Graph, shapes: Graph, ont: Graph | None, shapes_named:
 
     shape = shapes_named[0] if shapes_named else None
     data, back = _read_as_base(data, shapes)
+    shapes = spelt_out(shapes)
     try:
         _, report, _ = pyshacl.validate(data, shacl_graph=shapes, ont_graph=ont, inference="none",
                                         advanced=advanced, allow_warnings=True)
@@ -81,6 +89,29 @@ def pyshacl_results(data: Graph, shapes: Graph, ont: Graph | None, shapes_named:
         results = [dataclasses.replace(r, value=back.get(r.value, r.value)) if r.value in back else r
                    for r in results]
     return results
+
+
+def spelt_out(shapes: Graph) -> Graph:
+    """``shapes`` with ``x rdf:type C`` added wherever ``x`` is a SHACL instance of a class
+    ``C`` of SHACL's vocabulary (or of rdfs:Class) only through ``rdfs:subClassOf`` steps;
+    ``shapes`` itself when nothing is missing."""
+    sh = str(SH)
+    wanted: dict[Node, set[Node]] = {}  # a class -> the SHACL (or rdfs:Class) classes above it
+    for c in {o for o in shapes.objects(None, RDFS.subClassOf) if str(o).startswith(sh) or o == RDFS.Class}:
+        for sub in subclasses(shapes, c) - {c}:
+            wanted.setdefault(sub, set()).add(c)
+    extra = [(x, RDF.type, c) for sub, above in wanted.items() for x in shapes.subjects(RDF.type, sub)
+             for c in above if (x, RDF.type, c) not in shapes]
+    if not extra:
+        return shapes
+    out = Graph()
+    for prefix, ns in shapes.namespaces():
+        out.bind(prefix, ns, override=True)
+    for t in shapes:
+        out.add(t)
+    for t in extra:
+        out.add(t)
+    return out
 
 
 def _read_as_base(data: Graph, shapes: Graph) -> tuple[Graph, dict[Node, Node]]:

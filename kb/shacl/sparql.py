@@ -56,9 +56,13 @@ _CHECK_TERM = "<urn:kitkb:prebound>"
 
 
 class SparqlC(Constraint):
-    """One sh:sparql constraint (sh:select) of a shape."""
+    """One sh:sparql constraint (sh:select) of a shape, or the SELECT validator of a
+    constraint component with its parameters written in (``component`` is then the
+    component's IRI)."""
 
     component = SH.SPARQLConstraintComponent
+    #: The variables pre-bound per evaluation (written into the query text where they can be).
+    VARIABLES: tuple[str, ...] = ("this",)
 
     def __init__(self, shape: Shape, node: Node, text: str, messages: list[str]) -> None:
         super().__init__(shape)
@@ -123,6 +127,23 @@ class SparqlC(Constraint):
         return f"SPARQL constraint {self.node} reported a violation"
 
 
+class AskC(SparqlC):
+    """The ASK validator of a constraint component (SHACL 6.3.2.2): one ASK per value node,
+    with ``$this`` and ``$value`` pre-bound (and the parameters written in); a value node for
+    which it is false is a result."""
+
+    VARIABLES = ("this", "value")
+
+    def check(self, ctx: Context, pairs: Pairs, out: list[Hit]) -> None:
+        for focus, values in pairs:
+            for v in values:
+                if not ctx.sparql.ask(self, focus, v):  # type: ignore[attr-defined]
+                    out.append(self.hit(focus, v, message=self._message({"this": focus, "value": v})))
+
+    def generic(self, value: str | None) -> str:
+        return f"Value does not conform to the ASK validator {self.node} of {self.component}"
+
+
 def _walk(node: Any, triples: list[tuple[Any, Any, Any]]) -> None:
     if isinstance(node, CompValue):
         for key, value in node.items():
@@ -155,7 +176,7 @@ def _analyse(c: SparqlC) -> None:
     """Check the query (it parses, the specification allows it) and decide how it runs.
 
     Raises :class:`ShapeError` for a query that does not parse or that SHACL forbids."""
-    query = checked_query(c.text, c.shape.node, c.node)
+    query = checked_query(c.text, c.shape.node, c.node, CONSTRAINT_VARIABLES | set(c.VARIABLES))
     triples: list[tuple[Any, Any, Any]] = []
     _walk(query.algebra, triples)
     preds: set[str] = set()
@@ -166,10 +187,10 @@ def _analyse(c: SparqlC) -> None:
         elif nullable(p) and isinstance(subj, Variable) and isinstance(obj, Variable):
             every = True  # a zero-length match binds every node of the graph
     c.predicates = None if every else preds
-    pv = query.algebra.get("PV") or []
+    pv = dict.get(query.algebra, "PV") or []
     c.projected = {str(v) for v in pv}
-    c.once = groupable(query.algebra) and not c.fixed
-    c.substitutable = c.once or _substitutes(c.text, ("this", *c.fixed))
+    c.once = c.VARIABLES == ("this",) and groupable(query.algebra) and not c.fixed
+    c.substitutable = c.once or _substitutes(c.text, (*c.VARIABLES, *c.fixed))
     c.blank_bindable = "this" in c.projected and not c.fixed and not hands_on(query.algebra)
 
 
@@ -232,30 +253,51 @@ def _prefix_block(g: Graph, prefixes: dict[str, str], cnode: Node, body: str) ->
 
 def compile_sparql(g: Graph, prefixes: dict[str, str], s: Shape, cnode: Node) -> tuple[SparqlC | None, str | None]:
     """Compile one sh:sparql node of shapes graph ``g`` (``prefixes``: those of the shapes
-    graph); returns (constraint, problem); deactivated -> (None, None)."""
+    graph); returns (constraint, problem); deactivated -> (None, None). A constraint without
+    exactly one sh:select is refused (:class:`ShapeError`): SHACL-SPARQL constraints are
+    SELECT queries (ASK queries are for the validators of constraint components)."""
     deact = next(iter(g.objects(cnode, SH.deactivated)), None)
     if isinstance(deact, Literal) and deact.value is True:
         return None, None
     selects = list(g.objects(cnode, SH.select))
     if len(selects) != 1:
-        return None, f"SPARQL constraint {cnode} needs exactly one sh:select (sh:ask is not supported)"
-    body = str(selects[0])
+        found = f"{len(selects)} sh:select" + (" and an sh:ask" if (cnode, SH.ask, None) in g else "")
+        raise ShapeError(s.node, f"its SPARQL constraint has {found}: a SPARQL-based constraint needs "
+                                 "exactly one sh:select (SHACL 5.1)", cnode)
+    return sparql_constraint(g, prefixes, s, cnode, str(selects[0]))
+
+
+def sparql_constraint(g: Graph, prefixes: dict[str, str], s: Shape, cnode: Node, body: str,
+                      messages: list[str] | None = None, kind: type[SparqlC] | None = None,
+                      params: dict[str, str] | None = None) -> tuple[SparqlC | None, str | None]:
+    """A SPARQL constraint of shape ``s`` from the query ``body`` of node ``cnode`` (a
+    sh:sparql constraint, or a validator of a constraint component with its parameters'
+    values ``params``, variable name -> SPARQL term, written in); returns (constraint,
+    problem): a problem sends the shape to pySHACL."""
     uses = set(_SHAPES_VARS.findall(body))
     if "currentShape" in uses and not isinstance(s.node, URIRef):
         return None, f"SPARQL constraint {cnode} uses $currentShape in a blank-node shape"
     if _PATH_VAR.search(body):
         if s.path is None:
-            return None, f"SPARQL constraint {cnode} uses $PATH in a node shape"
-        kind, arg = s.path
-        text = arg if kind == "pred" else f"^{arg}" if kind == "inv" else paths.sparql(arg)
+            raise ShapeError(s.node, f"the SPARQL query of {_spelt(cnode)} uses $PATH, which only a property "
+                                     "shape has", cnode)
+        kind_, arg = s.path
+        text = arg if kind_ == "pred" else f"^{arg}" if kind_ == "inv" else paths.sparql(arg)
         body = _PATH_VAR.sub(lambda m: m.group(1) + text, body)
-    messages = sorted(str(m) for m in g.objects(cnode, SH.message))
-    c = SparqlC(s, cnode, _prefix_block(g, prefixes, cnode, body) + body, messages)
+    if params:
+        body = Template(body, params).fill(params)
+    if messages is None:
+        messages = sorted(str(m) for m in g.objects(cnode, SH.message))
+    c = (kind or SparqlC)(s, cnode, _prefix_block(g, prefixes, cnode, body) + body, messages)
     if uses:
         c.shapes_graph = g
         c.fixed = {v: SHAPES_GRAPH if v == "shapesGraph" else key_of(s.node) for v in uses}
     _analyse(c)
     return c, None
+
+
+def _spelt(node: Node) -> str:
+    return node.n3() if isinstance(node, URIRef) else "its constraint"
 
 
 def check_validators(g: Graph, prefixes: dict[str, str], shape: Node, component: Node) -> None:
@@ -301,6 +343,8 @@ class SparqlRunner:
         self._grouped: dict[int, tuple[dict[str, list[dict[str, str]]], list[dict[str, str]]]] = {}
         self._bnodes: dict[str, ox.BlankNode] = {}
         self._pending: Any = None  # the background thread of prefetch(), until joined
+        self._ask_templates: dict[int, Template] = {}
+        self._answers: dict[tuple[str, str, int], bool] = {}
 
     def prefetch(self) -> None:
         """Load the pyoxigraph store in a background thread (the queries run later, here).
@@ -450,6 +494,32 @@ class SparqlRunner:
                 row["this"] = focus
             rows.append(row)
         return rows
+
+    def ask(self, c: SparqlC, focus: str, value: str) -> bool:
+        """The ASK query of ``c`` with ``$this`` = ``focus`` and ``$value`` = ``value``
+        (remembered per value where the query does not use ``$this``)."""
+        if self._pending is not None:
+            self.join()
+        template = self._ask_templates.get(id(c))
+        if template is None:
+            template = self._ask_templates[id(c)] = Template(c.text, (*c.VARIABLES, *c.fixed))
+        key = (focus if "this" in template.used else "", value, id(c))
+        known = self._answers.get(key)
+        if known is None:
+            blank = focus[0] == "_" or value[0] == "_"
+            if self.engine == "rdflib" or blank or not c.substitutable:
+                if c.fixed:
+                    raise ShapeError(c.shape.node, "kitkb pre-binds $shapesGraph and $currentShape only with "
+                                                   "pyoxigraph, for nodes that are IRIs or literals", c.node)
+                q = self._prepared.get(id(c))
+                if q is None:
+                    q = self._prepared[id(c)] = prepareQuery(c.text)
+                known = bool(self.graph().query(q, initBindings={"this": to_node(focus),
+                                                                  "value": to_node(value)}).askAnswer)
+            else:
+                known = bool(self.store().query(template.fill({"this": focus, "value": value, **c.fixed})))
+            self._answers[key] = known
+        return known
 
     def _template(self, c: SparqlC) -> Template:
         """The query, triple patterns in a cheap join order for a bound ``?this``, ready to
