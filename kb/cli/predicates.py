@@ -6,15 +6,28 @@ import json
 from pathlib import Path
 
 from kb.cli.output import Output
-from kb.spatial import true_predicates
+from kb.core.resources import ontology_path
+from kb.io.loader import load, reading_notes
+from kb.io.vocabulary import not_understood
+from kb.model.definitions import Definitions, locator, read_definitions
+from kb.spatial import DEFAULT_TOLERANCE, Evaluator, Scene
 
 
 def predicates(state: list[str], goal: str | None, match_names: bool, domain: list[str] | None,
                predicate: list[str] | None, tolerance: float | None, format: str, out: Output) -> int:
-    """Print every true atom ``name(arg1, arg2)`` (JSON: objects with ``predicate`` and ``args``)."""
+    """Print every true atom ``name(arg1, arg2)`` (JSON: objects with ``predicate`` and ``args``).
+    Input in which nothing is understood (no predicate definition in ``--domain``, no placed
+    object in the state files) is an InputError saying what was looked for; the parts of the
+    files that are not read are warnings."""
     with out.progress(f"deciding the predicates of {', '.join(Path(s).name for s in state)} from geometry"):
-        facts = true_predicates(state, goal=goal, match_names=match_names, domain_files=domain,
-                                names=predicate, tolerance=tolerance)
+        with reading_notes() as notes:
+            try:
+                defs = _definitions(domain)
+                scene = _scene(state, goal, match_names)
+            finally:
+                for note in notes:
+                    out.warn(note.format())
+        facts = Evaluator(defs, scene, DEFAULT_TOLERANCE if tolerance is None else tolerance).facts(predicate)
     if format == "json":
         items = [{"predicate": name, "args": [_local(a) for a in args]} for name, args in facts]
         print(json.dumps(items, indent=1), file=out.results)
@@ -22,6 +35,29 @@ def predicates(state: list[str], goal: str | None, match_names: bool, domain: li
         for name, args in facts:
             print(f"{name}({', '.join(_local(a) for a in args)})", file=out.results)
     return 0
+
+
+def _definitions(domain: list[str] | None) -> Definitions:
+    """The predicate definitions of the domain files (default: the shipped kitting domain)."""
+    kb = load(list(domain) if domain else [ontology_path("kitting-domain.ttl")])
+    defs = read_definitions(kb.graph, locator(kb))
+    if domain and not defs.predicates:
+        named = kb.sources[:len(set(domain))]
+        raise not_understood(f"no predicate definition kitkb reads in {', '.join(Path(d).name for d in domain)} "
+                             "(it looked for individuals of soap:Predicate with a soap:hasPredicate_Definition)",
+                             (t for s in named for t in s.triples()), domain[0])
+    return defs
+
+
+def _scene(state: list[str], goal: str | None, match_names: bool) -> Scene:
+    """The scene of the state files; InputError when no object in them is placed."""
+    sources = load(list(state), resolve_imports=False).sources
+    scene = Scene.from_sources(sources, declared=[goal] if goal else (), match_names=match_names)
+    if not scene.placed.any():
+        raise not_understood("no placed object kitkb reads (it looked for individuals of the kitting model's "
+                             "solid objects with a ktw:hasSolidObject_PrimaryLocation pose)",
+                             (t for s in sources for t in s.triples()), state[0])
+    return scene
 
 
 def _local(iri: str) -> str:

@@ -470,7 +470,7 @@ def _unresolved(iri: str, importer: Source, extra: str = "") -> Diagnostic:
         if name and not extra else ""
     return Diagnostic(str(importer.path), line, "warning", f"import <{iri}> not resolved{extra}{where}; "
                       "only shipped ontologies and files named on the command line or found beside the "
-                      "importing file are used", rule="unresolved-import")
+                      "importing file are used", rule="unresolved-import", focus=iri)
 
 
 def _import_line(importer: Source, iri: str) -> int | None:

@@ -19,7 +19,8 @@ from rdflib.namespace import RDF
 
 from kb.core.errors import InputError
 from kb.core.namespaces import local_name
-from kb.io.loader import load
+from kb.io.loader import NOT_READ_RULES, load
+from kb.io.vocabulary import not_understood
 from kb.model.soap import DomainSpec
 from kb.planning import facts
 from kb.planning.state import ClassTree, World, pddl_name
@@ -44,6 +45,8 @@ class ProblemSpec:
     quota: dict[tuple[str, ...], list[str]] = field(default_factory=dict)
     shortage: list[str] = field(default_factory=list)  # quotas that cannot be filled
     sources: dict[str, str] = field(default_factory=dict)  # what -> file:line it came from
+    #: the state files' warnings about what in them is not read (``file:line: warning: ...``)
+    notes: list[str] = field(default_factory=list)
 
 
 
@@ -57,7 +60,9 @@ def load_world(paths: Sequence[str | Path], tree: ClassTree, like: World | None 
     kb = load(list(paths), resolve_imports=False)
     first = kb.sources[0]
     graph = kb.graph if like is None else _aligned(kb.graph, like)
-    return World(graph, first.path, tree, first.line_of)
+    world = World(graph, first.path, tree, first.line_of)
+    world.notes = [w.format() for w in kb.warnings if w.rule in NOT_READ_RULES]
+    return world
 
 
 def _aligned(graph: Graph, like: World) -> Graph:
@@ -87,7 +92,10 @@ def used_types(domain: DomainSpec) -> set[str]:
 
 def read_problem(domain: DomainSpec, init: World, goal: World, name: str = "kitting") -> ProblemSpec:
     """The problem of going from ``init`` to ``goal`` in ``domain`` (numeric form)."""
-    spec = ProblemSpec(name)
+    spec = ProblemSpec(name, notes=init.notes + goal.notes)
+    if not init.kind:
+        raise not_understood("the initial state has no object kitkb reads (no individual of a class of "
+                             "the kitting model that the planning domain uses)", init.g, init.path)
     names = _objects(spec, init, goal)
     for pred in domain.predicates.values():
         rule = facts.PREDICATES.get(pred.name)
@@ -173,7 +181,8 @@ def _goal(spec: ProblemSpec, domain: DomainSpec, init: World, goal: World,
           names: dict[URIRef, str]) -> None:
     kits = goal.of(facts.KIT)
     if not kits:
-        raise InputError("the goal state has no kit (nothing to build)", goal.path)
+        raise not_understood("the goal state has no kit kitkb reads (nothing to build: no individual of "
+                             "ktw:Kit)", goal.g, goal.path)
     for pred in ("kit-location-lbwk", "kit-location-worktable"):
         if pred in domain.predicates:
             for kit, where in facts.PREDICATES[pred](goal, goal):

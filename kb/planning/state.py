@@ -87,6 +87,8 @@ class World:
         self.g = graph
         self.path = str(path)
         self.line_of = line_of or (lambda *a: None)
+        #: warnings about what the file holds that kitkb does not read (set by the loader)
+        self.notes: list[str] = []
         self.kind: dict[URIRef, str] = {}
         for s, cls in graph.subject_objects(RDF.type):
             c = str(cls)

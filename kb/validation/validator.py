@@ -31,10 +31,11 @@ from kb.core.namespaces import KTW
 from kb.core.resources import ontologies_dir, ontology_path, scenario_dirs, shapes_path
 from kb.io.loader import load, load_file
 from kb.io.views import UnionView
+from kb.io.vocabulary import no_model
 from kb.model.owl import OwlModel
 from kb.shacl import ShaclResult
 from kb.validation import rules, user_shapes
-from kb.validation.geometry import UNCHECKED, check_geometry
+from kb.validation.geometry import check_geometry
 from kb.validation.report import Namer, dedupe, diagnostics, line_of
 from kb.validation.shapes import DerivedShapes
 from kb.validation.user_shapes import ShapesFiles
@@ -135,6 +136,8 @@ def _validate(paths: Sequence[str | Path], shapes_files: Sequence[str | Path] | 
     shapes = None
     pending: list[tuple[int, shacl.Finish]] = []
     if checked or shapes_files is not None or user is not None:
+        if not model.classes:  # before _shapes says so: the imports that did not resolve, at their lines
+            raise no_model(kb)
         shapes = _shapes(model, shapes_files, user)
         if user is not None:
             with located():  # a shape SHACL forbids: refused before any work, at its line
@@ -176,19 +179,25 @@ def _validate(paths: Sequence[str | Path], shapes_files: Sequence[str | Path] | 
     return ValidationReport(diags, [str(s.path) for s in sources], time.perf_counter() - started)
 
 
-def _follows(diags: list[Diagnostic], follows: dict[tuple[str, str, str, str], frozenset[str]]
+def _follows(diags: list[Diagnostic], follows: dict[tuple[str, str, str, str], frozenset[Any]]
              ) -> list[Diagnostic]:
-    """Without the findings that only follow from an error of the same file: geometry that
-    cannot be read once an error says why (a misspelt coordinate, a missing shape); a pose
-    found implausible when one of its nodes has an error (an axis not of unit length)."""
-    failed = {d.file for d in diags if d.severity == "error"}
-    wrong = {(d.file, d.focus) for d in diags if d.severity == "error"}
+    """Without the findings that only follow from another error of the same file: geometry
+    that cannot be read once an error says why (a misspelt coordinate is an unknown property,
+    not also a missing value); a pose found implausible when one of its nodes has an error (an
+    axis not of unit length). A finding's nodes are names (any other error there) or pairs
+    (name, word): another error there whose message has the word in it (case aside)."""
+    wrong: dict[tuple[str, str], list[Diagnostic]] = {}
+    for d in diags:
+        if d.severity == "error":
+            wrong.setdefault((d.file, d.focus), []).append(d)
 
     def follows_error(d: Diagnostic) -> bool:
-        if d.rule == UNCHECKED:
-            return d.file in failed
-        nodes = follows.get((d.file, d.rule, d.focus, d.message), ())
-        return any((d.file, n) in wrong for n in nodes)
+        for n in follows.get((d.file, d.rule, d.focus, d.message), ()):
+            name, word = n if isinstance(n, tuple) else (n, None)
+            if any(e is not d and (word is None or word.lower() in e.message.lower())
+                   for e in wrong.get((d.file, name), ())):
+                return True
+        return False
     return [d for d in diags if not follows_error(d)]
 
 
