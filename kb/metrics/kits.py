@@ -10,7 +10,9 @@ on the cell as sensed at the end of a run:
 * **1 per design slot** (``PartRefAndPose``) **filled with the right SKU**: a part lies in the
   kit (``part-location-kit``) at the slot — its centre within half its own smaller footprint
   side of the slot's point, in the kit's frame; each part fills at most one slot, nearest
-  first — and is of the slot's SKU (``part-sku``) and not found defective (``part-quality-ok``);
+  first — and is of the slot's SKU (``part-sku``) and not found defective (``part-quality-ok``:
+  the executor has the cell inspect every part in a goal kit at the end of the run,
+  :meth:`kb.execution.executor.Executor.inspect_kits`, and the scene carries those results);
 * **1 — no extra parts**: no part lies in the kit outside its slots;
 * **1 — delivered**: the kit is in the finished-kit box the goal names (``kit-location-lbwk``).
 
