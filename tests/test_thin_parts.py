@@ -186,7 +186,7 @@ def test_thinner_and_narrower_parts_keep_their_predicates(tmp_path: Path, refere
     assert local(true_predicates([goal])) == reference["goal"]
 
 
-@settings(max_examples=6, deadline=None)
+@settings(max_examples=5, deadline=None)
 @given(st.floats(0.1, 0.343), st.floats(0.1, 4.966), st.sampled_from(["millimeter", "meter", "inch"]))
 def test_any_thickness_down_to_a_tenth_of_a_millimetre(tmp_path_factory, reference, height: float,  # noqa: ANN001
                                                        diameter: float, unit: str) -> None:
@@ -422,6 +422,7 @@ def test_the_sweep_finds_a_washer_carried_through_a_solid() -> None:
 
 # --- end to end -----------------------------------------------------------------------------------
 
+@pytest.mark.slow
 def test_run_builds_the_washer_kit(tmp_path: Path) -> None:
     """``kitkb run`` on the millimetre state: geometry agrees with the facts, the plan is
     executed with every check from geometry, and the kit of washers is built."""
@@ -438,6 +439,7 @@ def test_run_builds_the_washer_kit(tmp_path: Path) -> None:
     assert data["violations"] == []
 
 
+@pytest.mark.slow
 def test_run_diagnoses_faults_on_thin_parts(tmp_path: Path) -> None:
     """A grasp that misses a washer and a washer missing from its tray are told apart by the
     failure model from the washers' geometry, and recovered."""

@@ -53,8 +53,8 @@ Thin boxes
     on, and keeps the whole tolerance for gaps (a washer 0.5 mm above a table still rests on
     it). Nothing changes where both boxes are wider than ``2 t`` on the axis (two bounds of a
     box cannot then both be within ``t`` of one bound), nor for a point (its two bounds are
-    equally near: a point at the end of an interval is EC to it). docs/soap.md, "Tolerance",
-    has the reasoning. :func:`depth_tolerance` is the same rule for a penetration depth or a
+    equally near: a point at the end of an interval is EC to it). docs/soap.md, "Thin and
+    narrow parts", has the reasoning. :func:`depth_tolerance` is the same rule for a penetration depth or a
     gap measured along an axis (the simulated cell's support test, plausibility checks).
 
 Floating point: every test compares one subject bound with one object bound shifted by the
