@@ -100,9 +100,10 @@ def test_quiet_main_job_prints_only_problems(tmp_path: Path, monkeypatch) -> Non
             assert lines == []
         else:  # the one misspelt property, then the verdict
             line = next(n for n, text in enumerate((bad / "init.ttl").read_text().splitlines(), 1) if "hasPoint_x" in text)
+            error = (f"{bad / 'init.ttl'}:{line}: error: unknown property ktw:hasPoint_x on "
+                     ":kitting_workstation_1_point, did you mean ktw:hasPoint_X? [unknown-property]")
             assert lines == [
-                f"    broken: {bad / 'init.ttl'}:{line}: error: unknown property ktw:hasPoint_x on "
-                ":kitting_workstation_1_point, did you mean ktw:hasPoint_X? [unknown-property]",
-                "    broken: not executed: the state files do not validate (1 error(s))",
+                f"    broken: {error}",
+                f"    broken: not executed: the state files do not validate (1 error(s): unknown-property); first: {error}",
                 "kitkb: main job found problems"]
     assert (tmp_path / "out" / "small-kit" / "plan.txt").is_file()

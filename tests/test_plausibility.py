@@ -190,14 +190,20 @@ def test_warnings_keep_exit_code_0_and_ignore_leaves_them_out(tmp_path: Path, ca
     assert validate([path], ignore={"floating-object", "interpenetration"}).diagnostics == []
 
 
-def test_geometry_that_cannot_be_read_is_a_warning_not_an_error(tmp_path: Path) -> None:
+def test_geometry_that_cannot_be_read_is_an_error_of_its_own(tmp_path: Path) -> None:
+    """A part whose SKU has no shape stops `kitkb predicates`: validate says so as an error at
+    each part's line (issue 26, point 5: no more a `geometry-unchecked` warning), and checks no
+    plausibility (the scene cannot be built)."""
     text = re.sub(r"(:sku_part_a a .*?)ktw:hasStockKeepingUnit_InternalShape :\w+ ;\n\s*", r"\1",
                   SMALL_KIT.read_text(), count=1, flags=re.S)
     path = tmp_path / "init.ttl"
     path.write_text(text)
-    unchecked = [d for d in validate([path]).diagnostics if d.rule == "geometry-unchecked"]
-    assert len(unchecked) == 1 and unchecked[0].severity == "warning"
-    assert "physical plausibility not checked: part_a_1 is placed but has no shape" in unchecked[0].message
+    report = validate([path])
+    assert {d.rule for d in report.diagnostics} == {"no-shape"}
+    parts = sorted(set(re.findall(r"^:(part_a_\d+) a ", text, re.M)))
+    assert [(d.severity, d.line, d.message.split(" is placed")[0]) for d in report.diagnostics] == \
+        [("error", _line(path, p), p) for p in parts]
+    assert main(["validate", str(path)]) == 1
 
 
 def test_a_pose_that_is_an_error_gets_no_geometry_warnings(tmp_path: Path) -> None:

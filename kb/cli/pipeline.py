@@ -229,8 +229,7 @@ def _closed_loop(name: str, init: Path, goal: Path, target: Path, progress: _Pro
     for diag in report.diagnostics:
         progress.problem(f"    {name}: {diag.format()}")
     if not report.conforms:
-        errors = sum(1 for d in report.diagnostics if d.severity == "error")
-        return _not_executed(name, f"the state files do not validate ({errors} error(s))", progress, reports)
+        return _not_executed(name, _invalid(report.errors), progress, reports)
     t = time.perf_counter()
     with display.task(f"{name}: generating the PDDL domain and problem"):
         model = planning.kitting_model([init], [goal], "strips", match_names=options.match_names,
@@ -343,6 +342,14 @@ def _not_executed(name: str, reason: str, progress: _Progress, reports: list[dic
     reports.append({"scenario": name, "executed": False, "reason": reason, "goal_holds": False, "stopped": None,
                     "injected": [], "failures": []})
     return 1
+
+
+def _invalid(errors: list[Any]) -> str:
+    """Why state files that do not validate are not executed: how many errors of which rules,
+    and the first (a kit design whose slots do not fit its tray says so)."""
+    rules = Counter(d.rule or "error" for d in errors)
+    counts = ", ".join(f"{rule} {n}" if n > 1 else rule for rule, n in sorted(rules.items(), key=lambda kv: -kv[1]))
+    return f"the state files do not validate ({len(errors)} error(s): {counts}); first: {errors[0].format()}"
 
 
 def _kits(rec) -> set[str]:  # noqa: ANN001

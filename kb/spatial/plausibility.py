@@ -44,7 +44,7 @@ import numpy as np
 
 from kb.core.namespaces import KTW
 from kb.core.units import SI, Units
-from kb.spatial.rcc8 import DEFAULT_TOLERANCE
+from kb.spatial.rcc8 import DEFAULT_TOLERANCE, depth_tolerance
 from kb.spatial.scene import STAND_INS, Scene
 
 INTERPENETRATION = "interpenetration"
@@ -107,21 +107,36 @@ class Boxes:
 def sat_depth(a: Boxes, b: Boxes) -> np.ndarray:
     """(P,) for P pairs of oriented boxes: the smallest overlap along the 15 candidate
     separating axes (positive: they interpenetrate by that much; zero or less: separated or
-    touching, minus the gap along the best axis)."""
+    touching, minus the gap along the best axis).
+
+    Computed in ``a``'s frame from ``R = A^T B`` (the axes are orthonormal, as every pose
+    is): along ``a``'s axis i the radii are ``a.half[i]`` and ``sum_j b.half[j] |R_ij|``;
+    along ``b``'s axis j, ``sum_i a.half[i] |R_ij|`` and ``b.half[j]``; along ``a_i x b_j``
+    (of length ``sqrt(R_ij1^2 + R_ij2^2)``, j1, j2 the other two of j; none when the edges are
+    parallel) ``a.half[i1] |R_i2j| + a.half[i2] |R_i1j|`` and ``b.half[j1] |R_ij2| +
+    b.half[j2] |R_ij1|``, the centres ``|t_i2 R_i1j - t_i1 R_i2j|`` apart (``t``: the
+    centres' offset in ``a``'s frame)."""
     p = a.centre.shape[0]
     if p == 0:
         return np.zeros(0)
-    ax_a, ax_b = np.swapaxes(a.axes, 1, 2), np.swapaxes(b.axes, 1, 2)  # rows: the axes
-    cross = np.cross(ax_a[:, :, None, :], ax_b[:, None, :, :]).reshape(p, 9, 3)
-    axes = np.concatenate([ax_a, ax_b, cross], axis=1)  # (P, 15, 3)
-    norm = np.linalg.norm(axes, axis=2)
-    valid = norm > 1e-6  # parallel edges give no axis
-    axes = axes / np.where(valid, norm, 1.0)[:, :, None]
-    ra = (np.abs(axes @ a.axes) @ a.half[:, :, None])[:, :, 0]  # the boxes' radii along each axis
-    rb = (np.abs(axes @ b.axes) @ b.half[:, :, None])[:, :, 0]
-    dist = np.abs(axes @ (b.centre - a.centre)[:, :, None])[:, :, 0]
-    overlap = np.where(valid, ra + rb - dist, np.inf)
-    return overlap.min(axis=1)
+    r = np.matmul(np.swapaxes(a.axes, 1, 2), b.axes)  # (P, 3, 3): a_i . b_j
+    ar = np.abs(r)
+    t = np.einsum("pji,pj->pi", a.axes, b.centre - a.centre)  # the offset in a's frame
+    ea, eb = a.half, b.half
+    face_a = ea + np.einsum("pij,pj->pi", ar, eb) - np.abs(t)
+    face_b = np.einsum("pij,pi->pj", ar, ea) + eb - np.abs(np.einsum("pij,pi->pj", r, t))
+    n1, n2 = _NEXT, _AFTER
+    ra = ea[:, n1, None] * ar[:, n2, :] + ea[:, n2, None] * ar[:, n1, :]
+    rb = eb[:, None, n1] * ar[:, :, n2] + eb[:, None, n2] * ar[:, :, n1]
+    dist = np.abs(t[:, n2, None] * r[:, n1, :] - t[:, n1, None] * r[:, n2, :])
+    length = np.sqrt(r[:, :, n1] ** 2 + r[:, :, n2] ** 2)
+    valid = length > 1e-6  # parallel edges give no axis
+    edge = np.where(valid, (ra + rb - dist) / np.where(valid, length, 1.0), np.inf)
+    return np.minimum(np.minimum(face_a.min(axis=1), face_b.min(axis=1)), edge.reshape(p, 9).min(axis=1))
+
+
+#: for each of the three axes, the next one and the one after (cyclic)
+_NEXT, _AFTER = np.array([1, 2, 0]), np.array([2, 0, 1])
 
 
 def in_frame_of(a: Boxes, b: Boxes) -> tuple[np.ndarray, np.ndarray]:
@@ -142,24 +157,76 @@ def overlapping_pairs(lo: np.ndarray, hi: np.ndarray, margin: float) -> tuple[np
 
     Boxes up to four times the median size in plan (parts, most things) are swept along x in
     bands along y of that width, so a box meets only its neighbours; the larger ones (tables,
-    trays, large boxes: few) are swept against all along x."""
+    trays, large boxes: few) are put in the cells of a grid in plan of that width that they
+    reach, and meet what is in those cells (a box reaching more than :data:`_MAX_CELLS` cells,
+    or one that is not finite, is swept against all along x)."""
     k = lo.shape[0]
     if k < 2:
         return np.zeros(0, np.intp), np.zeros(0, np.intp)
     size = (hi - lo)[:, :2].max(axis=1)
     band = max(4.0 * float(np.median(size)), 4.0 * margin, 1e-9)
-    large = size > band
-    small = np.flatnonzero(~large)
+    large = ~(size <= band)
+    c0, c1, cells = _cell_span(lo, hi, margin, band)
+    spread = ~(cells <= np.where(large, _MAX_CELLS, 9))  # past the grid (or not finite)
+    small = np.flatnonzero(~large & ~spread)
     found = [_banded(lo, hi, margin, small, band)]
-    big = np.flatnonzero(large)
-    if big.size:
-        found.append(_against(lo, hi, margin, big, small, band))
-        found.append(_against(lo, hi, margin, big, big, np.inf))
+    gridded = np.flatnonzero(large & ~spread)
+    if gridded.size:
+        found.append(_gridded(lo, hi, margin, gridded, small, c0, c1, cells))
+    others = np.flatnonzero(spread)
+    if others.size:
+        everything = np.arange(k)
+        found.append(_against(lo, hi, margin, others, everything, np.inf))
     i, j = (np.concatenate(x) for x in zip(*found))
     i, j = np.minimum(i, j), np.maximum(i, j)
     keep = i != j
     key = np.unique(i[keep].astype(np.int64) * k + j[keep])
     return (key // k).astype(np.intp), (key % k).astype(np.intp)
+
+
+#: the most grid cells a large box is put in (a larger one is swept along x against all)
+_MAX_CELLS = 4096
+_FAR = float(1 << 30)  # cell coordinates are kept within +-_FAR (past it: the last cell)
+
+
+@np.errstate(invalid="ignore", over="ignore")
+def _cell_span(lo: np.ndarray, hi: np.ndarray, margin: float, cell: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The first and last grid cell (K, 2) in plan each box reaches (with ``margin``), and how
+    many cells that is (K,) (NaN or infinite where a box is not finite)."""
+    c0 = np.floor((lo[:, :2] - margin) / cell)
+    c1 = np.floor((hi[:, :2] + margin) / cell)
+    cells = (c1 - c0 + 1).prod(axis=1)
+    return np.clip(c0, -_FAR, _FAR), np.clip(c1, -_FAR, _FAR), cells
+
+
+def _in_cells(ids: np.ndarray, c0: np.ndarray, c1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(cell key, box) for every cell each box of ``ids`` reaches, sorted by cell."""
+    first = c0[ids].astype(np.int64)
+    n = (c1[ids] - c0[ids]).astype(np.int64) + 1
+    count = n[:, 0] * n[:, 1]
+    who = np.repeat(ids, count)
+    step = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
+    nx = np.repeat(n[:, 0], count)
+    cx = np.repeat(first[:, 0], count) + step % nx
+    cy = np.repeat(first[:, 1], count) + step // nx
+    key = cx * (1 << 32) + cy
+    order = np.argsort(key, kind="stable")
+    return key[order], who[order]
+
+
+def _gridded(lo: np.ndarray, hi: np.ndarray, margin: float, large: np.ndarray, small: np.ndarray, c0: np.ndarray,
+             c1: np.ndarray, cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Pairs of the ``large`` boxes with the ``small`` ones and with each other: each against
+    what shares a grid cell with it (two boxes near each other share a cell)."""
+    big_key, big = _in_cells(large, c0, c1)
+    small_key, small_who = _in_cells(small, c0, c1)
+    first = np.searchsorted(small_key, big_key, side="left")
+    last = np.searchsorted(small_key, big_key, side="right")
+    with_small = _pairs_in_runs(lo, hi, margin, big, first, last, small_who)
+    last = np.searchsorted(big_key, big_key, side="right")
+    first = np.arange(big_key.size) + 1
+    with_large = _pairs_in_runs(lo, hi, margin, big, first, np.maximum(last, first), big)
+    return tuple(np.concatenate(x) for x in zip(with_small, with_large))  # type: ignore[return-value]
 
 
 def _near(lo: np.ndarray, hi: np.ndarray, margin: float, i: np.ndarray, j: np.ndarray) -> np.ndarray:
@@ -485,8 +552,61 @@ def _world_hull(a: Boxes) -> tuple[np.ndarray, np.ndarray]:
     return a.centre - half, a.centre + half
 
 
-__all__ = ["FLOATING", "INTERPENETRATION", "RULES", "Boxes", "Finding", "check", "in_frame_of",
-           "overlapping_pairs", "sat_depth"]
+# --- kit designs -------------------------------------------------------------------------------
+
+#: the rule of a kit design's slot whose part would not lie in (or on) the design's kit tray
+SLOT_OUTSIDE = "slot-outside-tray"
+#: where a slot's part leaves its tray (:func:`slot_misfits`' ``side``)
+SIDES = ("-x", "+x", "-y", "+y", "below", "above")
+
+
+@np.errstate(over="ignore", invalid="ignore")
+def slot_misfits(pose: np.ndarray, part_lo: np.ndarray, part_hi: np.ndarray, tray_lo: np.ndarray,
+                 tray_hi: np.ndarray, tol: float = DEFAULT_TOLERANCE) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Which of N kit design slots would put their part outside the kit tray.
+
+    ``pose`` (N, 4, 4): each slot's pose in its tray's frame (as a kit design gives it: the
+    part's frame, the middle of its bottom, goes there); ``part_lo``, ``part_hi``,
+    ``tray_lo``, ``tray_hi`` (N, 3): the part's and the tray's boxes in their own frames, in
+    metres. A part lies in (or on) its tray when its box, turned by the slot's pose, is within
+    the tray's walls in plan and neither below the tray's floor nor above its top (a part may
+    stick out of an open tray's top, as NIST's, exactly as tall as their tray, do), each by at
+    most the tolerance: ``tol``, or half the part's extent along that axis where that is less
+    (:func:`kb.spatial.rcc8.depth_tolerance`: a washer 0.343 mm thick is out once half of it
+    is). Returns (misfit (N,) bool, by how much (N,) metres, side (N,) index into
+    :data:`SIDES`: the side it is furthest out of, beyond its tolerance)."""
+    n = pose.shape[0]
+    if n == 0:
+        return np.zeros(0, bool), np.zeros(0), np.zeros(0, np.intp)
+    box = Boxes.of(pose, part_lo, part_hi)
+    lo, hi = _world_hull(box)  # in the tray's frame
+    out = np.stack([tray_lo[:, 0] - lo[:, 0], hi[:, 0] - tray_hi[:, 0], tray_lo[:, 1] - lo[:, 1],
+                    hi[:, 1] - tray_hi[:, 1], tray_lo[:, 2] - lo[:, 2], lo[:, 2] - tray_hi[:, 2]], axis=1)
+    out = np.where(np.isnan(out), np.inf, out)  # a number that is not one fits nowhere
+    allowed = np.repeat(depth_tolerance(tol, hi - lo), 2, axis=1)  # (N, 6): per side, by the part's extent
+    side = np.argmax(out - allowed, axis=1)
+    rows = np.arange(n)
+    return out[rows, side] > allowed[rows, side], out[rows, side], side
+
+
+def describe_misfit(slot: str, design: str, part: str, tray: str, by: float, side: int, part_size: np.ndarray,
+                    tray_size: np.ndarray, units: Units = SI) -> str:
+    """One sentence for a slot :func:`slot_misfits` found (names as the file spells them,
+    lengths in its unit): ``slot :s of :d puts its part (:sku_b, 0.12 x 0.06 m) 0.12 m beyond
+    the +x side of its kit tray (:sku_kit_tray, 0.5 x 0.4 m)``."""
+    def size(s: np.ndarray) -> str:
+        if not np.all(np.isfinite(s[:2])):
+            return "of no usable size"
+        length, width = (length_text(float(v), units) for v in s[:2])
+        return f"{length.rsplit(' ', 1)[0]} x {width}"
+    where = {"below": "below the floor", "above": "above the top"}.get(SIDES[side], f"beyond the {SIDES[side]} side")
+    amount = length_text(by, units) if math.isfinite(by) else "an unknown distance"
+    return (f"slot {slot} of {design} puts its part ({part}, {size(part_size)}) {amount} {where} of its kit tray "
+            f"({tray}, {size(tray_size)})")
+
+
+__all__ = ["FLOATING", "INTERPENETRATION", "RULES", "SIDES", "SLOT_OUTSIDE", "Boxes", "Finding", "check",
+           "describe_misfit", "in_frame_of", "overlapping_pairs", "sat_depth", "slot_misfits"]
 
 
 def describe(f: Finding, name: Callable[[str], str], units: Units = SI) -> str:

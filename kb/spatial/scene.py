@@ -399,9 +399,12 @@ class _Builder:
                 lend.append((i, index[other]))
                 continue
             kinds = sorted(c[len(_KTW):] for c in classes[i] if c.startswith(_KTW))
-            raise InputError(f"{_local(n)} is placed but has no shape: no InternalShape on its SKU or "
-                             f"itself, and no rule gives one to a {' / '.join(kinds[:3])}", self.path,
-                             self.locate(n))
+            sku = self.value(n, KTW.hasSkuObject_Sku)  # an ExternalShape is named (validate: the same words)
+            external = (self.value(sku, KTW.hasStockKeepingUnit_ExternalShape) if sku is not None else None) \
+                or self.value(n, KTW.hasNoSkuObject_ExternalShape)
+            raise InputError(f"{_local(n)} is placed but has no shape: no InternalShape on its SKU or itself"
+                             f"{' (an ExternalShape is a model file kitkb does not read)' if external else ''}, "
+                             f"and no rule gives one to a {' / '.join(kinds[:3])}", self.path, self.locate(n))
         for i, j in lend:  # a kit is where its tray is; a large box has its container's box
             if np.isnan(llo[j, 0]):
                 raise InputError(f"{_local(names[i])} takes the box of {_local(names[j])}, which has none",
