@@ -1,5 +1,6 @@
 """CRCL, the canonical robot command language of the first paper (§V-C): commands as typed
-values (:mod:`.commands`, :mod:`.pose`), their text form (:mod:`.text`, Fig. 11) and XML
+values (:mod:`.commands`, :mod:`.pose`), their text form (:mod:`.text`: NIST's kittingViewer
+layout, written by default, and the first paper's Fig. 11) and XML
 instances of NIST's early CRCL.xsd (:mod:`.xml`), files by suffix (:mod:`.files`,
 ``kitkb crcl convert``); the cell contract an executor talks to (:mod:`.cell`:
 :class:`CellInterface`, :class:`Status`, :class:`Observation`, USARTruth lines), kitkb's cell

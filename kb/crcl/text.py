@@ -323,12 +323,6 @@ def write_text(program: Program, style: str = "nist") -> str:
     return "".join(f"{_nist_statement(c, program.source)}\n" for c in program)
 
 
-def statement(command: Command, style: str = "nist") -> str:
-    """The text of one command in ``style`` (NIST's form: its lines joined by ``\\n``; an
-    InputError where NIST's form cannot hold it)."""
-    return write_text(Program([command]), style).removesuffix("\n")
-
-
 def nist_unwritable(command: Command) -> str | None:
     """Why ``command`` cannot be written in NIST's text form so that NIST's parser reads what
     kitkb reads (None when it can); an :class:`~kb.crcl.commands.Unreadable` is written back
