@@ -144,6 +144,20 @@ def test_only_optional_parameters_is_no_constraint_and_says_so(tmp_path: Path,
     assert any("without its mandatory ex:prefix" in r.message for r in caplog.records)
 
 
+@pytest.mark.parametrize("params, said", [
+    ('sh:flags "i"', "sh:flags without sh:pattern"),
+    ("sh:qualifiedMinCount 1", "sh:qualifiedMinCount without sh:qualifiedValueShape"),
+])
+def test_a_core_component_given_in_part_is_warned_of(tmp_path: Path, caplog: pytest.LogCaptureFixture,
+                                                     params: str, said: str) -> None:
+    """By SHACL (and the W3C suite's core/node/qualified-001) the component does not apply and
+    the rest of the shape counts: kitkb says so on the kb.shacl logger."""
+    shapes = f"ex:S a sh:NodeShape ; sh:targetClass ex:Person ; sh:property [ sh:path ex:name ; {params} ] ."
+    with caplog.at_level(logging.WARNING, logger="kb.shacl"):
+        assert validate_files(*[[f] for f in _files(tmp_path, shapes)]).conforms
+    assert any(said in r.message for r in caplog.records)
+
+
 def test_blank_focus_nodes_and_rdflib_sparql(tmp_path: Path) -> None:
     data = PRE + 'ex:bob ex:pet [ ex:name "Rex" ] , [ ex:name "Ruffles" ] .'
     shapes = MAX_LENGTH + ASK_COMPONENT + """
@@ -256,6 +270,11 @@ ex:S a sh:NodeShape ; sh:targetClass ex:Person ; ex:p 1 .""",
     "a malformed path": (
         'ex:S a sh:NodeShape ; sh:targetClass ex:Person ; sh:property [ sh:path "name" ; sh:minCount 1 ] .',
         'sh:path "name" is not a well-formed SHACL property path'),
+    "one mandatory parameter without the other": (
+        """ex:C a sh:ConstraintComponent ; sh:parameter [ sh:path ex:low ] , [ sh:path ex:high ] ;
+    sh:validator [ sh:ask "ASK { FILTER ($value >= $low && $value <= $high) }" ] .
+ex:S a sh:NodeShape ; sh:targetClass ex:Person ; sh:property [ sh:path ex:age ; ex:low 1 ] .""",
+        "it gives ex:low of constraint component ex:C without its mandatory ex:high"),
     "a literal target class": (
         'ex:S a sh:NodeShape ; sh:targetClass "Person" ; sh:property [ sh:path ex:name ; sh:minCount 1 ] .\n'
         "ex:T a sh:NodeShape ; sh:targetClass ex:Person .",
@@ -301,3 +320,26 @@ def test_the_shipped_shapes_compile_without_refusal() -> None:
     root = Path(__file__).resolve().parent.parent
     for name in ("kitting-shapes.ttl", "kitting-rules.ttl"):
         assert unsupported_shapes(Graph().parse(root / "shapes" / name)) == {}
+
+
+RECURSIVE = """
+ex:S a sh:NodeShape ; sh:targetNode ex:n1 ;
+    sh:property [ sh:path ex:knows ; sh:node ex:S ] ;
+    sh:property [ sh:path ex:name ; sh:minCount 1 ] ."""
+
+
+def test_recursive_shape_evaluated_while_pyshacl_reaches_the_data(tmp_path: Path) -> None:
+    data = PRE + 'ex:n1 ex:name "a" ; ex:knows ex:n2 . ex:n2 ex:knows ex:n3 .'
+    report = validate_files(*[[f] for f in _files(tmp_path, RECURSIVE, data)])
+    assert report.fallback and {(f, c) for f, c, _, _ in _rows(report)} == {("n1", str(SH.NodeConstraintComponent))}
+
+
+def test_recursive_shape_refused_where_pyshacl_stops_short(tmp_path: Path) -> None:
+    """pySHACL backs out three levels down and counts the rest as conforming: a chain whose
+    20th node lacks its name conformed. kitkb refuses that answer."""
+    nodes = [f'ex:n{i} ex:knows ex:n{i + 1}' + ("" if i == 20 else f' ; ex:name "n{i}"') + " ." for i in range(1, 21)]
+    data, shapes = _files(tmp_path, RECURSIVE, PRE + "\n".join(nodes))
+    with pytest.raises(InputError) as refused:
+        validate_files([data], [shapes])
+    assert "recursive and pySHACL, which evaluates it, stopped short" in refused.value.message
+    assert refused.value.line == (PRE + RECURSIVE).splitlines().index("ex:S a sh:NodeShape ; sh:targetNode ex:n1 ;") + 1

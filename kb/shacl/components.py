@@ -148,6 +148,11 @@ def constraints(g: Graph, prefixes: dict[str, str], s: Shape, comp: Component,
                              comp.node)
     given = {p.name: sorted(g.objects(s.node, p.path), key=str) for p in comp.parameters}
     missing = [p for p in comp.mandatory() if not given[p.name]]
+    if missing and any(given[p.name] for p in comp.mandatory()):
+        raise ShapeError(s.node, f"it gives {', '.join(spell(g, p.path) for p in comp.mandatory() if given[p.name])} "
+                                 f"of constraint component {spell(g, comp.node)} without its mandatory "
+                                 f"{', '.join(spell(g, p.path) for p in missing)}: the component does not apply "
+                                 "(SHACL 6.2.3), so it would check nothing", s.node)
     if missing:
         if any(given.values()):
             log.warning("shape %s gives %s of constraint component %s without its mandatory %s: "

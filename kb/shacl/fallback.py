@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import dataclasses
 import logging
+import re
+import warnings
 from collections.abc import Iterable
 
 from rdflib import RDF, RDFS, Graph, Literal, URIRef
@@ -77,11 +79,26 @@ def pyshacl_results(data: Graph, shapes: Graph, ont: Graph | None, shapes_named:
     shape = shapes_named[0] if shapes_named else None
     data, back = _read_as_base(data, shapes)
     shapes = spelt_out(shapes)
+    from pyshacl.errors import ShapeRecursionWarning
+
     try:
-        _, report, _ = pyshacl.validate(data, shacl_graph=shapes, ont_graph=ont, inference="none",
-                                        advanced=advanced, allow_warnings=True)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", ShapeRecursionWarning)
+            _, report, _ = pyshacl.validate(data, shacl_graph=shapes, ont_graph=ont, inference="none",
+                                            advanced=advanced, allow_warnings=True)
     except (ReportableRuntimeError, NotImplementedError) as exc:
         raise ShapeError(shape, f"pySHACL, which evaluates it, cannot: {_text(exc)}") from None
+    stopped = [w for w in caught if issubclass(w.category, ShapeRecursionWarning)]
+    if stopped:
+        # pySHACL backs out of a recursive shape when it meets it a third time down one path and
+        # counts what it did not check as conforming (a chain of 20 nodes, the last without a
+        # required value, conformed)
+        raise ShapeError(_recursive(str(stopped[0].message), shapes_named) or shape,
+                         "it is recursive and pySHACL, which evaluates it, stopped short of the data "
+                         "(a few levels down): what lies deeper went unchecked; SHACL leaves recursive "
+                         "shapes undefined")
+    for w in caught:  # the other warnings, as pySHACL would have given them
+        warnings.showwarning(w.message, w.category, w.filename, w.lineno)
     if not isinstance(report, Graph):  # pySHACL's ValidationFailure, returned instead of a report
         raise ShapeError(shape, f"pySHACL, which evaluates it, refuses it: {_text(report)}")
     results = results_from_report(report)
@@ -132,6 +149,16 @@ def _read_as_base(data: Graph, shapes: Graph) -> tuple[Graph, dict[Node, Node]]:
             o, found = new, True
         out.add((s, p, o))
     return (out, back) if found else (data, {})
+
+
+def _recursive(path: str, shapes_named: list[Node]) -> Node | None:
+    """The first shape of pySHACL's evaluation path (``<NodeShape IRI>->...``) that kitkb
+    handed over, else None."""
+    names = {str(n): n for n in shapes_named}
+    for m in re.finditer(r"<(?:Node|Property)Shape ([^>\s]+)>", path):
+        if m.group(1) in names:
+            return names[m.group(1)]
+    return None
 
 
 def _text(exc: object) -> str:
