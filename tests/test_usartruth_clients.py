@@ -428,3 +428,22 @@ def test_a_gtri_client_against_kitkb_sim_serve() -> None:
     finally:
         proc.terminate()
         proc.wait(timeout=30)
+
+
+def test_a_line_may_end_in_cr_alone_as_usarsim_read_it() -> None:
+    """USARSim's TcpLink ended a line at CR and dropped an LF right after it, even one that came
+    in a later packet: that LF is not an empty query (which would answer every object)."""
+    with served() as server, socket.create_connection(("127.0.0.1", server.sensor_port), timeout=10) as s:
+        reader = s.makefile("rb")
+
+        def answer() -> list[bytes]:
+            lines = []
+            while (line := reader.readline()) != b"{End}\r\n":
+                assert line, "connection closed"
+                lines.append(line)
+            return lines
+        s.sendall(b"{name part_a_1}\r")
+        assert [x.split(b"}")[0] for x in answer()] == [b"{Name " + NS.encode() + b"part_a_1"]
+        s.sendall(b"\n{name part_b_1}\r{name part_b_2}\n\n")
+        assert len(answer()) == 1 and len(answer()) == 1  # part_b_1, part_b_2
+        assert len(answer()) == len(PLACED)  # the empty line after an LF: every object

@@ -3,9 +3,10 @@
 
 Sensor port (default :data:`SENSOR_PORT` 3989, USARTruth's): USARSim's USARTruth protocol, so
 the USARTruth clients of NIST and GTRI (el-robotics-core) read it. The client sends one query a
-line (``\n`` or ``\r\n``) and gets the answer lines, each ending in ``\r\n`` as USARSim's,
-then ``{End}``; connections stay open for more queries. A query is any of these fields, on one
-line, in any order, keys in any case, with or without spaces between them::
+line (ending in ``\n``, ``\r\n`` or a ``\r`` alone, as USARSim read them) and gets the answer
+lines, each ending in ``\r\n`` as USARSim's, then ``{End}``; connections stay open for more
+queries. A query is any of these fields, on one line, in any order, keys in any case, with or
+without spaces between them::
 
     {class C}            objects of class C: a kitting class (local name in any case, or IRI;
                          subclasses included), or Unreal's names for them: a package prefix is

@@ -16,11 +16,12 @@ sockets (the answer lines, ``{End}`` last).
 
 from __future__ import annotations
 
+import re
 import selectors
 import socket
 import socketserver
 import threading
-from typing import Any, Sequence
+from typing import Any, Iterator, Sequence
 
 from kb.core.errors import CellError, InputError
 from kb.crcl.cell import Observation, Status, run_in_order, truth_line
@@ -34,6 +35,8 @@ from kb.sim.sensor import matches, observe_where, truth_class
 
 #: The status of a command that is only a program's frame.
 FRAMED = Status.ok("frame")
+#: What ends a sensor-port line: LF, CR LF, or a CR alone (as USARSim read them).
+_LINE_END = re.compile(rb"\r\n|\r|\n")
 
 
 class CellServer:
@@ -300,10 +303,27 @@ class _SensorHandler(_Handler):
 
     def serve(self) -> None:
         try:
-            while (line := self.read_line()) is not None:
+            for line in self.queries():
                 self.reply(self.server.owner.answer_query(line))
         except _TooLong as exc:
             self.reply([error_line(str(exc)), END])
+
+    def queries(self) -> Iterator[str]:
+        """The client's lines, each ended by LF, CR LF or a CR alone (USARSim's TcpLink ended a
+        line at CR and dropped an LF right after it, even one that came later); _TooLong for a
+        line longer than MAX_LINE."""
+        pending, after_cr = b"", False
+        while chunk := self.rfile.read1(MAX_LINE):
+            if after_cr and chunk.startswith(b"\n"):
+                chunk = chunk[1:]
+            data = pending + chunk
+            if not data:
+                continue
+            *lines, pending = _LINE_END.split(data)
+            after_cr = data.endswith(b"\r")
+            if len(pending) >= MAX_LINE or any(len(x) >= MAX_LINE for x in lines):
+                raise _TooLong(f"a line longer than {MAX_LINE} bytes")
+            yield from (x.decode("utf-8", "replace") for x in lines)
 
 
 class _CommandHandler(_Handler):
