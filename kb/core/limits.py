@@ -11,6 +11,10 @@ The defaults that guard memory are sized from measurements (docs/limits.md has t
 machine's memory: :func:`memory_budget` is three quarters of the physical memory (or of the
 cgroup's ``memory.max``, if lower). Every default is read again at each check, so a test or
 a user can set the variable at any time. ``KITKB_MAX_...=0`` or ``none`` lifts a limit.
+
+:data:`CELL_BOUNDS` bound, in the same way, what a peer sends: a cell's answers to
+:class:`kb.crcl.remote.RemoteCell` (time, lines, bytes), given up past a bound as a
+:class:`~kb.core.errors.CellError` naming the peer.
 """
 
 from __future__ import annotations
