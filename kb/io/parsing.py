@@ -466,13 +466,15 @@ _IRI_TOKENS = re.compile(r'"""(?:[^"\\]|\\.|"(?!""))*"""|\'\'\'(?:[^\'\\]|\\.|\'
 _XML_FILE_IRIS = re.compile(r"""(?<==)(\s*)(["'])(file:[^"'<]*)\2|(?<=>)(\s*)(file:[^<]*?)(\s*)(?=<)""")
 # what an IRI cannot hold (RFC 3987) and a file path may: escaped as %XX
 _NOT_IRI = re.compile(r'[\x00-\x20"<>\\^`{|}\x7f]')
+# a file: IRI (or something like one) holding such a character
+_BAD_FILE_IRI = re.compile(r'file:[^<>"\'\n]*?[\x00-\x09\x0b-\x20\\^`{|}\x7f]')
 
 
 def repair_file_iris(text: str, fmt: str, path: Path) -> tuple[str, list[Diagnostic]]:
     """``text`` with each ``file:`` IRI that is not an IRI (a Windows path such as
     ``file:C:\\Documents and Settings\\kitting.owl``: backslashes, spaces) rewritten as one
     (``file:C:/Documents%20and%20Settings/kitting.owl``), with a warning at the first."""
-    if "file:" not in text:
+    if "file:" not in text or _BAD_FILE_IRI.search(text) is None:  # C speed for the common case
         return text, []
     found: list[tuple[int, str, str]] = []
 

@@ -67,7 +67,7 @@ def convert(text: str, name: str) -> str:
     lines = statements(text)
     classes = {ind: cls for cls, ind in re.findall(r"ClassAssertion\(ktw:(\w+) :(\w+)\)", text)}
     trays = sorted({ind for ind, cls in classes.items() if cls == "PartsTray"})
-    tray_parts = re.findall(r"hasPartsVessel_Part :(\w+) :(\w+)\)", text)
+    tray_parts = re.findall(r"hasPartsVessel_Part\s+:(\w+)\s+:(\w+)\)", text)
     out: list[str] = []
     for line in lines:
         if line.startswith("Prefix(ktw:="):
