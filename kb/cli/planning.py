@@ -16,6 +16,8 @@ def generate_pddl(init: str, goal: str, output: str, encoding: str, match_names:
     """Write ``domain.pddl`` and ``problem.pddl`` for INIT -> GOAL into the folder ``output``."""
     with out.progress(f"generating PDDL from {Path(init).name} and {Path(goal).name}"):
         model = planning.kitting_model([init], [goal], encoding, match_names=match_names)
+        for note in model.problem.notes:  # what the state files hold that is not read
+            out.warn(note)
         written = get_generator("pddl")(model).write_outputs(Path(output))
     out.done(f"wrote {' and '.join(map(str, written))} ({encoding} encoding)", written=[str(w) for w in written],
              encoding=encoding)
@@ -33,8 +35,10 @@ def plan(first: str, second: str, output: str, planner: str | None, encoding: st
             source = "PDDL"
         else:
             with out.progress("building the planning problem from the ontology files"):
-                problem = planning.kitting_model([first], [second], encoding, overlap=True,
-                                                 match_names=match_names).up_problem
+                model = planning.kitting_model([first], [second], encoding, overlap=True, match_names=match_names)
+            for note in model.problem.notes:  # what the state files hold that is not read
+                out.warn(note)
+            problem = model.up_problem
             source = f"ontology, {encoding} encoding"
         built = time.perf_counter() - start
         result = planning.run(problem, output, planner, timeout, engine_defaults, progress=out.tracker)
