@@ -358,3 +358,17 @@ def test_a_protege_catalog_resolves_imports_inside_its_folder_only() -> None:
     assert [s.path.name for s in kb.sources] == ["kittingInstancesCell.owl", "cellModel.ttl"]
     assert [(w.rule, w.line, w.focus) for w in kb.warnings] == [
         ("unresolved-import", line_of(path, "outside.owl"), "file:outside.owl")]
+
+
+def test_plan_and_generate_name_what_they_do_not_read(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    goal = tmp_path / "goal.owl"
+    text = (NIST2012 / "kittingInstancesGoal.owl").read_text("utf-8").rstrip()
+    assert text.endswith(")")
+    goal.write_text(text[:-1] + 'DataPropertyAssertion(:hasShapeDesign_Model :shape_work_table "table.stl")\n)\n',
+                    "utf-8")
+    code, _, err = kitkb(capsys, "generate", "pddl", str(NIST2012 / "kittingInstancesInit.owl"), str(goal),
+                         "-o", str(tmp_path / "pddl"))
+    assert code == 0
+    assert err.startswith(f"{goal}:{line_of(goal, 'hasShapeDesign_Model')}: warning: 1 term(s) of NIST's 2012 "
+                          "kitting vocabulary <http://www.nist.gov/el/ontologies/kittingClasses.owl#> have no "
+                          "counterpart in kitkb's model and are not read: hasShapeDesign_Model")
