@@ -188,7 +188,7 @@ def test_unknown_object_in_pddl_names_file_and_line(tmp_path: Path) -> None:
     line = next(i for i, l in enumerate(bad.read_text().splitlines(), 1) if "PartTray" in l)
     with pytest.raises(InputError) as err:
         planning.read_pddl(NIST / "domain-fluents.pddl", bad, warn=lambda m: None)
-    assert str(err.value) == f"{bad}:{line}: error: unknown type or object 'parttray'"
+    assert str(err.value) == f"{bad}:{line}: error: unknown type PartTray"
 
 
 def test_help_does_not_import_unified_planning() -> None:

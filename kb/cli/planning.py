@@ -29,9 +29,11 @@ def plan(first: str, second: str, output: str, planner: str | None, encoding: st
     """Plan from INIT GOAL ontology files, or from DOMAIN PROBLEM PDDL files; write the plan."""
     start = time.perf_counter()
     with out.progress(f"planning {Path(first).name} -> {Path(second).name}"):
+        files = None
         if planning.is_pddl(first) and planning.is_pddl(second):
             with out.progress("reading the PDDL files"):
-                problem = planning.read_pddl(first, second, warn=out.warn)
+                files = planning.read_pddl(first, second, warn=out.warn)
+            problem = files.problem
             source = "PDDL"
         else:
             with out.progress("building the planning problem from the ontology files"):
@@ -41,13 +43,16 @@ def plan(first: str, second: str, output: str, planner: str | None, encoding: st
             problem = model.up_problem
             source = f"ontology, {encoding} encoding"
         built = time.perf_counter() - start
-        result = planning.run(problem, output, planner, timeout, engine_defaults, progress=out.tracker)
+        result = planning.run(problem, output, planner, timeout, engine_defaults, progress=out.tracker,
+                              source=files)
     total = time.perf_counter() - start
-    out.done(f"wrote {output}: {len(result.lines)} actions by {result.planner} ({source}), validated by "
+    cost = f", cost {result.cost:g}" if result.cost is not None else ""
+    out.done(f"wrote {output}: {len(result.lines)} actions by {result.planner} ({source}{cost}), validated by "
              f"unified-planning, in {total:.2f} s", output=output, actions=len(result.lines),
              planner=result.planner, source=source, validated=True, seconds=round(total, 3),
              times={"model": round(built, 3), "solve": round(result.times["solve"], 3),
-                    "validate": round(result.times["validate"], 3)}, plan=result.lines)
+                    "validate": round(result.times["validate"], 3)}, plan=result.lines,
+             **({"cost": result.cost} if result.cost is not None else {}))
     if os.environ.get("KITKB_TIMING"):
         cpu = os.times()
         print(f"timing: model {built:.2f} s, solve {result.times['solve']:.2f} s, validate "

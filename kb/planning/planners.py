@@ -16,9 +16,9 @@ import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Protocol
 
-from kb.core.errors import ConfigurationError, KitkbError, NotSolvableError
+from kb.core.errors import ConfigurationError, InputError, KitkbError, NotSolvableError
 from kb.core.files import write_atomic
 from kb.core.progress import SILENT, Progress
 from kb.patches.unified_planning import environment, validator_speedups
@@ -51,17 +51,30 @@ PARAMS: dict[str, dict[str, Any]] = {
 
 @dataclass
 class PlanResult:
-    """What a planning run produced: the plan's lines and where the time went."""
+    """What a planning run produced: the plan's lines, its cost under the problem's metric
+    (None without one), and where the time went."""
 
     planner: str
     lines: list[str]
     status: str
     times: dict[str, float] = field(default_factory=dict)
+    cost: float | int | None = None
 
 
-def choose_planner(problem: Any, name: str | None = None) -> str:
+class Source(Protocol):
+    """What a problem read from files can say about itself (:class:`kb.planning.pddl.PddlTask`)."""
+
+    def original(self, name: str) -> str:
+        """The name in the files of an object or action of the problem."""
+
+    def explain(self, kind_flags: list[str] | set[str]) -> tuple[str, tuple[Path, int] | None]:
+        """The file features behind unified-planning kind flags, and where the first is used."""
+
+
+def choose_planner(problem: Any, name: str | None = None, source: Source | None = None) -> str:
     """The engine to use for ``problem``: ``name`` if given (installed and able), else the
-    first engine unified-planning's factory finds applicable to the problem's kind."""
+    first engine unified-planning's factory finds applicable to the problem's kind
+    (``source``: where a feature no engine takes is used, for the error)."""
     from unified_planning.engines import OperationMode
 
     factory = environment().factory
@@ -70,19 +83,36 @@ def choose_planner(problem: Any, name: str | None = None) -> str:
         if name not in factory.engines:
             raise _not_installed(name)
         if name not in applicable:
-            raise ConfigurationError(f"planner {name} does not support this problem "
-                                     f"({_missing_features(factory.engine(name), problem.kind)})")
+            missing = _missing(factory.engine(name), problem.kind)
+            raise _refusal(f"planner {name} does not support this problem", missing, source,
+                           "it does not plan in one shot")
         return name
     if not applicable:
-        features = ", ".join(sorted(problem.kind.features))
-        raise ConfigurationError(f"no installed planner supports this problem ({features}); "
-                                 "install up-fast-downward (classical) or up-enhsp (numeric)")
+        planners = [n for n in factory.preference_list if n in PACKAGES and n in factory.engines]
+        missing = set.intersection(*(_missing(factory.engine(n), problem.kind) for n in planners)) \
+            if planners else set(problem.kind.features)
+        if not missing and planners:  # each lacks something, no one flag all of them lack
+            missing = _missing(factory.engine(planners[0]), problem.kind)
+        hint = "" if planners else "; install up-fast-downward (classical) or up-enhsp (numeric)"
+        raise _refusal("no installed planner supports this problem", missing or set(problem.kind.features),
+                       source, "", hint=hint)
     return applicable[0]
 
 
-def _missing_features(engine: Any, kind: Any) -> str:
-    missing = sorted(set(kind.features) - set(engine.supported_kind().features))
-    return "it lacks " + ", ".join(missing) if missing else "it does not plan in one shot"
+def _missing(engine: Any, kind: Any) -> set[str]:
+    return set(kind.features) - set(engine.supported_kind().features)
+
+
+def _refusal(what: str, missing: set[str], source: Source | None, empty: str, hint: str = "") -> KitkbError:
+    """The error of a problem an engine does not take: its features named, at the line of the
+    first where the problem came from files."""
+    if source is not None and missing:
+        features, where = source.explain(missing)
+        message = f"{what}: {features}{hint}"
+        return InputError(message, *where) if where else ConfigurationError(message)
+    if not missing:
+        return ConfigurationError(f"{what} ({empty})")
+    return ConfigurationError(f"{what} ({', '.join(sorted(missing))}){hint}")
 
 
 def _not_installed(name: str) -> ConfigurationError:
@@ -112,6 +142,9 @@ def solve(problem: Any, planner: str, timeout: float | None = None, engine_defau
         except FileNotFoundError as exc:
             raise ConfigurationError(f"planner {planner} cannot run: {exc} (is Java installed for ENHSP?)") from None
     ok = (Status.SOLVED_SATISFICING, Status.SOLVED_OPTIMALLY)
+    if result.status == Status.UNSUPPORTED_PROBLEM:  # the engine's own refusal: not "no plan exists"
+        raise ConfigurationError(f"planner {planner} cannot plan this problem: it says UNSUPPORTED_PROBLEM"
+                                 f"{_last_log(result)}")
     if result.status not in ok or result.plan is None:
         detail = _last_log(result)
         raise NotSolvableError(f"no plan: {planner} says {result.status.name}{detail}")
@@ -126,16 +159,24 @@ def _last_log(result: Any) -> str:
     return f" ({telling[-1][:200]})" if telling else ""
 
 
-def validate(problem: Any, plan: Any) -> None:
+def check_validatable(problem: Any, source: Source | None = None) -> None:
+    """Raise unless unified-planning's plan validator can check plans of ``problem`` (asked
+    before planning: a plan that cannot be checked is not written, so it is not made)."""
+    from unified_planning.engines.plan_validator import SequentialPlanValidator
+
+    missing = set(problem.kind.features) - set(SequentialPlanValidator.supported_kind().features)
+    if missing:
+        raise _refusal("unified-planning's plan validator cannot check plans of this problem", missing,
+                       source, "", hint="; no plan written")
+
+
+def validate(problem: Any, plan: Any, source: Source | None = None) -> None:
     """Raise unless unified-planning's plan validator accepts ``plan`` for ``problem``."""
     from unified_planning.engines import ValidationResultStatus
     from unified_planning.engines.plan_validator import SequentialPlanValidator
     from unified_planning.exceptions import UPUsageError
 
-    missing = sorted(set(problem.kind.features) - set(SequentialPlanValidator.supported_kind().features))
-    if missing:
-        raise KitkbError("unified-planning's plan validator cannot check this problem "
-                         f"({', '.join(missing)}); no plan written")
+    check_validatable(problem, source)
     try:
         with validator_speedups():
             result = SequentialPlanValidator().validate(problem, plan)
@@ -146,13 +187,40 @@ def validate(problem: Any, plan: Any) -> None:
         raise KitkbError(f"the planner's plan does not validate: {result.status.name} {reason}".strip())
 
 
-def plan_lines(plan: Any) -> list[str]:
-    """One ``(action arg ...)`` line per action of a sequential plan."""
+def plan_lines(plan: Any, source: Source | None = None) -> list[str]:
+    """One ``(action arg ...)`` line per action of a sequential plan (named as in the files
+    the problem came from, with ``source``)."""
+    name = source.original if source is not None else (lambda n: n)
     lines = []
     for ai in plan.actions:
-        args = " ".join(str(p.object()) if p.is_object_exp() else str(p) for p in ai.actual_parameters)
-        lines.append(f"({ai.action.name}{' ' + args if args else ''})")
+        args = " ".join(name(str(p.object())) if p.is_object_exp() else str(p) for p in ai.actual_parameters)
+        lines.append(f"({name(ai.action.name)}{' ' + args if args else ''})")
     return lines
+
+
+def plan_cost(problem: Any, plan: Any) -> float | int | None:
+    """The cost of ``plan`` under the problem's action-cost or plan-length metric (None
+    without one); action costs are read from the initial state (they are static)."""
+    from unified_planning.model.walkers import FreeVarsExtractor
+
+    metrics = problem.quality_metrics
+    if not metrics:
+        return None
+    metric = metrics[0]
+    if metric.is_minimize_sequential_plan_length():
+        return len(plan.actions)
+    if not metric.is_minimize_action_costs():
+        return None
+    fluents = FreeVarsExtractor()
+    total = 0
+    for ai in plan.actions:
+        cost = metric.get_action_cost(ai.action)
+        if cost is None:
+            continue
+        cost = cost.substitute(dict(zip(ai.action.parameters, ai.actual_parameters)))
+        cost = cost.substitute({f: problem.initial_value(f) for f in fluents.get(cost)}).simplify()
+        total += cost.constant_value()
+    return int(total) if float(total).is_integer() else float(total)
 
 
 def write_plan(lines: list[str], path: str | Path) -> Path:
@@ -161,20 +229,23 @@ def write_plan(lines: list[str], path: str | Path) -> Path:
 
 
 def run(problem: Any, out: str | Path | None, planner: str | None = None,
-        timeout: float | None = None, engine_defaults: bool = False, progress: Progress = SILENT) -> PlanResult:
+        timeout: float | None = None, engine_defaults: bool = False, progress: Progress = SILENT,
+        source: Source | None = None) -> PlanResult:
     """Choose a planner, solve, validate, and write the plan to ``out`` (if given);
-    ``progress``: where solving and validating report (:mod:`kb.core.progress`)."""
+    ``progress``: where solving and validating report (:mod:`kb.core.progress`); ``source``:
+    the files the problem came from (names in the plan, where a refused feature is used)."""
     times: dict[str, float] = {}
     t0 = time.perf_counter()
-    name = choose_planner(problem, planner)
+    name = choose_planner(problem, planner, source)
+    check_validatable(problem, source)
     with progress.task(f"solving with {name}" + (f" (time limit {timeout:g} s)" if timeout else "")):
         plan = solve(problem, name, timeout, engine_defaults)
     times["solve"] = time.perf_counter() - t0
     t1 = time.perf_counter()
     with progress.task("validating the plan (unified-planning)"):
-        validate(problem, plan)
+        validate(problem, plan, source)
     times["validate"] = time.perf_counter() - t1
-    lines = plan_lines(plan)
+    lines = plan_lines(plan, source)
     if out is not None:
         write_plan(lines, out)
-    return PlanResult(name, lines, "valid", times)
+    return PlanResult(name, lines, "valid", times, plan_cost(problem, plan))

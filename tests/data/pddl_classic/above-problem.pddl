@@ -1,0 +1,5 @@
+(define (problem above-3)
+  (:domain blocks-above)
+  (:objects a b c)
+  (:init (ontable a) (ontable b) (ontable c) (clear a) (clear b) (clear c) (handempty))
+  (:goal (above a c)))

@@ -1,0 +1,5 @@
+(define (problem either-assembly-1)
+  (:domain either-assembly)
+  (:objects g1 - gear s1 - shaft frame - assembly power - resource wrench - tool)
+  (:init (available g1) (available s1) (available frame) (available power))
+  (:goal (and (fitted g1 frame) (fitted s1 frame) (clean wrench) (clean g1))))

@@ -1,0 +1,6 @@
+(define (problem logistics-4-0)
+  (:domain logistics-untyped)
+  (:objects obj11 tru1 pos1 apn1 cit1)
+  (:init (package obj11) (truck tru1) (location pos1) (location apn1) (city cit1)
+         (at tru1 pos1) (at obj11 pos1) (in-city pos1 cit1) (in-city apn1 cit1))
+  (:goal (and (at obj11 apn1))))

@@ -1,0 +1,5 @@
+(define (problem names-1)
+  (:domain names)
+  (:objects truck load - truck ready drive - place)
+  (:init (at truck ready) (at load drive))
+  (:goal (and (loaded truck) (at truck drive) (loaded load))))

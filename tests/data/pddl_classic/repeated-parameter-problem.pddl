@@ -1,0 +1,5 @@
+(define (problem repeated-parameter-1)
+  (:domain repeated-parameter)
+  (:objects a b - block)
+  (:init (clear a) (clear b))
+  (:goal (on a b)))

@@ -1,0 +1,7 @@
+(define (problem telegraph-2)
+  (:domain telegraph)
+  (:objects p1 p2 - process c1 c2 - channel s0 s1 s2 t0 t1 t2 - state)
+  (:init (at-state p1 s0) (at-state p2 t0)
+         (writes s0 c1) (next s0 s1) (waits-on s1 c2) (next s1 s2) (waits-on s2 c1)
+         (writes t0 c2) (next t0 t1) (waits-on t1 c1) (next t1 t2) (waits-on t2 c2))
+  (:goal (deadlock)))
