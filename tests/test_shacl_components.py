@@ -343,3 +343,15 @@ def test_recursive_shape_refused_where_pyshacl_stops_short(tmp_path: Path) -> No
         validate_files([data], [shapes])
     assert "recursive and pySHACL, which evaluates it, stopped short" in refused.value.message
     assert refused.value.line == (PRE + RECURSIVE).splitlines().index("ex:S a sh:NodeShape ; sh:targetNode ex:n1 ;") + 1
+
+
+def test_kitkb_shacl_json_lists_the_engine_warnings(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    import json
+
+    shapes = ASK_COMPONENT + "ex:S a sh:NodeShape ; sh:targetClass ex:Person ; " \
+                             "sh:property [ sh:path ex:name ; ex:caseless true ] ."
+    data, shapes_file = _files(tmp_path, shapes)
+    assert main(["shacl", str(data), "-s", str(shapes_file), "--format", "json"]) == 0
+    captured = capsys.readouterr()
+    warned = json.loads(captured.out)["warnings"]
+    assert len(warned) == 1 and "does not apply" in warned[0] and warned[0] in captured.err
