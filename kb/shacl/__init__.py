@@ -6,17 +6,21 @@ each SHACL-SPARQL constraint runs in pyoxigraph, once over the whole graph where
 rows of pre-binding, else once per focus node with ``$this`` substituted (:mod:`.prebind`).
 Shapes using something the engine does not implement go to pySHACL (logged as a warning on
 the ``kb.shacl`` logger; :func:`unsupported_shapes` lists them beforehand). Shapes no engine
-may evaluate (SPARQL the specification forbids, pySHACL's refusals) raise
-:class:`ShapeError`; :func:`check_shapes` compiles up front.
+may evaluate (SPARQL the specification forbids, pySHACL's refusals) and shapes holding
+something that would be skipped (a term that is no SHACL term, a component kitkb cannot
+evaluate, a recursive shape pySHACL backs out of) raise :class:`ShapeError`, never a
+"conforms"; :func:`check_shapes` compiles up front.
 
 Entry points: :func:`start` (an evaluation started now and collected later, on big data in a
 forked helper process: what ``kitkb validate`` uses), :func:`validate_graph`,
 :func:`validate_files`, :func:`validate_index`. The parts: terms as N-Triples keys
 (:mod:`.terms`), the data index (:mod:`.index`), shapes, constraints and their run context
 (:mod:`.shape`), the core components (:mod:`.constraints`), SPARQL constraints
-(:mod:`.sparql`, pre-binding in :mod:`.prebind`), the shape compiler (:mod:`.compiler`), the
-driver (:mod:`.engine`), work shared with a forked child (:mod:`.parallel`), the pySHACL
-fallback (:mod:`.fallback`) and the W3C validation report (:mod:`.report`).
+(:mod:`.sparql`, pre-binding in :mod:`.prebind`), SPARQL-based constraint components
+(:mod:`.components`), the SHACL vocabulary and what is refused rather than skipped
+(:mod:`.vocabulary`), the shape compiler (:mod:`.compiler`), the driver (:mod:`.engine`), work
+shared with a forked child (:mod:`.parallel`), the pySHACL fallback (:mod:`.fallback`) and the
+W3C validation report (:mod:`.report`).
 
 ``ont`` is the model graph. As pySHACL does when given ``ont_graph``, it is merged into the
 data graph before validation: targets (sh:targetClass) and sh:class use rdfs:subClassOf
