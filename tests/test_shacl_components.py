@@ -228,6 +228,10 @@ ex:S a sh:NodeShape ; sh:targetClass ex:Person ; ex:p 1 .""",
 ex:C a ex:Sub ; sh:parameter [ sh:path ex:p ] ; sh:validator [ sh:ask "ASK { }" ] .
 ex:S a sh:NodeShape ; sh:targetClass ex:Person ; ex:p 1 .""",
         "ex:p is a parameter of ex:C, which is no SHACL instance of sh:ConstraintComponent"),
+    "a parameter without an IRI path": (
+        """ex:C a sh:ConstraintComponent ; sh:parameter [ sh:path "p" ] ; sh:validator [ sh:ask "ASK { }" ] .
+ex:S a sh:NodeShape ; sh:targetClass ex:Person ; ex:p 1 .""",
+        "constraint component ex:C has a parameter without exactly one IRI sh:path"),
     "a misspelt constraint": (
         "ex:S a sh:NodeShape ; sh:targetClass ex:Person ; sh:property [ sh:path ex:name ; sh:minCont 2 ] .",
         "sh:minCont is not a SHACL term, did you mean sh:minCount?"),

@@ -98,16 +98,20 @@ def spell(g: Graph, node: Node) -> str:
 
 
 def components(g: Graph) -> dict[Node, Component]:
-    """The constraint components of ``g`` (SHACL instances of ``sh:ConstraintComponent``)."""
+    """The constraint components of ``g`` (SHACL instances of ``sh:ConstraintComponent``);
+    :class:`ShapeError` for one with a parameter that no shape could give (no IRI
+    ``sh:path``), which would be skipped wherever it is meant."""
     found: dict[Node, Component] = {}
     for node in sorted(instances(g, SH.ConstraintComponent), key=str):
         comp = found[node] = Component(node)
         for p in g.objects(node, SH.parameter):
-            path = next(iter(g.objects(p, SH.path)), None)
+            paths = list(g.objects(p, SH.path))
+            if len(paths) != 1 or not isinstance(paths[0], URIRef):
+                raise ShapeError(node, f"constraint component {spell(g, node)} has a parameter without exactly "
+                                       "one IRI sh:path (SHACL 6.2.1): no shape can give it", node)
             opt = next(iter(g.objects(p, SH.optional)), None)
             optional = isinstance(opt, Literal) and opt.value is True
-            name = local_name(path) if isinstance(path, URIRef) else None
-            comp.parameters.append(Parameter(path, name or "", optional))  # type: ignore[arg-type]
+            comp.parameters.append(Parameter(paths[0], local_name(paths[0]) or "", optional))
     return found
 
 
@@ -139,9 +143,6 @@ def constraints(g: Graph, prefixes: dict[str, str], s: Shape, comp: Component,
     mandatory parameter), or a problem that sends the shape to pySHACL; :class:`ShapeError`
     for what no engine may or kitkb cannot evaluate."""
     for p in comp.parameters:
-        if not isinstance(p.path, URIRef):
-            raise ShapeError(s.node, f"constraint component {spell(g, comp.node)} has a parameter without "
-                                     "an IRI sh:path", comp.node)
         if not _VARNAME.fullmatch(p.name) or p.name in _RESERVED:
             raise ShapeError(s.node, f"parameter {spell(g, p.path)} of constraint component {spell(g, comp.node)}: "
                                      f"its local name {p.name!r} cannot name a SPARQL variable (SHACL 6.2.1)",
