@@ -232,6 +232,9 @@ ex:S a sh:NodeShape ; sh:targetClass ex:Person ; ex:p 1 .""",
         """ex:C a sh:ConstraintComponent ; sh:parameter [ sh:path "p" ] ; sh:validator [ sh:ask "ASK { }" ] .
 ex:S a sh:NodeShape ; sh:targetClass ex:Person ; ex:p 1 .""",
         "constraint component ex:C has a parameter without exactly one IRI sh:path"),
+    "a misspelt parameter of a component": (
+        MAX_LENGTH + "ex:S a sh:NodeShape ; sh:targetClass ex:Person ; sh:property [ sh:path ex:name ; ex:maxLenght 4 ] .",
+        "ex:maxLenght is no parameter of a constraint component here, did you mean ex:maxLength?"),
     "a misspelt constraint": (
         "ex:S a sh:NodeShape ; sh:targetClass ex:Person ; sh:property [ sh:path ex:name ; sh:minCont 2 ] .",
         "sh:minCont is not a SHACL term, did you mean sh:minCount?"),

@@ -132,6 +132,25 @@ def _inert(p: Node, preds: set[Node]) -> bool:
     return False
 
 
+def _one_typo(a: str, b: str) -> bool:
+    """Are ``a`` and ``b`` (different, 4 letters or more) one letter apart: one left out, added
+    or changed, or two neighbours swapped?"""
+    if a == b or min(len(a), len(b)) < 4 or abs(len(a) - len(b)) > 1:
+        return False
+    if len(a) == len(b):
+        diff = [i for i in range(len(a)) if a[i] != b[i]]
+        return len(diff) == 1 or (len(diff) == 2 and diff[1] == diff[0] + 1
+                                  and a[diff[0]] == b[diff[1]] and a[diff[1]] == b[diff[0]])
+    short, long_ = (a, b) if len(a) < len(b) else (b, a)
+    return any(long_[:i] + long_[i + 1:] == short for i in range(len(long_)))
+
+
+def _namespace(iri: Node) -> str:
+    text = str(iri)
+    cut = max(text.rfind("#"), text.rfind("/"))
+    return text[: cut + 1]
+
+
 def _local(term: Node) -> str:
     return str(term).rpartition("#")[2]
 
@@ -180,6 +199,11 @@ class Compiler:
                 _check_term(g, n, p)
                 if p in V.PYSHACL and not _inert(p, preds):
                     s.problems.append(f"{CC.spell(g, p)}, a SHACL core constraint kitkb's engine leaves to pySHACL")
+            elif self.params and isinstance(p, URIRef):
+                near = self._misspelt_parameter(p)
+                if near is not None:
+                    raise ShapeError(n, f"{CC.spell(g, p)} is no parameter of a constraint component here, did "
+                                        f"you mean {CC.spell(g, near)}? (it would check nothing)", n)
         deact = self._one(n, SH.deactivated)
         s.deactivated = isinstance(deact, Literal) and deact.value is True
         sev = self._one(n, SH.severity)
@@ -260,6 +284,17 @@ class Compiler:
                     s.problems.append(problem)
                 elif c is not None:
                     add(c)
+
+    def _misspelt_parameter(self, p: URIRef) -> Node | None:
+        """The parameter of a component of this shapes graph that ``p`` (no parameter) misspells
+        by one letter (left out, added, changed, or two swapped), in the same namespace
+        (``ex:maxLenght`` for ``ex:maxLength``), else None."""
+        ns = _namespace(p)
+        local = str(p)[len(ns):]
+        for q in sorted(self.params, key=str):
+            if isinstance(q, URIRef) and _namespace(q) == ns and _one_typo(local, str(q)[len(ns):]):
+                return q
+        return None
 
     @staticmethod
     def _integer(s: Shape, param: str, v: Node) -> int:
