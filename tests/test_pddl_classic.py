@@ -17,7 +17,7 @@ from pathlib import Path
 
 import pytest
 
-from kb.core.errors import InputError
+from kb.core.errors import InputError, KitkbError
 from kb.planning import read_pddl
 from kb.planning.pddl.derived import MAX_SIZE
 
@@ -104,13 +104,56 @@ def test_stratified_derived_predicates_reach_a_deadlock(tmp_path: Path) -> None:
                              "(write p2 t0 t1 c2)"]
 
 
-def test_recursive_derived_predicate_is_refused_at_its_line(tmp_path: Path) -> None:
+def test_recursive_derived_predicates_plan_with_fast_downward(tmp_path: Path) -> None:
     code, lines, err = plan("above", tmp_path)
+    assert code == 0, err
+    assert lines == ["(pick-up a)", "(stack a c)"]
+    code, lines, err = plan("power", tmp_path)
+    assert code == 0, err
+    assert sorted(lines) == ["(close b1)", "(close s1)", "(close s2)", "(open s3)"]
+
+
+def _check(task, text: str) -> bool:  # noqa: ANN001 - a PddlTask
+    from unified_planning.io import PDDLReader
+
+    from kb.planning import validate
+
+    try:
+        validate(task.problem, PDDLReader().parse_plan_string(task.problem, text))
+    except KitkbError:
+        return False
+    return True
+
+
+def test_validator_checks_plans_against_the_recursive_definition() -> None:
+    """The fixpoint the validator evaluates is the derived predicates' meaning: a tower a on b
+    on c puts a above c; a on b alone does not; leaving s3 closed feeds the faulty line."""
+    above = read_pddl(DATA / "above-domain.pddl", DATA / "above-problem.pddl", warn=lambda m: None)
+    assert _check(above, "(pick-up b)\n(stack b c)\n(pick-up a)\n(stack a b)")
+    assert not _check(above, "(pick-up a)\n(stack a b)")
+    assert not _check(above, "(pick-up c)\n(stack c a)")  # c above a, not a above c
+    power = read_pddl(DATA / "power-domain.pddl", DATA / "power-problem.pddl", warn=lambda m: None)
+    assert _check(power, "(open s3)\n(close b1)\n(close s1)\n(close s2)")
+    assert not _check(power, "(close b1)\n(close s1)\n(close s2)")  # s3 closed: l3 fed
+    assert not _check(power, "(open s3)\n(close s1)\n(close s2)")  # no breaker closed: nothing fed
+    assert not _check(power, "(close s1)\n(open s3)\n(close s2)\n(open b1)")  # open b1 when it is open
+
+
+def test_recursive_definitions_past_the_bound_are_refused(monkeypatch: pytest.MonkeyPatch) -> None:
+    from kb.planning.pddl import axioms
+
+    monkeypatch.setattr(axioms, "MAX_NODES", 200)
+    with pytest.raises(InputError) as err:
+        read_pddl(DATA / "above-domain.pddl", DATA / "above-problem.pddl", warn=lambda m: None)
+    assert str(err.value).startswith(f"{DATA / 'above-domain.pddl'}:6: error: recursive derived predicates: "
+                                     "checking plans against their definition takes more than 200 ground")
+
+
+def test_recursive_derived_predicates_with_another_planner_are_refused(tmp_path: Path) -> None:
+    code, lines, err = plan("above", tmp_path, "--planner", "enhsp")
     assert code == 2 and not lines
-    assert err.splitlines() == [f"{DATA / 'above-domain.pddl'}:5: error: derived predicate above is recursive "
-                                "(above -> above): not supported (kitkb expands derived predicates where they "
-                                "are used, and unified-planning, whose validator checks every plan, has no "
-                                "derived predicates)"]
+    assert err.strip() == (f"{DATA / 'above-domain.pddl'}:5: error: planner enhsp does not support this problem: "
+                           "recursive derived predicates (planners that do: fast-downward, fast-downward-opt)")
 
 
 def test_derived_predicate_changed_by_an_effect_is_refused(tmp_path: Path) -> None:
@@ -325,7 +368,7 @@ def test_refused_list_covers_the_documented_features() -> None:
     assert len(REFUSED) == 18
     doc = (Path(__file__).parent.parent / "docs" / "pddl.md").read_text()
     for phrase in ("durative", "preferences", ":object-fluents", "either", ":axiom", "HTN", ":constraints",
-                   "recursive"):
+                   "recursive", "total-cost"):
         assert phrase in doc, phrase
 
 
@@ -361,4 +404,4 @@ def test_problem_for_another_domain_warns(tmp_path: Path) -> None:
 
 def test_data_files_count() -> None:
     """The shapes the tests plan or refuse (a case lost would shrink the suite silently)."""
-    assert len(list(DATA.glob("*-domain.pddl"))) == 10
+    assert len(list(DATA.glob("*-domain.pddl"))) == 11

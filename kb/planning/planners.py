@@ -12,8 +12,11 @@ one action per line as in the seeds: ``(take-part robot_1 part_e1 ptr_e part_gri
 from __future__ import annotations
 
 import contextlib
+import subprocess
+import sys
 import tempfile
 import time
+from importlib.resources import as_file, files
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Protocol
@@ -62,7 +65,11 @@ class PlanResult:
 
 
 class Source(Protocol):
-    """What a problem read from files can say about itself (:class:`kb.planning.pddl.PddlTask`)."""
+    """What a problem read from files can say about itself (:class:`kb.planning.pddl.PddlTask`):
+    names, where features are used, and (``planner_texts``) the PDDL a planner that reads
+    axioms plans with, when unified-planning's problem cannot carry them."""
+
+    planner_texts: tuple[str, str] | None
 
     def original(self, name: str) -> str:
         """The name in the files of an object or action of the problem."""
@@ -151,6 +158,54 @@ def solve(problem: Any, planner: str, timeout: float | None = None, engine_defau
     return result.plan
 
 
+#: Planners that read PDDL axioms (derived predicates), with the search kitkb runs; the opt
+#: one is A* without a heuristic (LM-cut, unified-planning's choice, does not take axioms).
+AXIOM_SEARCH = {"fast-downward": PARAMS["fast-downward"]["fast_downward_search_config"],
+                "fast-downward-opt": "astar(blind())"}
+#: Fast Downward driver exit codes (driver/returncodes.py) that mean no plan, and what they say.
+_FD_NO_PLAN = {10: "UNSOLVABLE_PROVEN", 11: "UNSOLVABLE_PROVEN", 12: "UNSOLVABLE_INCOMPLETELY",
+               13: "UNSOLVABLE_INCOMPLETELY", 20: "MEMOUT", 21: "TIMEOUT", 22: "MEMOUT", 23: "TIMEOUT",
+               24: "MEMOUT"}
+
+
+def solve_axioms(problem: Any, texts: tuple[str, str], planner: str | None, timeout: float | None = None,
+                 engine_defaults: bool = False, source: Source | None = None) -> Any:
+    """Plan with Fast Downward on PDDL ``texts`` that hold axioms (derived predicates), which
+    unified-planning's problem cannot carry; the plan as actions of ``problem`` (same names)."""
+    name = planner or "fast-downward"
+    if name not in AXIOM_SEARCH:
+        raise _refusal(f"planner {name} does not support this problem", {"RECURSIVE_DERIVED_PREDICATES"}, source,
+                       "", hint=f" (planners that do: {', '.join(AXIOM_SEARCH)})")
+    try:
+        driver_resource = files("up_fast_downward").joinpath("downward/fast-downward.py")
+    except ModuleNotFoundError:
+        raise _not_installed(name) from None
+    limit = ["--overall-time-limit", f"{max(1, int(timeout))}s"] if timeout else []
+    with as_file(driver_resource) as driver, tempfile.TemporaryDirectory(prefix="kitkb-plan-") as work:
+        folder = Path(work)
+        (folder / "domain.pddl").write_text(texts[0])
+        (folder / "problem.pddl").write_text(texts[1])
+        cmd = [sys.executable, str(driver), *limit, "--plan-file", "plan"]
+        if engine_defaults and name == "fast-downward":  # what unified-planning's engine runs by default
+            cmd += ["--alias", "lama-first", "domain.pddl", "problem.pddl"]
+        else:
+            cmd += ["domain.pddl", "problem.pddl", "--translate-options",
+                    *PARAMS["fast-downward"]["fast_downward_translate_options"],
+                    "--search-options", "--search", AXIOM_SEARCH[name]]
+        proc = subprocess.run(cmd, cwd=folder, capture_output=True, text=True)
+        if proc.returncode in _FD_NO_PLAN:
+            raise NotSolvableError(f"no plan: {name} says {_FD_NO_PLAN[proc.returncode]}")
+        plan_file = folder / "plan"
+        if proc.returncode not in (0, 1, 2, 3) or not plan_file.exists():
+            last = [line for line in (proc.stdout + proc.stderr).splitlines() if line.strip()][-1:] or ["?"]
+            raise ConfigurationError(f"planner {name} failed (exit code {proc.returncode}): {last[0][:200]}")
+        text = plan_file.read_text()
+    environment()
+    from unified_planning.io import PDDLReader
+
+    return PDDLReader().parse_plan_string(problem, text)
+
+
 def _last_log(result: Any) -> str:
     """The planner's own words about the failure, if its log has them."""
     lines = [line.strip() for m in (getattr(result, "log_messages", None) or [])
@@ -236,10 +291,18 @@ def run(problem: Any, out: str | Path | None, planner: str | None = None,
     the files the problem came from (names in the plan, where a refused feature is used)."""
     times: dict[str, float] = {}
     t0 = time.perf_counter()
-    name = choose_planner(problem, planner, source)
+    axioms = source.planner_texts if source is not None else None
+    if axioms:  # Fast Downward, called on the text with the axioms; it must take the rest too
+        name = planner or "fast-downward"
+        choose_planner(problem, "fast-downward", source)
+    else:
+        name = choose_planner(problem, planner, source)
     check_validatable(problem, source)
     with progress.task(f"solving with {name}" + (f" (time limit {timeout:g} s)" if timeout else "")):
-        plan = solve(problem, name, timeout, engine_defaults)
+        if axioms:
+            plan = solve_axioms(problem, axioms, name, timeout, engine_defaults, source)
+        else:
+            plan = solve(problem, name, timeout, engine_defaults)
     times["solve"] = time.perf_counter() - t0
     t1 = time.perf_counter()
     with progress.task("validating the plan (unified-planning)"):

@@ -1,4 +1,5 @@
-"""Derived predicates (PDDL 2.2 ``:derived``), expanded where they are used.
+"""Derived predicates (PDDL 2.2 ``:derived``): expanded where they are used, or kept as
+axioms where they are recursive.
 
 unified-planning 1.3 has no derived predicates (its reader rejects ``:derived``, its model
 has no axioms: unified-planning issues #496, #683). A derived predicate that does not depend
@@ -8,15 +9,19 @@ the arguments of the head's types). kitkb substitutes that definition for every 
 preconditions, conditions of effects, goals and other definitions, so the problem is one
 unified-planning, every planner and the plan validator take as it is, with the same plans.
 
-A recursive definition (the least fixpoint of rules that use their own head, as in PSR's
-``fed``) has no finite substitution; it is refused at its line, naming the cycle.
+A recursive definition (the least fixpoint of rules that use their own head, as PSR's
+``fed`` or a transitive closure) has no finite substitution. Its predicates stay predicates
+in the text unified-planning reads, their rules are kept (:meth:`Expander.axioms`) for Fast
+Downward, which plans with axioms, and :mod:`.axioms` gives the plan validator their exact
+meaning on the problem's objects.
 """
 
 from __future__ import annotations
 
 from kb.core.errors import InputError
+from kb.planning.pddl.features import RECURSIVE
 from kb.planning.pddl.rewrite import Rewriter, Scope
-from kb.planning.pddl.sexp import Expr, Node, Sym, expr
+from kb.planning.pddl.sexp import Expr, Node, Sym, expr, sym
 from kb.planning.pddl.syntax import Derived
 
 DERIVED = "derived predicates (:derived)"
@@ -34,17 +39,23 @@ class Template:
 
 
 class Expander:
-    """Builds each derived predicate's rules once (in dependency order) and expands atoms."""
+    """Builds each derived predicate's rules once and expands atoms of the non-recursive ones."""
 
     def __init__(self, rw: Rewriter) -> None:
         self.rw = rw
         self.templates: dict[str, list[Template]] = {}
         self.building: list[Sym] = []
+        self.components = _components(rw)  # strongly connected, dependencies first
+        self.recursive = {p for c in self.components for p in c
+                          if len(c) > 1 or p in _dependencies(rw, p)}
         rw.expand = self.expand
 
     def expand(self, name: Sym, args: list[Sym], arg_kinds: list[tuple[str, ...] | None]) -> Node:
-        """The definition of ``(name args...)``: one disjunct per rule."""
+        """The definition of ``(name args...)`` (one disjunct per rule); an atom of a
+        recursive one stays an atom."""
         self.rw.note(DERIVED, name)
+        if name in self.recursive:
+            return Expr([sym(self.rw.names.predicates[name], name), *args], name.line)
         disjuncts = [self._instance(t, args, arg_kinds, name) for t in self._templates(name)]
         if len(disjuncts) == 1:
             return disjuncts[0]
@@ -53,20 +64,27 @@ class Expander:
     def _templates(self, name: Sym) -> list[Template]:
         if name in self.templates:
             return self.templates[name]
-        if name in self.building:
-            cycle = self.building[self.building.index(name):] + [name]
-            first = self.rw.s.derived[cycle[0]][0]
-            raise InputError(f"derived predicate {cycle[0].written} is recursive "
-                             f"({' -> '.join(c.written for c in cycle)}): not supported (kitkb "
-                             "expands derived predicates where they are used, and unified-planning, "
-                             "whose validator checks every plan, has no derived predicates)",
-                             self.rw.s.domain.path, first.line)
+        assert name not in self.building, name  # a cycle is recursive, never expanded
         self.building.append(name)
         try:
             self.templates[name] = [self._template(rule) for rule in self.rw.s.derived[name]]
         finally:
             self.building.pop()
         return self.templates[name]
+
+    def axioms(self) -> list[Expr]:
+        """The rules of the recursive derived predicates, as ``(:derived (p ?x - t) body)``."""
+        out = []
+        for name in self.rw.s.derived:
+            if name not in self.recursive:
+                continue
+            for rule, t in zip(self.rw.s.derived[name], self._templates(name)):
+                head: list[Node] = [sym(self.rw.names.predicates[name], rule.line)]
+                for var, kinds in t.head:
+                    kind = self.rw.s.common_type(kinds)
+                    head += [sym("?" + var, rule.line), sym("-", rule.line), sym(self.rw.names.types[kind], rule.line)]
+                out.append(Expr([sym(":derived", rule.line), Expr(head, rule.line), t.body], rule.line))
+        return out
 
     def _template(self, rule: Derived) -> Template:
         rw = self.rw
@@ -103,6 +121,54 @@ class Expander:
         nothing uses it."""
         for name in self.rw.s.derived:
             self._templates(name)
+            if name in self.recursive:
+                self.rw.note(RECURSIVE, self.rw.s.derived[name][0].line)
+
+
+def _dependencies(rw: Rewriter, name: Sym) -> set[Sym]:
+    """The derived predicates the rules of ``name`` use."""
+    found: set[Sym] = set()
+    stack: list[Node] = [rule.body for rule in rw.s.derived[name]]
+    while stack:
+        n = stack.pop()
+        if isinstance(n, Expr):
+            if n and isinstance(n[0], Sym) and n[0] in rw.s.derived:
+                found.add(n[0])
+            stack.extend(n)
+    return found
+
+
+def _components(rw: Rewriter) -> list[list[Sym]]:
+    """Tarjan's strongly connected components of the derived predicates' dependencies,
+    each after those it depends on."""
+    index: dict[Sym, int] = {}
+    low: dict[Sym, int] = {}
+    stack: list[Sym] = []
+    out: list[list[Sym]] = []
+    edges = {p: sorted(_dependencies(rw, p)) for p in rw.s.derived}
+
+    def visit(p: Sym) -> None:
+        index[p] = low[p] = len(index)
+        stack.append(p)
+        for q in edges[p]:
+            if q not in index:
+                visit(q)
+                low[p] = min(low[p], low[q])
+            elif q in stack:
+                low[p] = min(low[p], index[q])
+        if low[p] == index[p]:
+            component = []
+            while True:
+                q = stack.pop()
+                component.append(q)
+                if q == p:
+                    break
+            out.append(component)
+
+    for p in rw.s.derived:
+        if p not in index:
+            visit(p)
+    return out
 
 
 def _substitute(node: Node, mapping: dict[str, Sym]) -> Node:

@@ -29,6 +29,7 @@ COSTS = "action costs (total-cost)"
 METRIC = "a metric (:metric)"
 TYPES = "types (:types)"
 UNDEFINED = "numeric fluents without an initial value"
+RECURSIVE = "recursive derived predicates"
 
 #: unified-planning ProblemKind flag -> the PDDL feature that sets it.
 KIND_FEATURES = {
@@ -58,6 +59,7 @@ KIND_FEATURES = {
                      "INT_NUMBERS_IN_ACTIONS_COST", "REAL_NUMBERS_IN_ACTIONS_COST"), COSTS),
     **dict.fromkeys(("FINAL_VALUE", "MAKESPAN", "PLAN_LENGTH", "OVERSUBSCRIPTION",
                      "TEMPORAL_OVERSUBSCRIPTION"), METRIC),
+    "RECURSIVE_DERIVED_PREDICATES": RECURSIVE,  # kitkb's flag: only some planners read axioms
     "FLAT_TYPING": TYPES,
     "HIERARCHICAL_TYPING": TYPES,
 }

@@ -61,6 +61,7 @@ class Rewriter:
         self.path: Path = s.domain.path
         self.in_problem = False
         self.fresh_names = False  # every bound variable gets a new name (derived definitions)
+        self.recursive: set[str] = set()  # derived predicates kept as predicates (:mod:`.derived`)
         #: derived predicate -> the function that expands an atom of it (set by :mod:`.derived`)
         self.expand: Callable[[Sym, list[Sym], list[tuple[str, ...] | None]], Node] | None = None
         #: hooks of :mod:`.costs`: an assignment to drop (and keep as a cost), a fact to drop

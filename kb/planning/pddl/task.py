@@ -20,7 +20,7 @@ from kb.core.files import note_input
 from kb.core.limits import check_file_size, deep_calls
 from kb.io.parsing import decode
 from kb.patches.unified_planning import environment
-from kb.planning.pddl import sexp
+from kb.planning.pddl import axioms, sexp
 from kb.planning.pddl.costs import Costs
 from kb.planning.pddl.derived import Expander
 from kb.planning.pddl.features import Features
@@ -41,6 +41,9 @@ class PddlTask:
     features: Features
     back: dict[str, str] = field(default_factory=dict)  # renamed object/action -> name in the file
     texts: tuple[str, str] = ("", "")  # the domain and problem text unified-planning read
+    #: the same with the rules of recursive derived predicates, for a planner that reads axioms
+    #: (Fast Downward); None when there are none
+    planner_texts: tuple[str, str] | None = None
 
     def original(self, name: str) -> str:
         """The name in the file of an object or action named ``name`` in :attr:`problem`."""
@@ -71,12 +74,18 @@ def read_task(domain_path: str | Path, problem_path: str | Path, warn: Callable[
         rw.path, rw.in_problem = dpath, False
         guards = costs.plan_guards()
         operators = [_operator(rw, costs, op) for op in domain.operators]
+        rw.recursive = expander.recursive
         domain_text = _domain_text(rw, costs, domain, operators, guards)
         problem_text = _problem_text(rw, costs, problem, body)
+        planner_texts = None
+        if expander.recursive:  # Fast Downward plans with the rules; the validator gets their meaning
+            planner_texts = (_domain_text(rw, costs, domain, operators, guards, expander.axioms()).text(),
+                             problem_text.text())
     up_problem = _up_read(domain_text, problem_text, dpath, ppath)
     costs.install(up_problem, {f: name for f, name, _ in guards})
+    axioms.install(up_problem, expander)
     return PddlTask(up_problem, dpath, ppath, features, dict(names.back),
-                    (domain_text.text(), problem_text.text()))
+                    (domain_text.text(), problem_text.text()), planner_texts)
 
 
 def _read(path: Path) -> str:
@@ -198,10 +207,12 @@ def _problem_body(rw: Rewriter, costs: Costs, problem: Problem) -> _Body:
 # --- the text unified-planning reads -----------------------------------------------------------
 
 def _domain_text(rw: Rewriter, costs: Costs, domain: Domain, operators: list[Expr],
-                 guards: list[tuple[str, str, list[Node]]]) -> Rendered:
+                 guards: list[tuple[str, str, list[Node]]], axioms: list[Expr] | None = None) -> Rendered:
     s, names = rw.s, rw.names
     out: list[Node] = [sym("define", 1), expr(["domain", _label(domain.name)], 1)]
     flags = [f for f in domain.requirements if f in UP_REQUIREMENTS]
+    if axioms:
+        flags.append(sym(":derived-predicates"))
     if flags:
         out.append(Expr([sym(":requirements", domain.requirements_line), *flags], domain.requirements_line))
     if s.parents:
@@ -221,6 +232,7 @@ def _domain_text(rw: Rewriter, costs: Costs, domain: Domain, operators: list[Exp
     functions = _functions(rw, costs)
     if functions:
         out.append(Expr([sym(":functions", domain.sections[":functions"]), *functions], domain.sections[":functions"]))
+    out += axioms or []
     kinds = {":action": 0, ":durative-action": 0, ":process": 1, ":event": 2}
     out += sorted(operators, key=lambda op: kinds[op[0]])
     return Rendered().write([Expr(out, 1)])
@@ -263,7 +275,7 @@ def _declaration(rw: Rewriter, name: str, params: list[Typed], line: int) -> Exp
 def _predicates(rw: Rewriter, guards: list[tuple[str, str, list[Node]]]) -> list[Node]:
     s = rw.s
     out: list[Node] = [_declaration(rw, rw.names.predicates[name], sig.params, sig.line)
-                       for name, sig in s.predicates.items() if name not in s.derived]
+                       for name, sig in s.predicates.items() if name not in s.derived or name in rw.recursive]
     for kinds, (name, common) in rw.memberships.items():
         out.append(expr([name, "?x", *(["-", rw.names.types[common]] if common != OBJECT else [])]))
     for _, name, params in guards:
