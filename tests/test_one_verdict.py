@@ -53,6 +53,9 @@ TURTLE = {
         _sub(r"(:shape_part_a a owl:NamedIndividual, ktw:)BoxyShape( ;.*?) ;\s*ktw:hasBoxyShape_Length [0-9.]+ ;\s*"
              r"ktw:hasBoxyShape_Width [0-9.]+ ;\s*ktw:hasBoxyShape_Height [0-9.]+ ;\s*ktw:hasBoxyShape_HasTop true",
              r"\1InternalShape\2"), "no-shape"),
+    "a misspelt shape name": (
+        _sub(r"(:sku_part_a a .*?ktw:hasStockKeepingUnit_InternalShape) :shape_part_a", r"\1 :shape_prt_a"),
+        "unknown-individual"),
     "a reference cycle": (
         _sub(r"(:part_a_tray_pose a .*?ktw:hasPhysicalLocation_RefObject) :\w+", r"\1 :part_a_1"), "reference-cycle"),
     "a coordinate left out": (
@@ -123,3 +126,110 @@ def test_a_defect_that_stops_predicates_is_an_error_of_validate(case: str, tmp_p
     assert refusal is not None, case
     assert rule in {d.rule for d in errors}, [d.format() for d in errors]
     assert len({d.line for d in errors}) == len(errors), [d.format() for d in errors]  # one verdict a line
+
+
+# --- NIST-shaped files ------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("path", NIST_SHAPED, ids=lambda p: p.name)
+def test_nist_shaped_files_that_stop_predicates(path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """Holders placed with no shape (NIST's Init3, grasp, external-shape states,
+    soapInstances.owl) and an SKU with an ExternalShape only: `predicates` stops with exit 2 at
+    the first; `validate` has each as a `no-shape` error at its line (exit 1)."""
+    assert len(NIST_SHAPED) == 2
+    refusal, errors = _same_verdict(path)
+    assert refusal is not None
+    assert {d.rule for d in errors} == {"no-shape"} and len(errors) == 2
+    assert main(["predicates", str(path)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [str(refusal)]
+    assert main(["validate", str(path)]) == 1
+    out = capsys.readouterr().out.splitlines()
+    assert f"{refusal} [no-shape]" in out  # word for word, at the same line
+    if "ExternalShape" in path.name:
+        assert "(an ExternalShape is a model file kitkb does not read)" in refusal.message
+
+
+@pytest.mark.skipif(not NIST_DIR.is_dir(), reason="NIST files not found")
+def test_nist_soap_instances_holders() -> None:
+    _, errors = _same_verdict(NIST_DIR / "soapInstances.owl")
+    assert [d.focus for d in errors if d.rule == "no-shape"] == [":part_gripper_holder", ":tray_gripper_holder"]
+
+
+# --- what db load and plan refuse ---------------------------------------------------------------------
+
+def _command_error(argv: list[str], capsys: pytest.CaptureFixture[str]) -> str:
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1, err
+    return err[0]
+
+
+def test_a_name_too_long_for_the_world_model(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """`kitkb db load` refuses an individual's name longer than 760 characters: validate says
+    so first, as `name-too-long` at the same line."""
+    text = re.sub(r":part_a_1\b(?!_)", ":part_a_1" + "x" * 800, (SMALL_KIT / "init.ttl").read_text())
+    path = tmp_path / "init.ttl"
+    path.write_text(text)
+    refusal = _command_error(["db", "load", str(path), "--db", str(tmp_path / "w.sqlite"), "-q"], capsys)
+    assert main(["validate", str(path)]) == 1
+    out = capsys.readouterr().out.splitlines()
+    assert out == [f"{refusal} [name-too-long]", "1 file(s): 1 error"]
+
+
+def test_two_individuals_plan_would_give_one_name(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """`kitkb plan` names objects by their local names, case aside: `Part_A_1` and `part_a_1`
+    are one name, refused at the second; validate says so first, as `name-clash`."""
+    path = tmp_path / "init.ttl"
+    path.write_text(re.sub(r":part_a_2\b(?!_)", ":Part_A_1", (SMALL_KIT / "init.ttl").read_text()))
+    refusal = _command_error(["plan", str(path), str(SMALL_KIT / "goal.ttl"), "-o", str(tmp_path / "p.txt")], capsys)
+    assert main(["validate", str(path)]) == 1
+    out = capsys.readouterr().out.splitlines()
+    assert out == [f"{refusal} [name-clash]", "1 file(s): 1 error"]
+
+
+def test_names_not_used_in_plans_may_meet(tmp_path: Path) -> None:
+    """A point and a vector whose names differ only in case are no objects of a plan."""
+    text = re.sub(r":part_a_1_x_axis\b", ":Part_A_1_Point", (SMALL_KIT / "init.ttl").read_text())
+    path = tmp_path / "init.ttl"
+    path.write_text(text)
+    assert validate([path]).conforms
+
+
+def test_validate_reads_names_and_limits_as_the_commands_do() -> None:
+    from kb.planning.state import pddl_name as planning_name
+    from kb.validation.rules import MAX_NAME, pddl_name
+    from kb.world.rows import MAX_IRI
+
+    assert MAX_NAME == MAX_IRI
+    for iri in ("urn:x#part_a_1", "urn:x#Part-A.1", "urn:x/1st", "urn:x#é_part", "urn:x#", "urn:x#_x", "urn:x#a b"):
+        assert pddl_name(iri) == planning_name(iri)
+
+
+# --- what validate passes, the commands read -------------------------------------------------------
+
+@pytest.mark.parametrize("path", sorted(p for d in scenario_dirs() for p in d.glob("*.ttl")) +
+                         [DATA.parent / "thin" / "init.ttl", DATA.parent / "kit_design_fit" / "kittingInstancesGoal-a3b6c4.owl"],
+                         ids=lambda p: f"{p.parent.name}/{p.name}")
+def test_what_has_no_geometry_error_is_read_by_the_commands(path: Path) -> None:
+    assert _refusal(path) is None
+    assert not [d for d in validate([path]).errors if d.rule in ("no-shape", "reference-cycle", "missing-value",
+                                                                 "unusable-number", "degenerate-pose", "unit")]
+
+
+def test_the_survey_builds_the_builders_scene(tmp_path: Path) -> None:
+    """Where nothing stops it, the survey's scene is the builder's, bit for bit (the geometry
+    the plausibility check reads), in metres from a millimetre file too."""
+    init, goal = write_scenario(tmp_path, parts=40, kits=2, seed=3)
+    mm = tmp_path / "mm.ttl"
+    from kb.scenario.variants import write_variant
+    write_variant(init, mm, unit="millimeter", yaw=23.0)
+    paths = [init, goal, mm, DATA.parent / "thin" / "init.ttl"] + ([NIST_DIR / "kittingInstancesInit1.owl"]
+                                                                   if NIST_DIR.is_dir() else [])
+    for path in paths:
+        src = load([path], resolve_imports=False).sources[0]
+        mine, theirs = survey(src).scene, Scene.from_sources([src])
+        assert mine.names == theirs.names and mine.classes == theirs.classes, path
+        for field in ("lo", "hi", "poses", "local_lo", "local_hi", "parents", "open_top"):
+            assert np.array_equal(getattr(mine, field), getattr(theirs, field), equal_nan=True), (path, field)
+        assert mine.units == theirs.units and mine.slots.keys() == theirs.slots.keys()
+        assert all(np.array_equal(mine.slots[k], theirs.slots[k]) for k in mine.slots)

@@ -15,6 +15,7 @@ which knows how to name terms compactly and where a triple sits in its file.
 
 from __future__ import annotations
 
+import functools
 import re
 from dataclasses import dataclass, field
 from typing import Any, Callable, Iterator
@@ -298,10 +299,22 @@ def _check_definitions(ctx: RuleContext, src: Any, g: Any) -> None:
         ctx.report(src, problem.line, "error", problem.message, "malformed-definition", SOAP.Predicate)
 
 
+#: the longest name of an individual a world model holds (``kb.world.rows.MAX_IRI``; ``kitkb db
+#: load`` refuses a longer one, so validate says so first: ``name-too-long``)
+MAX_NAME = 760
+
+
 def _check_types(ctx: RuleContext, src: Any) -> None:
     by_class: dict[URIRef, list[URIRef]] = {}
+    long: dict[URIRef, None] = {}
     for s, c in individual_types(graph_of(src)):
         by_class.setdefault(c, []).append(s)
+        if len(s) > MAX_NAME:
+            long[s] = None
+    for s in sorted(long):
+        ctx.report(src, ctx.locate(src, s, RDF.type, None), "error",
+                   f"name longer than {MAX_NAME} characters: {s[:40]}...", "name-too-long", s)
+    _check_planning_names(ctx, src, by_class)
     true = Literal(True)
     offenders = [(s, c) for c, members in by_class.items()
                  if c not in ctx.model.classes or (c, ABSTRACT, true) in ctx.model.graph for s in members]
@@ -314,6 +327,53 @@ def _check_types(ctx: RuleContext, src: Any) -> None:
             ctx.report(src, ctx.locate(src, s, RDF.type, c), "warning",
                        f"{ctx.name(s, src)} is typed {ctx.name(c, src)}, an abstract class: "
                        "use one of its subclasses", "abstract-class", s)
+
+
+_PDDL_UNSAFE = re.compile(r"[^A-Za-z0-9_-]")
+_NAMED_IN_PLANS = (KTW.SolidObject, KTW.StockKeepingUnit)  # what the planning domain's types are under
+
+
+def pddl_name(iri: object) -> str:
+    """The object name ``kitkb plan`` gives an individual (``kb.planning.state.pddl_name``)."""
+    local = str(iri).rsplit("#", 1)[-1].rsplit("/", 1)[-1]
+    name = _PDDL_UNSAFE.sub("_", local)
+    return name if name[:1].isalpha() else f"o_{name}"
+
+
+def _check_planning_names(ctx: RuleContext, src: Any, by_class: dict[URIRef, list[URIRef]]) -> None:
+    """``name-clash``: two individuals ``kitkb plan`` would give one object name (names are
+    compared as PDDL does, case aside; ``part.a`` and ``Part_A`` are both ``part_a``): plan
+    refuses the second, in IRI order, at its line. Only individuals of classes the planning
+    domain types objects with count (the shipped domain's, read when two names meet)."""
+    named: dict[str, list[URIRef]] = {}
+    for c, members in by_class.items():
+        if c in ctx.model.classes and any(t == c or t in ctx.model.ancestors(c) for t in _NAMED_IN_PLANS):
+            for s in members:
+                named.setdefault(pddl_name(s).lower(), []).append(s)
+    clashes = [sorted(set(members), key=str) for members in named.values() if len(set(members)) > 1]
+    if not clashes:
+        return
+    typed = _planning_types()
+    classes: dict[URIRef, list[URIRef]] = {}
+    for c, members in by_class.items():
+        for s in members:
+            classes.setdefault(s, []).append(c)
+    for members in clashes:
+        objects = [s for s in members if any(t == c or t in ctx.model.ancestors(c) for c in classes[s] for t in typed)]
+        for s in objects[1:]:
+            ctx.report(src, ctx.locate(src, s, None, None), "error", f"two individuals are both called {pddl_name(s)}",
+                       "name-clash", s)
+
+
+@functools.lru_cache(maxsize=1)
+def _planning_types() -> frozenset[URIRef]:
+    """The classes the shipped planning domain types objects with (``kb.planning.problem.used_types``)."""
+    from kb.model.soap import load_domain  # the SOAP domain: only when two names meet
+    domain, _ = load_domain()
+    used = {t for a in domain.actions for _n, t in a.params}
+    used |= {t for spec in domain.predicates.values() for t in spec.arg_types}
+    used |= {t for spec in domain.functions.values() for t in spec.arg_types}
+    return frozenset(URIRef(t) for t in used)
 
 
 def _check_predicates(ctx: RuleContext, src: Any) -> None:
