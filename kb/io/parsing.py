@@ -272,13 +272,6 @@ _MAX_ENTITY_DEPTH = 50
 #: characters), as expat's own guard allows: more is an entity bomb.
 _AMPLIFICATION = 100
 _EXPANSION_FLOOR = 8 << 20
-# the pieces of an XML document's body a reference may sit in
-_XML_PIECE = re.compile(r"""<!--.*?-->|<!\[CDATA\[.*?\]\]>|<\?.*?\?>"""
-                        r"""|<[A-Za-z_:/][^<>"']*(?:(?:"[^"]*"|'[^']*')[^<>"']*)*>"""
-                        r"""|&([A-Za-z_:\u00C0-\uFFFF][\w.:\-\u00B7\u00C0-\uFFFF]*);""", re.S)
-_QUOTED = re.compile(r""""[^"]*"|'[^']*'""")
-
-
 def expand_entities(text: str, path: Path) -> str:
     """``text`` with the general entities its internal DTD declares expanded and the DOCTYPE
     blanked (its lines kept), as Protégé writes them (``<!DOCTYPE Ontology [<!ENTITY xsd
@@ -296,17 +289,30 @@ def expand_entities(text: str, path: Path) -> str:
     expanded = _Expansions(decls, path)
     for name in decls:  # a bomb is refused whether it is used or not
         expanded.size(name)
-    if any(f"&{name};" in body for name in decls):
-        refs = _references(body, decls)
-        total = len(text) + sum(expanded.size(name) - length for name, _, length in refs)
+    used = [name for name in decls if f"&{name};" in body]
+    if used:
+        simple = all(_simple(value, decls) for value, _ in decls.values()) and not (
+            ("<!--" in body or "<![CDATA[" in body or "<?" in body)
+            and any("&" in m.group() for m in _XML_VERBATIM.finditer(body)))
+        if simple:  # IRIs, as Protégé's: the same text in content and attributes, replaced in C
+            counts = {name: body.count(f"&{name};") for name in used}
+            total = len(text) + sum(n * (expanded.size(name) - len(name) - 2) for name, n in counts.items())
+            first = min(body.find(f"&{name};") for name in used)
+        else:
+            refs = _references(body, decls)
+            total = len(text) + sum(expanded.size(name) - length for name, _, length, _ in refs)
+            first = refs[0][1] if refs else 0
         allowed = max(_EXPANSION_FLOOR, _AMPLIFICATION * len(text))
         if total > allowed:
-            first = text.count("\n", 0, end + refs[0][1]) + 1 if refs else None
             raise InputError(f"XML entities would expand this file to {total:,} characters, "
                              f"{total / len(text):,.0f} times its size: over the amplification limit "
-                             f"({_AMPLIFICATION} times, an entity bomb)", path, first)
+                             f"({_AMPLIFICATION} times, an entity bomb)", path, text.count("\n", 0, end + first) + 1)
         limits.FILE_BYTES.check(total, path, None, f"{total:,} characters once its XML entities are expanded")
-        body = _XML_PIECE.sub(lambda m: _substitute(m, decls, expanded), body)
+        if simple:
+            for name in used:
+                body = body.replace(f"&{name};", expanded.text(name))
+        else:
+            body = _substituted(body, refs, expanded)
     return text[:start] + "\n" * text.count("\n", start, end) + body
 
 
@@ -416,39 +422,78 @@ class _Expansions:
         return self._texts[name]
 
 
-def _references(body: str, decls: dict) -> list[tuple[str, int, int]]:
-    """(name, offset, length) of each reference to a declared entity in ``body``, in content
-    and in attribute values."""
-    out = []
-    for m in _XML_PIECE.finditer(body):
-        piece = m.group()
-        if m.group(1) is not None:
-            if m.group(1) in decls:
-                out.append((m.group(1), m.start(), len(piece)))
-        elif piece.startswith("<") and not piece.startswith(("<!", "<?")) and "&" in piece:
-            out.extend((r.group(1), m.start() + q.start() + r.start(), len(r.group()))
-                       for q in _QUOTED.finditer(piece) for r in _ENTITY_REF.finditer(q.group())
-                       if r.group(1) in decls)
+# what makes an entity's text differ between content and attributes
+_NOT_SIMPLE = re.compile(r"""[<"'\t\n\r]""")
+
+
+def _simple(value: str, decls: dict) -> bool:
+    """True if an entity's text reads the same in content and in attributes, and refers only
+    to declared entities (so its expansion holds no reference)."""
+    return _NOT_SIMPLE.search(value) is None and all(
+        m.group(1) in decls for m in _ENTITY_REF.finditer(value)) and value.count("&") == len(
+        _ENTITY_REF.findall(value))
+# what a reference may not be expanded in: comments, CDATA sections, processing instructions
+_XML_VERBATIM = re.compile(r"<!--.*?-->|<!\[CDATA\[.*?\]\]>|<\?.*?\?>", re.S)
+
+
+def _references(body: str, decls: dict) -> list[tuple[str, int, int, str | None]]:
+    """(name, offset, length, quote) of each reference to a declared entity in ``body``, not in
+    a comment, CDATA section or processing instruction; ``quote`` is the delimiter of the
+    attribute value it is in (None: element content)."""
+    names = "|".join(re.escape(n) for n in sorted(decls, key=len, reverse=True))
+    pattern = re.compile(rf"&({names});")
+    verbatim = [(m.start(), m.end()) for m in _XML_VERBATIM.finditer(body)] if "<!" in body or "<?" in body else []
+    out: list[tuple[str, int, int, str | None]] = []
+    v = 0
+    for m in pattern.finditer(body):
+        at = m.start()
+        while v < len(verbatim) and verbatim[v][1] <= at:
+            v += 1
+        if v < len(verbatim) and verbatim[v][0] <= at:
+            continue
+        out.append((m.group(1), at, len(m.group()), _quote_at(body, at)))
     return out
 
 
-def _substitute(m: re.Match, decls: dict, expanded: _Expansions) -> str:
-    piece = m.group()
-    if m.group(1) is not None:  # a reference in content
-        if m.group(1) not in decls:
-            return piece
-        value = expanded.text(m.group(1))
-        return value if "<" in value else value.replace("\r", "&#13;").replace("\n", "&#10;")
-    if piece.startswith(("<!", "<?")) or "&" not in piece:
-        return piece
+def _quote_at(body: str, at: int) -> str | None:
+    """The quote delimiting the attribute value at ``at``, None when ``at`` is in content."""
+    tag = body.rfind("<", 0, at)
+    if tag < body.rfind(">", 0, at) or tag < 0:
+        return None
+    before = body[tag:at]
+    if "'" not in before:
+        return '"'
+    if '"' not in before:
+        return "'"
+    quote = None
+    for c in before:  # both kinds of quote: walk the tag from its start
+        if quote is None and c in "\"'":
+            quote = c
+        elif c == quote:
+            quote = None
+    return quote or '"'
 
-    def attribute(q: re.Match) -> str:
-        quote_char = q.group()[0]
-        inner = _ENTITY_REF.sub(lambda r: _in_attribute(expanded.text(r.group(1)), quote_char)
-                                if r.group(1) in decls else r.group(), q.group()[1:-1])
-        return quote_char + inner + quote_char
 
-    return _QUOTED.sub(attribute, piece)
+def _substituted(body: str, refs: list[tuple[str, int, int, str | None]], expanded: _Expansions) -> str:
+    """``body`` with ``refs`` replaced by their entities' text (see :func:`_in_attribute` and
+    :func:`_in_content`)."""
+    pieces, last = [], 0
+    said: dict[tuple[str, str | None], str] = {}
+    for name, at, length, quote in refs:
+        text = said.get((name, quote))
+        if text is None:
+            value = expanded.text(name)
+            text = said[name, quote] = _in_content(value) if quote is None else _in_attribute(value, quote)
+        pieces += (body[last:at], text)
+        last = at + length
+    pieces.append(body[last:])
+    return "".join(pieces)
+
+
+def _in_content(value: str) -> str:
+    """An entity's text in element content: line breaks written ``&#10;`` (no line added),
+    unless it holds markup, which is parsed as written."""
+    return value if "<" in value else value.replace("\r", "&#13;").replace("\n", "&#10;")
 
 
 def _in_attribute(value: str, quote_char: str) -> str:
