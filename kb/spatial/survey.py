@@ -350,6 +350,7 @@ class _Reader:
         placed = self.compose(names, {i: r for i, r in rel_ref.items() if i in local}, local, poses, parents)
         return {i: loc for i, loc in located.items() if i not in placed}
 
+    @np.errstate(over="ignore", invalid="ignore")  # NaN / infinite coordinates: no RuntimeWarning lines
     def compose(self, names: list, rel: dict, local: dict, poses: np.ndarray, parents: np.ndarray) -> set[int]:
         """``G = G_ref @ L`` down the tree, a level at a time; the objects placed. A reference
         cycle is found as the builder's recursion finds it (objects in name order)."""
