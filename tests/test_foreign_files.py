@@ -372,3 +372,12 @@ def test_plan_and_generate_name_what_they_do_not_read(tmp_path: Path, capsys: py
     assert err.startswith(f"{goal}:{line_of(goal, 'hasShapeDesign_Model')}: warning: 1 term(s) of NIST's 2012 "
                           "kitting vocabulary <http://www.nist.gov/el/ontologies/kittingClasses.owl#> have no "
                           "counterpart in kitkb's model and are not read: hasShapeDesign_Model")
+
+
+@needs_nist
+def test_nists_own_soap_instances_as_a_domain_file_is_exit_2(capsys: pytest.CaptureFixture) -> None:
+    domain = NIST_DIR / "soapInstances.owl"
+    code, out, err = kitkb(capsys, "predicates", str(NIST_DIR / "kittingInstancesInit1.owl"), "--domain", str(domain))
+    assert code == 2 and out == ""
+    assert "no predicate definition kitkb reads in soapInstances.owl" in one_error(err)
+    assert "<http://www.nist.gov/el/ontologies/soapClasses.owl#> (NIST's SOAP, not kitkb's)" in one_error(err)
