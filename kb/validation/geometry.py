@@ -35,9 +35,6 @@ from kb.spatial.rcc8 import DEFAULT_TOLERANCE
 from kb.spatial.survey import RULES as DEFECTS, Survey, survey
 from kb.validation.rules import RuleContext, graph_of
 
-#: the rule a state file whose geometry could not be read was once reported under (a warning);
-#: each such defect now has its own rule (:data:`kb.spatial.survey.RULES`), as an error
-UNCHECKED = "geometry-unchecked"
 #: every rule of this module
 RULES = (*DEFECTS, SLOT_OUTSIDE, *PLAUSIBILITY)
 _PRIMARY = KTW.hasSolidObject_PrimaryLocation
