@@ -463,7 +463,7 @@ def test_cli_converts_both_ways(tmp_path: Path, capsys, monkeypatch) -> None:
     monkeypatch.setenv("KITKB_NIST_DIR", str(NIST_DIR))  # the default CRCL.xsd wherever the checkout is
     text, xml = tmp_path / "c1.crcl", tmp_path / "out" / "c1.xml"
     assert main(["crcl", "convert", str(COMMANDS1), "-o", str(text)]) == 0
-    assert capsys.readouterr().err == f"kitkb: wrote {text} (CRCL text, NIST's kittingViewer form, 41 commands)\n"
+    assert capsys.readouterr().err == f"kitkb: wrote {text} (CRCL text, NIST's kittingViewer form: --text-style nist, 41 commands)\n"
     assert main(["crcl", "convert", str(text), "-o", str(xml), "--xsd", str(XSD)]) == 0
     assert capsys.readouterr().err == f"kitkb: wrote {xml} (CRCL XML, 41 commands)\n"
     assert read_xml(xml, schema(XSD)) == read_xml(COMMANDS1)
@@ -478,7 +478,7 @@ def test_cli_keeps_unreadable_lines_in_text_and_notes_a_missing_schema(tmp_path:
     fig11 = tmp_path / "fig11.crcl"
     fig11.write_text(FIG11)
     assert main(["crcl", "convert", str(fig11), "-o", str(tmp_path / "copy.crcl"), "--text-style", "paper"]) == 0
-    assert capsys.readouterr().err == (f"kitkb: wrote {tmp_path / 'copy.crcl'} (CRCL text, the paper's Fig. 11 form, "
+    assert capsys.readouterr().err == (f"kitkb: wrote {tmp_path / 'copy.crcl'} (CRCL text, the paper's Fig. 11 form: --text-style paper, "
                                        "24 commands; 1 unreadable line(s) kept)\n")
     assert (tmp_path / "copy.crcl").read_text() == FIG11_WRITTEN
     monkeypatch.setattr(kb.cli.crcl, "default_xsd", lambda: None)

@@ -263,7 +263,7 @@ def test_a_long_crcl_program_converts_in_bounded_memory(tmp_path: Path) -> None:
     """Text -> XML -> text of a 250,000-line program in a child process, both ways under 0.6 GB
     peak (a million lines: 0.74 GB and 0.55 GB measured; it was 4.4 GB / 3.0 GB with the whole
     text and element tree in memory, about 1.1 GB at this size)."""
-    lines = ["MoveTo({{9, 8, 2}, {0, 0, 1}, {1, 0, 0}})", "Dwell(1.7)", "OpenGripper()", "CloseGripper()"]
+    lines = ["MoveTo({{9,8,2}, {0,0,1}, {1,0,0}})", "Dwell(1.7)", "OpenGripper()", "CloseGripper()"]  # NIST's layout
     text = tmp_path / "big.crcl"
     with open(text, "w") as f:
         f.write("InitCanon()\n")

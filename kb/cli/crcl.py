@@ -11,7 +11,7 @@ from kb.crcl import default_xsd, schema
 from kb.crcl.files import form_of
 
 _FORM = {"text": "CRCL text", "xml": "CRCL XML"}
-_STYLE = {"nist": "NIST's kittingViewer form", "paper": "the paper's Fig. 11 form"}
+_STYLE = {"nist": "NIST's kittingViewer form: --text-style nist", "paper": "the paper's Fig. 11 form: --text-style paper"}
 
 
 def convert(input: str, output: str, xsd: str | None, out: Output, text_style: str | None = None) -> int:
