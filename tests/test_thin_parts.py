@@ -333,6 +333,19 @@ def test_relate_equals_relate_pair_with_thin_boxes(kernel: str, step: float, tol
         assert names(masks[i, j]) == relate_pair(a_lo[i], a_hi[i], b_lo[j], b_hi[j], tol), (i, j)
 
 
+def test_relate_with_many_thin_boxes() -> None:
+    """Thousands of boxes, many thin: the check for thin boxes in blocks (kb.spatial.rcc8._thin,
+    across its block boundary), as subjects and as objects."""
+    rng = np.random.default_rng(9)
+    lo, hi = grid(rng, 9000, 0.00025)
+    few_lo, few_hi = grid(rng, 12, 0.00025)
+    as_objects, as_subjects = relate(few_lo, few_hi, lo, hi), relate(lo, hi, few_lo, few_hi)
+    for k in list(rng.integers(0, 9000, 150)) + [8191, 8192]:
+        for j in range(12):
+            assert names(as_objects[j, k]) == relate_pair(few_lo[j], few_hi[j], lo[k], hi[k])
+            assert names(as_subjects[k, j]) == relate_pair(lo[k], hi[k], few_lo[j], few_hi[j])
+
+
 CONVERSE = {"DC": "DC", "EC": "EC", "PO": "PO", "EQ": "EQ", "TPP": "TPPi", "NTPP": "NTPPi", "TPPi": "TPP",
             "NTPPi": "NTPP"}
 dyadic = st.integers(0, 24).map(lambda k: k / 64)  # exact in binary: no rounding in the tests
