@@ -402,6 +402,37 @@ def test_problem_for_another_domain_warns(tmp_path: Path) -> None:
                         "blocks-axioms"]
 
 
+def test_forms_unified_planning_took_before_still_plan(tmp_path: Path) -> None:
+    """'-type' glued to its dash, an empty quantifier, objects named like numbers PDDL does not
+    have (nan, inf), an empty precondition and effect."""
+    domain = tmp_path / "d.pddl"
+    domain.write_text("(define (domain glued) (:types boat -object person -object)\n"
+                      "(:predicates (saved ?p -person) (near ?b -boat ?p -person))\n"
+                      "(:action rescue :parameters (?b -boat ?p -person)\n"
+                      " :precondition (and (near ?b ?p) (forall () (near ?b ?p))) :effect (saved ?p))\n"
+                      "(:action wait :parameters () :precondition () :effect ()))")
+    problem = tmp_path / "p.pddl"
+    problem.write_text("(define (problem g) (:domain glued) (:objects nan - boat inf - person)\n"
+                       "(:init (near nan inf)) (:goal (saved inf)))")
+    proc = subprocess.run([sys.executable, "-m", "kb.cli", "plan", str(domain), str(problem), "-o",
+                           str(tmp_path / "x.plan")], capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    assert (tmp_path / "x.plan").read_text().splitlines() == ["(rescue nan inf)"]
+    assert f"{domain}:5: warning: action wait changes nothing; left out" in proc.stderr
+
+
+def test_numbers_past_the_bound_and_contingent_problems_are_refused(tmp_path: Path) -> None:
+    problem = tmp_path / "p.pddl"
+    problem.write_text((DATA / "costs-problem.pddl").read_text().replace("(= (road-length a b) 10)",
+                                                                       f"(= (road-length a b) {'9' * 5000})"))
+    with pytest.raises(InputError, match=r"p\.pddl:5: error: a number of 5,000 characters \(more than 100\)"):
+        read_pddl(DATA / "costs-domain.pddl", problem, warn=lambda m: None)
+    domain = tmp_path / "d.pddl"
+    domain.write_text("(define (domain c)\n(:requirements :strips :contingent)\n(:predicates (p)))")
+    with pytest.raises(InputError, match=r"d\.pddl:2: error: :contingent: not supported: contingent planning"):
+        read_pddl(domain, DATA / "blocks-axioms-problem.pddl", warn=lambda m: None)
+
+
 def test_data_files_count() -> None:
     """The shapes the tests plan or refuse (a case lost would shrink the suite silently)."""
     assert len(list(DATA.glob("*-domain.pddl"))) == 11

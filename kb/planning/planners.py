@@ -149,9 +149,9 @@ def solve(problem: Any, planner: str, timeout: float | None = None, engine_defau
         except FileNotFoundError as exc:
             raise ConfigurationError(f"planner {planner} cannot run: {exc} (is Java installed for ENHSP?)") from None
     ok = (Status.SOLVED_SATISFICING, Status.SOLVED_OPTIMALLY)
-    if result.status == Status.UNSUPPORTED_PROBLEM:  # the engine's own refusal: not "no plan exists"
-        raise ConfigurationError(f"planner {planner} cannot plan this problem: it says UNSUPPORTED_PROBLEM"
-                                 f"{_last_log(result)}")
+    if result.status in (Status.UNSUPPORTED_PROBLEM, Status.INTERNAL_ERROR):  # not "no plan exists"
+        raise ConfigurationError(f"planner {planner} cannot plan this problem: it says {result.status.name}"
+                                 f"{_last_log(result, failure=True)}")
     if result.status not in ok or result.plan is None:
         detail = _last_log(result)
         raise NotSolvableError(f"no plan: {planner} says {result.status.name}{detail}")
@@ -206,11 +206,15 @@ def solve_axioms(problem: Any, texts: tuple[str, str], planner: str | None, time
     return PDDLReader().parse_plan_string(problem, text)
 
 
-def _last_log(result: Any) -> str:
-    """The planner's own words about the failure, if its log has them."""
+def _last_log(result: Any, failure: bool = False) -> str:
+    """The planner's own words about the outcome, if its log has them (``failure``: the last
+    line before it gave up)."""
     lines = [line.strip() for m in (getattr(result, "log_messages", None) or [])
-             for line in m.message.splitlines()]
+             for line in m.message.splitlines() if line.strip()]
     telling = [line for line in lines if "solution" in line.lower() or "unsolvable" in line.lower()]
+    if failure:
+        telling = [line for line in lines if not line.startswith("INFO") and "exit code" not in line
+                   and "aborting" not in line.lower()]
     return f" ({telling[-1][:200]})" if telling else ""
 
 

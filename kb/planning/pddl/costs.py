@@ -80,7 +80,7 @@ class Costs:
             value = node[2]
             if isinstance(value, Expr) or not _is_number(value):
                 raise self.rw.error(f"expected a number as the value of {name}, found {value}", node)
-            self.values.setdefault(str(name), {})[tuple(map(str, args))] = Fraction(str(value))
+            self.values.setdefault(str(name), {})[tuple(map(str, args))] = Fraction(str(self.rw.number(value)))
             return True
         return False
 
@@ -155,11 +155,13 @@ class Costs:
                 problem.set_initial_value(fluent(*(problem.object(a) for a in args)), number)
             fluents[fluent.name] = fluent
         costs = {}
-        for action in problem.actions:
+        for action in problem.actions:  # an action without a cost increase costs the default, 0
             source = self._source_name(action.name)
             parts = [self._up(v, action, problem, fluents, em) for v in self.action_costs.get(source, [])]
-            costs[action] = parts[0] if len(parts) == 1 else em.Plus(*parts) if parts else em.Int(0)
-        if costs and all(c.is_int_constant() and c.constant_value() == 1 for c in costs.values()):
+            if parts:
+                costs[action] = parts[0] if len(parts) == 1 else em.Plus(*parts)
+        if len(costs) == len(problem.actions) and all(c.is_int_constant() and c.constant_value() == 1
+                                                      for c in costs.values()):
             problem.add_quality_metric(MinimizeSequentialPlanLength(environment=env))
         else:
             problem.add_quality_metric(MinimizeActionCosts(costs, em.Int(0), environment=env))

@@ -28,7 +28,7 @@ CONTINUOUS = "continuous effects (#t)"
 COSTS = "action costs (total-cost)"
 METRIC = "a metric (:metric)"
 TYPES = "types (:types)"
-UNDEFINED = "numeric fluents without an initial value"
+UNDEFINED = "fluents without an initial value"
 RECURSIVE = "recursive derived predicates"
 
 #: unified-planning ProblemKind flag -> the PDDL feature that sets it.
@@ -53,8 +53,10 @@ KIND_FEATURES = {
     "STATE_INVARIANTS": CONSTRAINTS,
     "PROCESSES": PROCESSES,
     "EVENTS": EVENTS,
-    "INCREASE_CONTINUOUS_EFFECTS": CONTINUOUS,
-    "DECREASE_CONTINUOUS_EFFECTS": CONTINUOUS,
+    **dict.fromkeys(("INCREASE_CONTINUOUS_EFFECTS", "DECREASE_CONTINUOUS_EFFECTS",
+                     "NON_LINEAR_CONTINUOUS_EFFECTS"), CONTINUOUS),
+    **dict.fromkeys(("CONTINUOUS_NUMBERS", "DISCRETE_NUMBERS"), NUMERIC),
+    "UNDEFINED_INITIAL_SYMBOLIC": UNDEFINED,
     **dict.fromkeys(("ACTIONS_COST", "STATIC_FLUENTS_IN_ACTIONS_COST", "FLUENTS_IN_ACTIONS_COST",
                      "INT_NUMBERS_IN_ACTIONS_COST", "REAL_NUMBERS_IN_ACTIONS_COST"), COSTS),
     **dict.fromkeys(("FINAL_VALUE", "MAKESPAN", "PLAN_LENGTH", "OVERSUBSCRIPTION",

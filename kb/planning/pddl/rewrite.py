@@ -12,6 +12,7 @@ first use is noted (:mod:`.features`).
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
@@ -170,6 +171,8 @@ class Rewriter:
             raise self.error(f"expected a list of variables after {n.head}", n[1])
         self.note(F.EXISTS if n.head == "exists" else F.FORALL, n)
         typed = self._typed_vars(n[1], n.head)
+        if not typed:  # no variables: the condition itself
+            return self.condition(n[2], scope)
         params, inner, guards = self.params(typed, scope, f"({n.head} ...)")
         body = self.condition(n[2], inner)
         if guards:
@@ -247,10 +250,18 @@ class Rewriter:
                              "(declare it in the domain's :constants)", a)
         raise self.error(f"unknown {'object' if self.in_problem else 'constant'} {a.written}", a)
 
+    def number(self, a: Sym) -> Sym:
+        """``a``, a number of at most :data:`MAX_DIGITS` characters."""
+        if len(a) > MAX_DIGITS:
+            raise self.error(f"a number of {len(a):,} characters (more than {MAX_DIGITS})", a)
+        return a
+
     def numeric(self, n: Node, scope: Scope) -> Node:
         """A numeric expression: numbers, function terms, arithmetic, ``?duration``, ``#t``."""
         if isinstance(n, Sym):
-            if _is_number(n) or n in ("#t", "?duration", "total-time"):
+            if _is_number(n):
+                return self.number(n)
+            if n in ("#t", "?duration", "total-time"):
                 if n == "#t":
                     self.note(F.CONTINUOUS, n)
                 return n
@@ -324,8 +335,11 @@ class Rewriter:
         self._arity(n, 2, "(forall (?x - type ...) EFFECT)")
         if not isinstance(n[1], Expr):
             raise self.error("expected a list of variables after forall", n[1])
+        typed = self._typed_vars(n[1], "forall")
+        if not typed:  # no variables: the effect itself
+            return self.effect(n[2], scope)
         self.note(F.FORALL_EFFECT, n)
-        params, inner, guards = self.params(self._typed_vars(n[1], "forall"), scope, "(forall ...)")
+        params, inner, guards = self.params(typed, scope, "(forall ...)")
         body = self.effect(n[2], inner)
         if body is None:
             return None
@@ -340,6 +354,7 @@ class Rewriter:
         if not isinstance(n, Expr) or not n:
             raise self.error(f"expected a fact such as (predicate object ...) in :init, found {show(n)}", n)
         if n.head == "at" and len(n) == 3 and isinstance(n[1], Sym) and _is_number(n[1]):
+            self.number(n[1])
             self.note(F.TIMED_LITERALS, n)
             inner = self.fact(n[2])
             return None if inner is None else Expr([n[0], n[1], inner], n.line)
@@ -353,7 +368,7 @@ class Rewriter:
             value = n[2]
             if isinstance(value, Expr) or not _is_number(value):
                 raise self.error(f"expected a number as the value of {show(target)}, found {show(value)}", value)
-            return Expr([n[0], self.function_term(target, Scope()), value], n.line)
+            return Expr([n[0], self.function_term(target, Scope()), self.number(value)], n.line)
         return self._init_atom(n)
 
     def _init_atom(self, n: Node) -> Node:
@@ -375,7 +390,10 @@ class Rewriter:
             self._arity(n, 2, "(forall (?x - type ...) CONSTRAINT)")
             if not isinstance(n[1], Expr):
                 raise self.error("expected a list of variables after forall", n[1])
-            params, inner, guards = self.params(self._typed_vars(n[1], "forall"), scope, "(forall ...)")
+            typed = self._typed_vars(n[1], "forall")
+            if not typed:
+                return self.constraint(n[2], scope)
+            params, inner, guards = self.params(typed, scope, "(forall ...)")
             if guards:
                 raise self.error("(either ...) types in a forall of :constraints are not supported", n)
             return Expr([n[0], params, self.constraint(n[2], inner)], n.line)
@@ -395,9 +413,11 @@ def guarded(guard: Node, effect: Node) -> Node:
     return expr(["when", guard, effect], effect)
 
 
+_NUMBER = re.compile(r"[-+]?(?:\d+(?:\.\d*)?|\.\d+)(?:e[-+]?\d+)?\Z")
+#: Characters a number may have (unified-planning reads numbers exactly, as fractions).
+MAX_DIGITS = 100
+
+
 def _is_number(a: Sym) -> bool:
-    try:
-        float(a)
-    except ValueError:
-        return False
-    return True
+    """A decimal number (with an exponent, which unified-planning's reader also takes)."""
+    return bool(_NUMBER.match(a))

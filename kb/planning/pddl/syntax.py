@@ -22,7 +22,15 @@ REQUIREMENTS = frozenset("""
 :duration-inequalities :continuous-effects :derived-predicates :timed-initial-literals
 :timed-initial-effects :preferences :constraints :action-costs :domain-axioms
 :safety-constraints :expression-evaluation :open-world :true-negation :ucpop :time
+:contingent :hierarchy :method-preconditions
 """.split())
+#: Requirement flags that make another kind of problem, refused where they are declared.
+REFUSED_REQUIREMENTS = {
+    ":contingent": "contingent planning (:contingent): no installed planner plans contingent problems",
+    ":hierarchy": "HTN planning (:hierarchy, HDDL): no installed planner plans hierarchical problems",
+    ":method-preconditions": "HTN planning (:method-preconditions, HDDL): no installed planner plans "
+                             "hierarchical problems",
+}
 #: The requirement flags unified-planning's reader takes (others are left out of its input;
 #: a requirement declares, it does not change what the reader makes of the domain).
 UP_REQUIREMENTS = frozenset("""
@@ -31,7 +39,7 @@ UP_REQUIREMENTS = frozenset("""
 :conditional-effects :fluents :numeric-fluents :adl :durative-actions :duration-inequalities
 :timed-initial-literals :timed-initial-effects :action-costs :constraints :preferences :time
 :continuous-effects
-""".split())
+""".split())  # also its :hierarchy and :contingent, which kitkb refuses
 #: Sections kitkb refuses, and why (the feature named in the one-line error).
 REFUSED = {
     ":task": "HTN tasks (HDDL): no installed planner plans hierarchical problems",
@@ -165,6 +173,7 @@ class Reader:
 
     def typed_list(self, items: list[Node], what: str) -> list[Typed]:
         """``a b - t c - (either u v) d`` -> Typed entries (``d`` untyped)."""
+        items = split_dashes(items)
         out: list[Typed] = []
         pending: list[Sym] = []
         i = 0
@@ -216,6 +225,8 @@ class Reader:
         for flag in node[1:]:
             if not isinstance(flag, Sym) or flag not in REQUIREMENTS:
                 raise self.error(f"unknown requirement {show(flag)}", flag)
+            if flag in REFUSED_REQUIREMENTS:
+                raise self.error(f"{flag}: not supported: {REFUSED_REQUIREMENTS[flag]}", flag)
             flags.append(flag)
         return flags
 
@@ -310,11 +321,23 @@ def _signature(r: Reader, node: Node, what: str) -> Signature:
     return Signature(node[0], params, node.line)
 
 
+def split_dashes(items: list[Node]) -> list[Node]:
+    """``?t -person`` read as ``?t - person`` (no name starts with '-'; unified-planning's
+    reader takes the glued form, so files written for it have it)."""
+    out: list[Node] = []
+    for item in items:
+        if isinstance(item, Sym) and len(item) > 1 and item.startswith("-"):
+            out += [Sym("-", item.line), Sym(item.written[1:], item.line)]
+        else:
+            out.append(item)
+    return out
+
+
 def _functions(r: Reader, node: Expr) -> list[Signature]:
     """``(f ?x) (g) - number (h) - object``: a type after '-' applies to every function before it."""
     out: list[Signature] = []
     pending: list[Signature] = []
-    items = node[1:]
+    items = split_dashes(node[1:])
     i = 0
     while i < len(items):
         if items[i] == "-":

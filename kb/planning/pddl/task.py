@@ -23,7 +23,7 @@ from kb.patches.unified_planning import environment
 from kb.planning.pddl import axioms, sexp
 from kb.planning.pddl.costs import Costs
 from kb.planning.pddl.derived import Expander
-from kb.planning.pddl.features import Features
+from kb.planning.pddl.features import UNDEFINED as F_UNDEFINED, Features
 from kb.planning.pddl.names import Names, safe
 from kb.planning.pddl.rewrite import Rewriter, Scope
 from kb.planning.pddl.sexp import Expr, Node, Rendered, Sym, expr, sym
@@ -49,9 +49,11 @@ class PddlTask:
         """The name in the file of an object or action named ``name`` in :attr:`problem`."""
         return self.back.get(name, name)
 
-    def explain(self, kind_flags: list[str] | set[str]) -> tuple[str, str | None]:
-        """The PDDL features behind unified-planning kind flags, and where the first is used."""
-        return self.features.explain(kind_flags)
+    def explain(self, kind_flags: list[str] | set[str]) -> tuple[str, tuple[Path, int | None]]:
+        """The PDDL features behind unified-planning kind flags, and where the first is used
+        (the domain file, without a line, if none is found in the files)."""
+        features, where = self.features.explain(kind_flags)
+        return features, where if where is not None else (self.domain_path, None)
 
 
 def read_task(domain_path: str | Path, problem_path: str | Path, warn: Callable[[str], None]) -> PddlTask:
@@ -65,6 +67,8 @@ def read_task(domain_path: str | Path, problem_path: str | Path, warn: Callable[
         s = build(domain, problem)
         names = Names(s)
         features = Features()
+        if ":functions" in domain.sections:  # unified-planning's validator needs every value given
+            features.note(F_UNDEFINED, dpath, domain.sections[":functions"])
         rw = Rewriter(s, names, features, _variables(domain, problem))
         costs = Costs(rw)
         expander = Expander(rw)
@@ -73,7 +77,7 @@ def read_task(domain_path: str | Path, problem_path: str | Path, warn: Callable[
         body = _problem_body(rw, costs, problem)  # first: the cost values it gives guard the actions
         rw.path, rw.in_problem = dpath, False
         guards = costs.plan_guards()
-        operators = [_operator(rw, costs, op) for op in domain.operators]
+        operators = [op for op in (_operator(rw, costs, op, warn) for op in domain.operators) if op is not None]
         rw.recursive = expander.recursive
         domain_text = _domain_text(rw, costs, domain, operators, guards)
         problem_text = _problem_text(rw, costs, problem, body)
@@ -129,7 +133,9 @@ def _variables(domain: Domain, problem: Problem) -> set[str]:
 
 # --- operators -------------------------------------------------------------------------------
 
-def _operator(rw: Rewriter, costs: Costs, op: Operator) -> Expr:
+def _operator(rw: Rewriter, costs: Costs, op: Operator, warn: Callable[[str], None]) -> Expr | None:
+    """The operator as unified-planning reads it; None for an action that changes nothing
+    (Fast Downward's reader wants an effect, and such an action is never of use in a plan)."""
     what = f"{op.kind[1:]} {op.name.written}"
     params, scope, guards = rw.params(op.params, Scope(), what)
     costs.current = op.name
@@ -154,6 +160,10 @@ def _operator(rw: Rewriter, costs: Costs, op: Operator) -> Expr:
         pre = _conjoin(guards + costs.precondition_guards(op.name), pre)
         if pre is not None:
             parts += [_key(op, ":precondition"), pre]
+        if effect is None and kind == ":action":
+            warn(f"{rw.s.domain.path}:{op.line}: warning: action {op.name.written} changes nothing; left out")
+            costs.current = None
+            return None
         if effect is not None:
             parts += [_key(op, ":effect"), effect]
     costs.current = None
