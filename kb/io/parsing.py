@@ -1,8 +1,12 @@
-"""Read one RDF/OWL file into rdflib terms: format detection, safe XML, syntax errors.
+"""Read one RDF/OWL file into rdflib terms: its text, format detection, safe XML, syntax errors.
 
+:func:`prepare` makes the text the parsers read, line for line the file: the encoding of its
+byte order mark or XML declaration transcoded, the entities of an internal DTD expanded within
+bounds (as Protégé writes them), ``//`` comment lines blanked, ``file:`` paths made IRIs.
 Turtle, N-Triples and RDF/XML are parsed by pyoxigraph; OWL functional syntax and OWL/XML
-by py-horned-owl, which re-serialises them as RDF/XML for pyoxigraph. Every IRI is passed
-through :data:`kb.core.namespaces.NAMESPACE_MAP` on the way into rdflib terms.
+by py-horned-owl, which re-serialises them as RDF/XML for pyoxigraph; their errors become one
+line at ``file:line``. Every IRI is passed through :func:`map_iri` on the way into rdflib
+terms (NIST's namespaces onto kitkb's).
 """
 
 from __future__ import annotations
@@ -240,7 +244,7 @@ class Prepared:
     """A file's text as the parsers and the line indexes read it: decoded, XML entities of
     its internal DTD expanded, ``//`` comment lines blanked, ``file:`` paths made IRIs — line
     for line the file as written, so ``file:line`` stays true. ``utf8``: the file's bytes are
-    UTF-8 (the Turtle parser may then read them instead of the text)."""
+    this text in UTF-8 (the Turtle parser may then read them instead of the text)."""
 
     text: str
     format: str
@@ -259,7 +263,7 @@ def prepare(data: bytes, path: Path) -> Prepared:
     elif fmt == "ofn":
         text, warnings = strip_slash_comments(text, path)
     text, repaired = repair_file_iris(text, fmt, path)
-    return Prepared(text, fmt, warnings + repaired, encoding == "utf-8")
+    return Prepared(text, fmt, warnings + repaired, encoding == "utf-8" and not repaired)
 
 
 # --- internal DTD entities -----------------------------------------------------------------
@@ -536,7 +540,8 @@ def repair_file_iris(text: str, fmt: str, path: Path) -> tuple[str, list[Diagnos
                 return m.group(1) + m.group(2) + fixed(m.group(3), m.start(3)) + m.group(2)
             return m.group(4) + fixed(m.group(5), m.start(5)) + m.group(6)
         text = _XML_FILE_IRIS.sub(xml_iri, text)
-    elif fmt in ("ofn", "turtle", "ntriples"):
+    elif fmt == "ofn":  # (Turtle and N-Triples are read as their grammars say: the world
+        # model's loader streams them straight to pyoxigraph)
         text = _IRI_TOKENS.sub(lambda m: m.group() if m.group(1) is None
                                else "<" + fixed(m.group(1), m.start(1)) + ">", text)
     if not found:
