@@ -197,8 +197,10 @@ def solve_axioms(problem: Any, texts: tuple[str, str], planner: str | None, time
             raise NotSolvableError(f"no plan: {name} says {_FD_NO_PLAN[proc.returncode]}")
         plan_file = folder / "plan"
         if proc.returncode not in (0, 1, 2, 3) or not plan_file.exists():
-            last = [line for line in (proc.stdout + proc.stderr).splitlines() if line.strip()][-1:] or ["?"]
-            raise ConfigurationError(f"planner {name} failed (exit code {proc.returncode}): {last[0][:200]}")
+            lines = [line.strip() for line in (proc.stdout + proc.stderr).splitlines() if line.strip()]
+            said = [line for line in lines if line.lower().startswith(("error", "unsupported", "critical"))] \
+                or [line for line in lines if not line.startswith("INFO") and "exit code" not in line] or ["?"]
+            raise ConfigurationError(f"planner {name} failed (exit code {proc.returncode}): {said[-1][:200]}")
         text = plan_file.read_text()
     environment()
     from unified_planning.io import PDDLReader
