@@ -231,13 +231,25 @@ def _atoms(condition: Any, names: set[str]) -> list[Any]:
 
 
 def _rebuild(node: Any, mapping: dict, em: Any, memo: dict) -> Any:
-    """``node`` with the sub-expressions in ``mapping`` replaced (each node rebuilt once)."""
+    """``node`` with the atoms in ``mapping`` replaced. An atom of a predicate stands only under
+    connectives and quantifiers, so only those are rebuilt (unified-planning's public
+    constructors); every other node is kept as it is."""
     if node in mapping:
         return mapping[node]
     if node in memo:
         return memo[node]
-    args = tuple(_rebuild(a, mapping, em, memo) for a in node.args)
-    new = node if args == node.args else em.create_node(node.node_type, args, node._content.payload)
+    new = node
+    if node.is_and() or node.is_or() or node.is_not() or node.is_implies() or node.is_iff() \
+            or node.is_exists() or node.is_forall():
+        args = [_rebuild(a, mapping, em, memo) for a in node.args]
+        if any(a is not b for a, b in zip(args, node.args)):
+            if node.is_exists() or node.is_forall():
+                make = em.Exists if node.is_exists() else em.Forall
+                new = make(args[0], *node.variables())
+            else:
+                make = {"and": em.And, "or": em.Or, "not": em.Not, "implies": em.Implies, "iff": em.Iff}
+                kind = next(k for k in make if getattr(node, f"is_{k}")())
+                new = make[kind](*args)
     memo[node] = new
     return new
 

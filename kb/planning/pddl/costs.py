@@ -24,8 +24,8 @@ from math import prod
 from typing import Any
 
 from kb.planning.pddl import features as F
-from kb.planning.pddl.rewrite import ASSIGNMENTS, Rewriter, Scope, _is_number
-from kb.planning.pddl.sexp import Expr, Node, Sym, expr, sym
+from kb.planning.pddl.rewrite import ASSIGNMENTS, Rewriter, Scope, is_number
+from kb.planning.pddl.sexp import Expr, Node, Sym, expr
 
 TOTAL = "total-cost"
 
@@ -78,7 +78,7 @@ class Costs:
         if self.mode in ("metric", "ignored") and name in self.cost_only:
             args = tuple(self.rw.term(a, Scope()) for a in target[1:])
             value = node[2]
-            if isinstance(value, Expr) or not _is_number(value):
+            if isinstance(value, Expr) or not is_number(value):
                 raise self.rw.error(f"expected a number as the value of {name}, found {value}", node)
             self.values.setdefault(str(name), {})[tuple(map(str, args))] = Fraction(str(self.rw.number(value)))
             return True
@@ -235,7 +235,7 @@ def _cost_uses(rw: Rewriter, static: set[str]) -> tuple[bool, dict[str, int]]:
 
 def _cost_value(node: Node, static: set[str]) -> bool:
     if isinstance(node, Sym):
-        return _is_number(node)
+        return is_number(node)
     return bool(node) and isinstance(node[0], Sym) and node[0] in static and node[0] != TOTAL \
         and all(isinstance(a, Sym) for a in node[1:])
 

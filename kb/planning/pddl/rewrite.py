@@ -22,7 +22,7 @@ from kb.planning.pddl import features as F
 from kb.planning.pddl.names import Names, safe
 from kb.planning.pddl.sexp import Expr, Node, Sym, expr, show, sym
 from kb.planning.pddl.symbols import OBJECT, Symbols
-from kb.planning.pddl.syntax import Typed
+from kb.planning.pddl.syntax import Reader, Typed
 
 CONNECTIVES = ("and", "or", "not", "imply", "exists", "forall")
 COMPARISONS = ("<", ">", "<=", ">=", "=")
@@ -181,8 +181,6 @@ class Rewriter:
         return Expr([n[0], params, body], n.line)
 
     def _typed_vars(self, node: Expr, what: str) -> list[Typed]:
-        from kb.planning.pddl.syntax import Reader
-
         typed = Reader(self.path, lambda m: None).typed_list(list(node), f"({what} ...)")
         for t in typed:
             if not t.name.startswith("?"):
@@ -194,7 +192,7 @@ class Rewriter:
 
     def _comparison(self, n: Expr, scope: Scope) -> Node:
         self._arity(n, 2, f"({n.head} A B)")
-        if n.head == "=" and all(isinstance(a, Sym) and not _is_number(a) and not self._is_function(a)
+        if n.head == "=" and all(isinstance(a, Sym) and not is_number(a) and not self._is_function(a)
                                  for a in n[1:]):
             self.note(F.EQUALITY, n)
             return Expr([n[0], self.term(n[1], scope), self.term(n[2], scope)], n.line)
@@ -259,7 +257,7 @@ class Rewriter:
     def numeric(self, n: Node, scope: Scope) -> Node:
         """A numeric expression: numbers, function terms, arithmetic, ``?duration``, ``#t``."""
         if isinstance(n, Sym):
-            if _is_number(n):
+            if is_number(n):
                 return self.number(n)
             if n in ("#t", "?duration", "total-time"):
                 if n == "#t":
@@ -353,7 +351,7 @@ class Rewriter:
         """One element of :init: an atom, ``(not atom)``, ``(= (f ...) v)``, ``(at N fact)``."""
         if not isinstance(n, Expr) or not n:
             raise self.error(f"expected a fact such as (predicate object ...) in :init, found {show(n)}", n)
-        if n.head == "at" and len(n) == 3 and isinstance(n[1], Sym) and _is_number(n[1]):
+        if n.head == "at" and len(n) == 3 and isinstance(n[1], Sym) and is_number(n[1]):
             self.number(n[1])
             self.note(F.TIMED_LITERALS, n)
             inner = self.fact(n[2])
@@ -366,7 +364,7 @@ class Rewriter:
             if self.cost_fact(Expr([n[0], target, n[2]], n.line)):
                 return None
             value = n[2]
-            if isinstance(value, Expr) or not _is_number(value):
+            if isinstance(value, Expr) or not is_number(value):
                 raise self.error(f"expected a number as the value of {show(target)}, found {show(value)}", value)
             return Expr([n[0], self.function_term(target, Scope()), self.number(value)], n.line)
         return self._init_atom(n)
@@ -418,6 +416,6 @@ _NUMBER = re.compile(r"[-+]?(?:\d+(?:\.\d*)?|\.\d+)(?:e[-+]?\d+)?\Z")
 MAX_DIGITS = 100
 
 
-def _is_number(a: Sym) -> bool:
+def is_number(a: Sym) -> bool:
     """A decimal number (with an exponent, which unified-planning's reader also takes)."""
     return bool(_NUMBER.match(a))

@@ -25,9 +25,9 @@ from kb.planning.pddl.costs import Costs
 from kb.planning.pddl.derived import Expander
 from kb.planning.pddl.features import UNDEFINED as F_UNDEFINED, Features
 from kb.planning.pddl.names import Names, safe
-from kb.planning.pddl.rewrite import Rewriter, Scope
+from kb.planning.pddl.rewrite import Rewriter, Scope, Var
 from kb.planning.pddl.sexp import Expr, Node, Rendered, Sym, expr, sym
-from kb.planning.pddl.symbols import OBJECT, Symbols, build
+from kb.planning.pddl.symbols import OBJECT, build
 from kb.planning.pddl.syntax import UP_REQUIREMENTS, Domain, Operator, Problem, Typed, read_domain, read_problem
 
 
@@ -176,9 +176,7 @@ def _key(op: Operator, key: str) -> Sym:
     return sym(key, value.line if value is not None and value.line else op.line)
 
 
-def _duration_var() -> Any:
-    from kb.planning.pddl.rewrite import Var
-
+def _duration_var() -> Var:
     return Var("duration", (OBJECT,))
 
 
