@@ -320,3 +320,49 @@ def test_candidate_pairs_are_every_overlapping_pair() -> None:
     want = set(zip(*np.nonzero(np.triu(near, 1))))
     assert set(zip(i.tolist(), j.tolist())) == want
     assert len(want) > 600
+
+
+def test_candidate_pairs_with_huge_and_unbounded_boxes() -> None:
+    """Large boxes go in a grid of cells in plan; one reaching more cells than the grid takes
+    (a 1 km floor), or one that is not finite, is swept against all: every near pair is found
+    all the same."""
+    rng = np.random.default_rng(9)
+    n = 500
+    lo = rng.uniform(0, 10, (n, 3)) * [1, 1, 0.1]
+    size = np.where(rng.random((n, 1)) < 0.08, rng.uniform(0.5, 3, (n, 3)), rng.uniform(0.05, 0.3, (n, 3)))
+    hi = lo + size
+    lo[7], hi[7] = [-500, -500, -1], [500, 500, 2]  # a block a kilometre wide
+    lo[8], hi[8] = [2, 2, -np.inf], [3, 3, 0.5]  # a column down for ever
+    lo[9], hi[9] = [np.nan, 1, 0], [np.nan, 2, 1]  # no number: near nothing
+    lo[10], hi[10] = [4, -np.inf, 0], [4.5, np.inf, 0.2]  # a wall across the world
+    i, j = overlapping_pairs(lo, hi, 0.001)
+    with np.errstate(invalid="ignore"):
+        near = np.all((lo[:, None] <= hi[None] + 0.001) & (lo[None] <= hi[:, None] + 0.001), axis=2)
+    want = set(zip(*np.nonzero(np.triu(near, 1))))
+    assert set(zip(i.tolist(), j.tolist())) == want
+    assert sum(7 in p for p in want) == n - 2 and not any(9 in p for p in want)
+
+
+def test_findings_of_generated_workstations_with_moved_parts(tmp_path: Path) -> None:
+    """A generated workstation with one part in ten moved (5 cm up, 2 cm down, 4 cm along x),
+    as it is and turned 37 degrees in millimetres: the same findings, each at its line."""
+    import sys
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "benchmarks"))
+    from bench_validate_geometry import implausible
+
+    init, _ = write_scenario(tmp_path, parts=120, kits=2, seed=4)
+    moved = tmp_path / "moved.ttl"
+    text, kinds = implausible(init.read_text(), 0.1, 3)
+    moved.write_text(text)
+    turned = tmp_path / "turned.ttl"
+    write_variant(moved, turned, unit="millimeter", yaw=37.0)
+    found = {path: [(d.rule, d.focus, d.line) for d in validate([path]).diagnostics] for path in (moved, turned)}
+    assert [f[:2] for f in found[moved]] == [f[:2] for f in found[turned]]
+    assert {f[0] for f in found[moved]} == set(GEOMETRY)
+    named = {m for d in validate([moved]).diagnostics for m in re.findall(r":(part_\w+)", d.message)}
+    blocks = [dict(re.findall(r"^:(part_[a-z]+_\d+)_point a (.*?)\.\n", t, re.M | re.S)) for t in (init.read_text(), text)]
+    moved_parts = {n for n in blocks[0] if blocks[0][n] != blocks[1][n]}
+    assert len(moved_parts) == sum(kinds.values()) == 13
+    z = [{n: re.search(r"hasPoint_Z (\S+)", b).group(1) for n, b in block.items()} for block in blocks]
+    assert {n for n in moved_parts if z[0][n] != z[1][n]} <= named  # each part moved up or down is found
+

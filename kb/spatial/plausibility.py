@@ -262,6 +262,8 @@ def _against(lo: np.ndarray, hi: np.ndarray, margin: float, these: np.ndarray, t
     order = those[np.argsort(lo[those, 0], kind="stable")]
     start = lo[order, 0]
     reach = widest if np.isfinite(widest) else float((hi[those, 0] - lo[those, 0]).max())
+    if not np.isfinite(reach):  # a box that is not finite: each of these against all of those
+        reach = np.inf
     first = np.searchsorted(start, lo[these, 0] - reach - margin, side="left")
     last = np.searchsorted(start, hi[these, 0] + margin, side="right")
     return _pairs_in_runs(lo, hi, margin, these, first, last, order)
@@ -423,13 +425,13 @@ class _Pairs:
         self.a, self.b = a, b
         self.exempt = _exempt(st, idx[a], idx[b])  # may overlap (still hold each other up)
         self.open = scene.open_top[idx]
-        ba, bb = boxes.take(a), boxes.take(b)
-        self.inside_ab = _Cavity(ba, bb, tol)  # a in b's cavity
-        self.inside_ba = _Cavity(bb, ba, tol)
+        self.ba, self.bb = boxes.take(a), boxes.take(b)  # each pair's boxes
+        self.inside_ab = _Cavity(self.ba, self.bb, tol)  # a in b's cavity
+        self.inside_ba = _Cavity(self.bb, self.ba, tol)
 
     def interpenetrations(self) -> list[Finding]:
         a, b, tol = self.a, self.b, self.tol
-        depth = sat_depth(self.boxes.take(a), self.boxes.take(b))
+        depth = sat_depth(self.ba, self.bb)
         hit = (depth > tol) & ~self.exempt
         if not hit.any():
             return []
@@ -477,9 +479,15 @@ class _Pairs:
         """Objects whose highest support under the footprint is more than ``tol`` below them."""
         bottom = self.scene.lo[self.idx, 2]
         ups, downs, heights, floors = [], [], [], []
-        for up, down, cavity in ((self.a, self.b, self.inside_ab), (self.b, self.a, self.inside_ba)):
-            shadow = _shadow(self.boxes.take(up), bottom[up], self.tol)
-            under = sat_depth(shadow, self.boxes.take(down)) > self.tol
+        for up, down, cavity, up_boxes, down_boxes in ((self.a, self.b, self.inside_ab, self.ba, self.bb),
+                                                       (self.b, self.a, self.inside_ba, self.bb, self.ba)):
+            # only what reaches below the bottom by more than tol along z can be under it (the
+            # column's depth along z bounds its separating-axis depth; 1 nm for the rounding)
+            maybe = np.flatnonzero(self.scene.lo[self.idx[down], 2] < bottom[up] - self.tol + 1e-9)
+            under = np.zeros(up.size, bool)
+            if maybe.size:
+                shadow = _shadow(up_boxes.take(maybe), bottom[up[maybe]], self.tol)
+                under[maybe] = sat_depth(shadow, down_boxes.take(maybe)) > self.tol
             in_cavity = self.open[down] & cavity.walls & cavity.rises  # on (or through) its floor
             height = np.where(in_cavity, self.scene.lo[self.idx[down], 2], self.scene.hi[self.idx[down], 2])
             ok = ((under & ~(self.open[down] & cavity.walls)) | in_cavity) & (height > -self.tol)

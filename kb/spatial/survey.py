@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from collections import defaultdict
 from dataclasses import dataclass, field
-from typing import Any, Callable, Iterable
+from typing import Any, Callable
 
 import numpy as np
 from rdflib import Literal, URIRef
@@ -538,8 +538,26 @@ class _Reader:
         """:meth:`reading` as the builder reads a slot: a value that is not a literal is 0, one
         that is no usable number a defect."""
         get, done, t, scales = self.spo.get, self.converted, self.t, self.scales
+        (k0, k1, k2), (s0, s1, s2) = (t[p] for p in props), (scales[p] for p in props)
 
         def read(node: Any) -> list[float]:
+            try:  # three literals that are numbers, each converted once per file
+                preds = get(node)
+                v0, v1, v2 = next(iter(preds[k0])), next(iter(preds[k1])), next(iter(preds[k2]))  # type: ignore[index]
+                if isinstance(v0, Literal) and isinstance(v1, Literal) and isinstance(v2, Literal):
+                    x0, x1, x2 = done.get(id(v0)), done.get(id(v1)), done.get(id(v2))
+                    if x0 is None:
+                        x0 = done[id(v0)] = float(v0.toPython())
+                    if x1 is None:
+                        x1 = done[id(v1)] = float(v1.toPython())
+                    if x2 is None:
+                        x2 = done[id(v2)] = float(v2.toPython())
+                    return [x0 * s0, x1 * s1, x2 * s2]
+            except Exception:  # noqa: BLE001 - said precisely below
+                pass
+            return careful(node)
+
+        def careful(node: Any) -> list[float]:
             preds = get(node) or {}
             out = []
             for p in props:
