@@ -1,15 +1,18 @@
 """Physical plausibility of a scene: solids that interpenetrate, and solids that float.
 
 What ``kitkb validate`` reports as the warnings ``interpenetration`` and ``floating-object``
-(docs/validation.md). Pure functions of a :class:`kb.spatial.scene.Scene` (geometry in
-metres); :func:`check` returns :class:`Finding` objects, the validator words them.
+(docs/validation.md), and the kit design slots whose part would not lie in their tray
+(:func:`slot_misfits`, the error ``slot-outside-tray``). Pure functions of a
+:class:`kb.spatial.scene.Scene` or of arrays (geometry in metres); :func:`check` returns
+:class:`Finding` objects, the validator words them.
 
 Geometry: each placed object is its oriented box (its local box under its global pose, any
 rotation). Two boxes interpenetrate when the separating-axis test finds no separating axis
 among the 15 candidates (the 3 + 3 face normals and the 9 edge cross products); the depth is
 the smallest overlap along those axes (how far one must move for them to part). Pairs are
 found on world boxes first (:func:`overlapping_pairs`: a sweep along x in bands along y, the
-few large objects against all), so only neighbours are tested, all at once with numpy.
+few large objects in the cells of a grid in plan), so only neighbours are tested, all at once
+with numpy.
 
 What is not a pair, or not an interpenetration:
 

@@ -224,7 +224,8 @@ class _Reader:
         kinds = quantity_kinds()
         self.scale = {p: self.units.factor(k) for p, k in kinds.items()}
         self.scales = {p: self.scale.get(str(p), 1.0) for p in _TERMS}
-        names = sorted(typed, key=str)
+        spelled = sorted((str(n), n) for n in typed)  # (IRI as text, term): name order, each spelled once
+        names = [n for _, n in spelled]
         classes = [typed[n][0] for n in names]
         k = len(names)
         index = {n: i for i, n in enumerate(names)}
@@ -235,12 +236,12 @@ class _Reader:
         unplaced = self.place(names, classes, index, primary, poses, parents)
         boxes = self.shape(names, classes, index, poses, llo, lhi, open_top, unplaced)
         slot_poses, slots = self.slots(typed, boxes)
-        locations = {str(n): str(loc) for n, loc in primary.items() if isinstance(loc, URIRef) and n in index}
+        locations = {spelled[index[n]][0]: str(loc) for n, loc in primary.items() if isinstance(loc, URIRef)}
         scene = None
         if not self.defects:
             lo, hi = scene_boxes(poses, llo, lhi)
-            scene = Scene([str(n) for n in names], classes, lo, hi, self.stand_in_facts(names, classes, index), {},
-                          {}, poses, self.path, parents, llo, lhi, open_top, slot_poses, self.units)
+            scene = Scene([text for text, _ in spelled], classes, lo, hi, self.stand_in_facts(names, classes, index),
+                          {}, {}, poses, self.path, parents, llo, lhi, open_top, slot_poses, self.units)
         return Survey(scene, self.defects, slots, locations, self.units)
 
     def scan(self, anc: dict[str, frozenset[str]]) -> tuple[dict, dict, dict]:
@@ -404,7 +405,7 @@ class _Reader:
         defect left unplaced have one; returns shape node -> its box (None: a defect)."""
         boxes: dict[Any, tuple | None] = {}
         lend: list[tuple[int, int]] = []
-        nan = np.isnan(poses[:, 0, 0])
+        nan = np.isnan(poses[:, 0, 0]).tolist()
         failed = set(unplaced)  # objects with a defect of their own (pose or shape)
         for i, n in enumerate(names):
             if nan[i] and i not in unplaced:
