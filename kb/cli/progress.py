@@ -140,6 +140,8 @@ class _Task:
         if description is not None:
             fields["description"] = description
         self._rich.update(self._id, **fields)
+        if description is not None:  # a new step is shown at once, however short (as a new task is)
+            self._rich.refresh()
 
 
 class _Refresher:
