@@ -60,3 +60,20 @@ def own_directory(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
     with pytest.MonkeyPatch.context() as mp:
         mp.chdir(tmp_path_factory.mktemp("cwd"))
         yield
+
+
+@pytest.fixture
+def fork_ready(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Threads that earlier tests of this worker left running (Dask's offload and IO-loop
+    threads after a campaign, which live as long as the process) are not counted by
+    ``kb.core.jobs.fork_is_safe`` during the test, so a test that asserts kitkb forks does not
+    depend on which tests its pytest-xdist worker happened to run before it. Threads the test
+    itself starts still count (``kitkb`` never runs beside such leftovers: each command is a
+    process of its own)."""
+    import threading
+
+    from kb.core import jobs
+
+    leftovers = [t for t in threading.enumerate() if t is not threading.main_thread()]
+    counted = jobs.pausable_threads
+    monkeypatch.setattr(jobs, "pausable_threads", lambda: counted() + sum(t.is_alive() for t in leftovers))

@@ -433,8 +433,8 @@ def test_a_gtri_client_against_kitkb_sim_serve() -> None:
 def test_a_line_may_end_in_cr_alone_as_usarsim_read_it() -> None:
     """USARSim's TcpLink ended a line at CR and dropped an LF right after it, even one that came
     in a later packet: that LF is not an empty query (which would answer every object)."""
-    with served() as server, socket.create_connection(("127.0.0.1", server.sensor_port), timeout=10) as s:
-        reader = s.makefile("rb")
+    with served() as server, socket.create_connection(("127.0.0.1", server.sensor_port), timeout=10) as s, \
+            s.makefile("rb") as reader:
 
         def answer() -> list[bytes]:
             lines = []
