@@ -78,7 +78,9 @@ def schema(path: str | os.PathLike[str] | None = None) -> etree.XMLSchema:
     if found is None:
         raise InputError("CRCL.xsd not found (looked in $KITKB_NIST_DIR and ../shared/nist "
                          "beside the checkout); give its path")
-    tree = _parse(_read(found), str(found))
+    # the schema's own folder is its base, so its relative xs:include / xs:import are found
+    # (CRCL 1.x's CRCLProgramInstance.xsd includes CRCLCommands.xsd ...); no network
+    tree = _parse(_read(found), str(found), base_url=str(found.resolve()))
     try:
         return etree.XMLSchema(tree)
     except etree.XMLSchemaParseError as exc:
@@ -120,6 +122,7 @@ def read_xml(source: bytes | str | os.PathLike[str], schema: etree.XMLSchema | N
     if schema is not None:
         _check_schema(tree, schema, name, "does not conform to")
     root = tree.getroot()
+    _refuse_crcl1(root, name)
     if root.tag != "CRCLProgram":
         raise InputError(f"the root element is <{root.tag}>, not <CRCLProgram>", name, root.sourceline)
     children = _children(root, name)
@@ -155,8 +158,11 @@ def _read_stream(path: Path, schema: etree.XMLSchema | None, name: str) -> Progr
                     if el.getroottree().docinfo.doctype:
                         raise InputError("a DOCTYPE is not allowed in CRCL XML (no entity is expanded or fetched)",
                                          name, 1)
+                    _refuse_crcl1(el, name)
                     if el.tag != "CRCLProgram":
                         raise InputError(f"the root element is <{el.tag}>, not <CRCLProgram>", name, el.sourceline)
+                elif depth == 3 and root is not None and len(root) and el.getparent() is root[0]:
+                    _refuse_crcl1(root, name)  # the first command's first child is read: CommandID?
                 continue
             depth -= 1
             if depth != 1 or not isinstance(el.tag, str):
@@ -211,6 +217,28 @@ def _take(elements: list[Any], root: Any, schema: etree.XMLSchema | None, name: 
         root.remove(el)
 
 
+#: the root elements of CRCL 1.x documents (NIST's CRCLProgramInstance.xsd, CRCLCommandInstance.xsd,
+#: CRCLStatus.xsd), which kitkb does not read yet
+_CRCL1_ROOTS = ("CRCLCommandInstance", "CRCLStatus")
+_XSI_TYPE = "{http://www.w3.org/2001/XMLSchema-instance}type"
+
+
+def _refuse_crcl1(root: Any, name: str | None) -> None:
+    """A CRCL 1.x document (a command instance, a status, or a program whose commands carry a
+    CommandID or an xsi:type) is an InputError that says so, not a puzzle about its first
+    element: kitkb reads the programs of NIST's early CRCL.xsd (the first paper's)."""
+    first = next((el for el in root if isinstance(el.tag, str)), None)
+    crcl1 = root.tag in _CRCL1_ROOTS or (root.tag == "CRCLProgram" and first is not None and (
+        first.get(_XSI_TYPE) is not None or any(c.tag == "CommandID" for c in first if isinstance(c.tag, str))))
+    if crcl1:
+        program = root.tag == "CRCLProgram"
+        what = ("program (commands with a CommandID or an xsi:type, CRCLProgramInstance.xsd)" if program else
+                f"<{root.tag}> document ({root.tag}.xsd)")
+        at = first if program and first is not None else root
+        raise InputError(f"a CRCL 1.x {what}: kitkb reads only the programs of NIST's early CRCL.xsd so far",
+                         name, at.sourceline)
+
+
 def _refuse_doctype(path: Path, name: str) -> None:
     """A DOCTYPE before the root element is an InputError at its line (the head of the file
     is read: a DOCTYPE comes before the root element)."""
@@ -238,10 +266,11 @@ def hardened_parser() -> etree.XMLParser:
                            dtd_validation=False, huge_tree=False)
 
 
-def _parse(data: bytes, name: str | None) -> Any:
-    """The document of ``data``, parsed by :func:`hardened_parser`; a DOCTYPE is refused."""
+def _parse(data: bytes, name: str | None, base_url: str | None = None) -> Any:
+    """The document of ``data``, parsed by :func:`hardened_parser` (relative references from
+    ``base_url``); a DOCTYPE is refused."""
     try:
-        tree = etree.parse(io.BytesIO(data), hardened_parser())
+        tree = etree.parse(io.BytesIO(data), hardened_parser(), base_url=base_url)
     except etree.XMLSyntaxError as exc:
         # one line: libxml2 ends some messages with "\n, line L, column C"
         message = ((exc.msg or str(exc)).strip().splitlines() or ["not well-formed"])[0]
