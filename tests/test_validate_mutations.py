@@ -115,9 +115,8 @@ def wrong_class_reference(t: str) -> Edit:
 
 
 def wrong_part_quantity(t: str) -> Edit:
-    e = _edit_line(t, r'(ktw:hasPartsVessel_PartQuantity ")(\d+)"', lambda m: f'{m.group(1)}{int(m.group(2)) + 1}"')
-    start = next(n for n, ln in enumerate(e.text.splitlines()) if ln.startswith(e.subject + " "))
-    return Edit(e.text, start + 1, e.subject)
+    # reported at the statement that carries the wrong quantity, not at the tray's first line
+    return _edit_line(t, r'(ktw:hasPartsVessel_PartQuantity ")(\d+)"', lambda m: f'{m.group(1)}{int(m.group(2)) + 1}"')
 
 
 #: (name, mutation, rule, message text expected, where the line is)

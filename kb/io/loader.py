@@ -10,7 +10,9 @@ Import resolution (:func:`resolve_import`) never touches the network nor an arbi
 1. a shipped ontology whose IRI it is (:func:`catalog`);
 2. a file named on the command line whose ontology IRI it is;
 3. kitkb's ``kitting.ttl`` if the IRI ends with ``kittingWorkstationClasses.owl`` or
-   ``kittingClasses.owl`` (NIST's 2013 and 2012 models; their namespaces are mapped onto ours);
+   ``kittingClasses.owl`` (NIST's 2013 and 2012 models; their namespaces are mapped onto ours;
+   NIST's 2012 model found beside the importing file, and not named, is left unread with a
+   note at the import's line, rule ``model-stand-in``, once per load);
 4. a file named on the command line with the IRI's file name (``.../soapClasses.owl``);
 5. the file a Protégé catalog (``catalog-v001.xml`` in the folder of the importing file) gives
    for the IRI, if it lies in that folder or below;
@@ -50,7 +52,14 @@ _VOCABULARY = (str(RDF), str(RDFS), str(OWL), str(XSD))
 PROTEGE_CATALOG = "catalog-v001.xml"
 #: Rules of the loader's warnings about parts of a file that are not read (every command
 #: that reads files shows them, not only ``validate``: see :func:`reading_notes`).
-NOT_READ_RULES = frozenset({"nist-2012-term"})
+NOT_READ_RULES = frozenset({"nist-2012-term", "model-stand-in"})
+#: The rule of the warning naming the terms of NIST's 2012 namespace kitkb does not read.
+NIST_2012_TERM = "nist-2012-term"
+#: The rule of the note saying that kitkb's model stands in for NIST's 2012 model file found
+#: beside the importing file (which is then not read).
+MODEL_STAND_IN = "model-stand-in"
+#: The file name of NIST's 2012 kitting model.
+NIST_2012_MODEL_FILE = "kittingClasses.owl"
 _notes: list[list[Diagnostic]] = []
 
 
@@ -92,6 +101,12 @@ class Source:
         self._target = None
         #: The file's prefix declarations (namespace-mapped); bound in ``graph``.
         self.prefixes = dict(prefixes or {})
+        #: kitkb's term -> the IRIs of NIST's 2012 namespace the file writes it as (only the
+        #: 2012 terms mapped onto kitkb's model; a message names a term as the file writes it)
+        self.written_as: dict[URIRef, tuple[str, ...]] = {}
+        #: the local names of the 2012 terms kitkb does not read -> the line of their first use
+        #: (what the ``nist-2012-term`` warning lists)
+        self.unmapped_2012: dict[str, int | None] = {}
 
     def __repr__(self) -> str:
         return f"Source({str(self.path)!r}, {self.format!r}, ontology_iri={self.ontology_iri!r})"
@@ -321,23 +336,31 @@ def _load_file(path: Path) -> Source:
     onto = next((s for s, p, o in triples if o is ontology and p is a), None) if ontology is not None else None
     imports = [str(o) for s, p, o in triples if p is imports_ and s == onto] if imports_ is not None else []
     ontology_iri = str(onto) if isinstance(onto, URIRef) else None
-    warnings += _not_mapped(terms, triples, text, path)
+    unmapped = _unmapped_2012(terms, triples, text)
+    warning = not_read_warning(path, unmapped)
+    if warning is not None:
+        warnings.append(warning)
     for notes in _notes:
         notes.extend(w for w in warnings if w.rule in NOT_READ_RULES)
-    return Source(path, fmt, None, ontology_iri, imports, warnings, triples=triples, prefixes=prefixes)
+    source = Source(path, fmt, None, ontology_iri, imports, warnings, triples=triples, prefixes=prefixes)
+    source.unmapped_2012 = unmapped
+    if unmapped or ns.NIST_KTW_2012 in text:
+        source.written_as = _written_as(terms)
+    return source
 
 
 _DECLARED_TERMS = frozenset(map(str, (OWL.Class, OWL.ObjectProperty, OWL.DatatypeProperty,
                                        OWL.AnnotationProperty, RDFS.Datatype)))
 
 
-def _not_mapped(terms: dict[str, URIRef], triples: list[Triple], text: str, path: Path) -> list[Diagnostic]:
-    """A warning naming the classes and properties of NIST's 2012 namespace that have no
-    counterpart in kitkb's model (kept as they are, so no rule of kitkb reads them), each at
-    its first line. (NIST's 2012 files name their individuals in that namespace too.)"""
+def _unmapped_2012(terms: dict[str, URIRef], triples: list[Triple], text: str) -> dict[str, int | None]:
+    """The classes and properties of NIST's 2012 namespace that have no counterpart in kitkb's
+    model (kept as they are, so no rule of kitkb reads them), local name -> the line of its
+    first use, in the order of those lines. (NIST's 2012 files name their individuals in that
+    namespace too; they are not terms.)"""
     ns2012 = ns.NIST_KTW_2012
     if ns2012 not in text:
-        return []
+        return {}
     a = terms.get(str(RDF.type))
     found: set[str] = set()
     for s, p, o in triples:
@@ -348,17 +371,37 @@ def _not_mapped(terms: dict[str, URIRef], triples: list[Triple], text: str, path
                 found.add(str(o))
             elif str(o) in _DECLARED_TERMS and str(s).startswith(ns2012):
                 found.add(str(s))
-    names = sorted(iri[len(ns2012):] for iri in found if len(iri) > len(ns2012))
-    if not names:
-        return []
+    names = [iri[len(ns2012):] for iri in found if len(iri) > len(ns2012)]
     lines = {name: _first_line(text, name) for name in names}
-    names.sort(key=lambda n: (lines[n] or 0, n))
-    shown = [f"{n} (line {lines[n]})" if lines[n] else n for n in names[:8]]
+    return dict(sorted(lines.items(), key=lambda nl: (nl[1] or 0, nl[0])))
+
+
+def not_read_warning(path: str | Path, unmapped: dict[str, int | None]) -> Diagnostic | None:
+    """The warning (``nist-2012-term``, at the first line) naming the terms of NIST's 2012
+    namespace kitkb does not read (local name -> line of its first use, in line order); None
+    when there are none."""
+    if not unmapped:
+        return None
+    names = list(unmapped)
+    shown = [f"{n} (line {unmapped[n]})" if unmapped[n] else n for n in names[:8]]
     more = f" and {len(names) - 8} more" if len(names) > 8 else ""
-    return [Diagnostic(str(path), lines[names[0]], "warning",
-                       f"{len(names)} term(s) of NIST's 2012 kitting vocabulary <{ns2012}> have no counterpart "
-                       f"in kitkb's model and are not read: {', '.join(shown)}{more} (docs/validation.md, "
-                       "\"NIST's 2012 vocabulary\")", rule="nist-2012-term")]
+    return Diagnostic(str(path), unmapped[names[0]], "warning",
+                      f"{len(names)} term(s) of NIST's 2012 kitting vocabulary <{ns.NIST_KTW_2012}> have no "
+                      f"counterpart in kitkb's model and are not read: {', '.join(shown)}{more} "
+                      "(docs/validation.md, \"NIST's 2012 vocabulary\")", rule=NIST_2012_TERM)
+
+
+def _written_as(terms: dict[str, URIRef]) -> dict[URIRef, tuple[str, ...]]:
+    """kitkb's term -> the IRIs the file writes it as, for the terms of NIST's 2012 namespace
+    read as kitkb's (a term the file also writes in kitkb's namespace lists that IRI too)."""
+    out: dict[URIRef, list[str]] = {}
+    for written, read in terms.items():
+        if written.startswith(ns.NIST_KTW_2012) and str(read) != written:
+            out.setdefault(read, []).append(written)
+    for read, written in out.items():
+        if str(read) in terms:
+            written.append(str(read))
+    return {read: tuple(sorted(written)) for read, written in out.items()}
 
 
 def _first_line(text: str, local: str) -> int | None:
@@ -373,6 +416,7 @@ def load(paths: Sequence[str | Path], *, resolve_imports: bool = True) -> Knowle
         unique.setdefault(Path(p).resolve(), Path(p))
     sources = [load_file(p) for p in unique.values()]
     named = list(sources)
+    _stand_in_notes(named)
     if resolve_imports:
         seen_paths = {s.path.resolve() for s in sources}
         seen_iris = {s.ontology_iri for s in sources if s.ontology_iri}
@@ -397,6 +441,37 @@ def load(paths: Sequence[str | Path], *, resolve_imports: bool = True) -> Knowle
                 sources.append(source)
                 queue.append(source)
     return KnowledgeBase(sources)
+
+
+def _stand_in_notes(named: list[Source]) -> None:
+    """A note (``model-stand-in``, severity info) at the import of NIST's 2012 model
+    (``kittingClasses.owl``) by a named file when that model lies beside it and is not named
+    itself: kitkb's model stands in for it (the import resolves to ``kitting.ttl``, its terms
+    mapped), so the file is not read. One note per model file, at its first importer."""
+    given = {s.path.resolve() for s in named}
+    said: set[Path] = set()
+    for importer in named:
+        for iri in importer.imports:
+            name = _file_name(iri.rstrip("#/"))
+            if name != NIST_2012_MODEL_FILE:
+                continue
+            beside = importer.path.parent / name
+            try:
+                found = beside.resolve() if beside.is_file() else None
+            except OSError:
+                found = None
+            if found is None or found in given or found in said:
+                continue
+            said.add(found)
+            note = Diagnostic(
+                str(importer.path), _import_line(importer, iri), "info",
+                f"{name} beside {importer.path.name} is not read: kitkb's model stands in for NIST's 2012 model "
+                f"(the import of <{iri}> is read as kitkb's kitting.ttl, the 2012 terms mapped onto it); name "
+                f"{name} on the command line to check it as a model file", rule=MODEL_STAND_IN, focus=str(found))
+            importer.warnings.append(note)
+            for notes in _notes:
+                if not any(n.rule == note.rule and n.focus == note.focus for n in notes):
+                    notes.append(note)
 
 
 def _union(sources: list[Source]) -> Graph:

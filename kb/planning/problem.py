@@ -19,7 +19,7 @@ from rdflib.namespace import RDF
 
 from kb.core.errors import InputError
 from kb.core.namespaces import local_name
-from kb.io.loader import NOT_READ_RULES, load
+from kb.io.loader import MODEL_STAND_IN, NOT_READ_RULES, load
 from kb.io.vocabulary import not_understood
 from kb.model.soap import DomainSpec
 from kb.planning import facts
@@ -61,7 +61,9 @@ def load_world(paths: Sequence[str | Path], tree: ClassTree, like: World | None 
     first = kb.sources[0]
     graph = kb.graph if like is None else _aligned(kb.graph, like)
     world = World(graph, first.path, tree, first.line_of)
-    world.notes = [w.format() for w in kb.warnings if w.rule in NOT_READ_RULES]
+    world.reading = [w for w in kb.warnings if w.rule in NOT_READ_RULES]
+    world.notes = [w.format() for w in world.reading]
+    world.matched_names = like is not None
     return world
 
 
@@ -82,6 +84,25 @@ def _aligned(graph: Graph, like: World) -> Graph:
     return out
 
 
+def _notes(init: World, goal: World) -> list[str]:
+    """The two states' warnings about what they hold that is not read; a note about one
+    model file that kitkb's model stands in for once, though both files import it."""
+    said: set[tuple[str, str]] = set()
+    out = []
+    for world in (init, goal):
+        reading = getattr(world, "reading", None)
+        if reading is None:
+            out += world.notes
+            continue
+        for d in reading:
+            if d.rule == MODEL_STAND_IN:
+                if (d.rule, d.focus) in said:
+                    continue
+                said.add((d.rule, d.focus))
+            out.append(d.format())
+    return out
+
+
 def used_types(domain: DomainSpec) -> set[str]:
     """Types that appear in parameters, predicates or functions (objects are typed with these)."""
     out = {t for a in domain.actions for _n, t in a.params}
@@ -92,7 +113,7 @@ def used_types(domain: DomainSpec) -> set[str]:
 
 def read_problem(domain: DomainSpec, init: World, goal: World, name: str = "kitting") -> ProblemSpec:
     """The problem of going from ``init`` to ``goal`` in ``domain`` (numeric form)."""
-    spec = ProblemSpec(name, notes=init.notes + goal.notes)
+    spec = ProblemSpec(name, notes=_notes(init, goal))
     if not init.kind:
         raise not_understood("the initial state has no object kitkb reads (no individual of a class of "
                              "the kitting model that the planning domain uses)", init.g, init.path)
@@ -170,11 +191,27 @@ def _objects(spec: ProblemSpec, init: World, goal: World) -> dict[URIRef, str]:
         elif kind == facts.KIT:
             add(s, kind, goal)
         else:
-            raise InputError(f"{pddl_name(s)} is in the goal state but not in the initial state (no <{s}> "
-                             "there); if both files describe one workstation in two namespaces, as NIST's "
-                             "do, match individuals by local name (--match-names)",
+            raise InputError(f"{pddl_name(s)} is in the goal state but not in the initial state{_what_helps(s, init, goal)}",
                              goal.path, goal.line_of(s))
     return names
+
+
+def _what_helps(s: URIRef, init: World, goal: World) -> str:
+    """The rest of the message about the goal's individual ``s`` that the initial state lacks:
+    what would help, given how the states were read. ``--match-names`` only where it was not
+    used and the initial state has an individual of that name in another namespace (NIST
+    writes its two states so); otherwise the goal names an object the initial state lacks."""
+    name = pddl_name(s)
+    namesakes = sorted(str(x) for x in init.g.subjects(RDF.type) if isinstance(x, URIRef) and pddl_name(x) == name)
+    only_kits = ("; only kits may be new in the goal state (a kit is built during the plan): describe "
+                 f"{name} in the initial state, or leave it out of the goal state (are the two files states "
+                 "of one workstation?)")
+    if getattr(goal, "matched_names", False):
+        return f" (--match-names found no individual called {name} there either){only_kits}"
+    if namesakes:
+        return (f", which calls it <{namesakes[0]}> (the goal state <{s}>): if both files describe one "
+                "workstation in two namespaces, as NIST's do, match individuals by local name (--match-names)")
+    return f" (no individual called {name} there, in any namespace){only_kits}"
 
 
 def _goal(spec: ProblemSpec, domain: DomainSpec, init: World, goal: World,

@@ -89,6 +89,11 @@ class World:
         self.line_of = line_of or (lambda *a: None)
         #: warnings about what the file holds that kitkb does not read (set by the loader)
         self.notes: list[str] = []
+        #: the same, as the loader's diagnostics (``kb.planning.problem.load_world``)
+        self.reading: list | None = None
+        #: True when the individuals were matched to the initial state's by local name
+        #: (``--match-names``): what a message about a missing individual can suggest
+        self.matched_names = False
         self.kind: dict[URIRef, str] = {}
         for s, cls in graph.subject_objects(RDF.type):
             c = str(cls)

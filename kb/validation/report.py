@@ -18,12 +18,12 @@ from rdflib.collection import Collection
 from rdflib.term import Node
 
 from kb.core.diagnostics import Diagnostic
-from kb.core.namespaces import NAMESPACE_MAP, NIST_SOAP, PREFIXES, SH
+from kb.core.namespaces import NAMESPACE_MAP, PREFIXES, SH, local_name
 from kb.model.owl import is_w3c
 from kb.shacl import ShaclResult
 from kb.validation import rules
 from kb.validation.shapes import EXPECTS, READ_AS, SHAPES_NS
-from kb.validation.suggest import closest
+from kb.validation.suggest import closest, resembles
 
 RULE = URIRef(SHAPES_NS + "rule")
 
@@ -110,7 +110,9 @@ def _suppressed(rule: str, r: ShaclResult, ctx: rules.RuleContext, namer: "Namer
 
     A stray property is already an ``unknown-property``; a reference to an unknown individual
     or to one typed with an unknown class is already reported; a required property that is
-    missing because it is misspelt (``hasPoint_x`` for ``hasPoint_X``) is the typo's report.
+    missing because it is misspelt (``hasPoint_x`` for ``hasPoint_X``), or stated on a misspelt
+    subject (``:PartGipperPose`` for ``:PartGripperPose``, an ``unknown-individual``), is the
+    typo's report.
     """
     known = ctx.model.properties.keys() | ctx.model.annotation_properties
     if rule == "closed" and isinstance(r.path, URIRef):
@@ -121,7 +123,10 @@ def _suppressed(rule: str, r: ShaclResult, ctx: rules.RuleContext, namer: "Namer
     if rule == "min-count" and isinstance(r.path, URIRef):
         stray = [p for p in set(data.predicates(r.focus, None)) if not is_w3c(p) and p not in known]
         want = namer.name(r.path, src)
-        return any(closest(namer.name(p, src), [want]) == want for p in stray)
+        if any(resembles(namer.name(p, src), want) for p in stray):
+            return True
+        f = namer.name(r.focus, src)
+        return any(r.path in told and closest(namer.name(u, src), [f]) == f for u, told in ctx.untyped.items())
     return False
 
 
@@ -132,12 +137,11 @@ def _types_of(data: Graph, node: Node) -> list[tuple[Node, URIRef]]:
 
 def _message(rule: str, r: ShaclResult, src: Any, data: Graph, shapes: Graph, namer: "Namer") -> str:
     f = namer.name(r.focus, src)
-    p = namer.name(r.path, src) if isinstance(r.path, URIRef) else ""
+    # the property as the file writes it, where the result is about a statement of the file
+    at = (r.focus, r.path, r.value) if rule != "min-count" else None
+    p = namer.name(r.path, src, at=at) if isinstance(r.path, URIRef) else ""
     v = namer.name(r.value, src, typed=rule == "datatype") if r.value is not None else ""
     expects = _expects(shapes, r.source_shape, namer, src)
-    classes = _classes_of(shapes, r.source_shape)
-    if rule == "class" and classes:  # spelled with the file's prefixes
-        expects = "an individual of " + " or ".join(namer.name(c, src) for c in classes)
     if rule == "min-count":
         n = shapes.value(r.source_shape, SH.minCount) or shapes.value(r.source_shape, SH.qualifiedMinCount)
         want = f" ({expects})" if expects else ""
@@ -148,8 +152,10 @@ def _message(rule: str, r: ShaclResult, src: Any, data: Graph, shapes: Graph, na
         return f"{f} has {k} values of {p}, at most {n} allowed"
     if rule == "inverse-functional":
         inv = shapes.value(r.path, SH.inversePath)
-        owners = sorted(namer.name(s, src) for s in data.subjects(inv, r.focus))
-        return f"{f} is the {namer.name(inv, src)} of more than one individual ({', '.join(owners)})"
+        subjects = sorted(data.subjects(inv, r.focus), key=str)
+        owners = sorted(namer.name(s, src) for s in subjects)
+        name = namer.name(inv, src, at=(subjects[0], inv, r.focus) if subjects else None)
+        return f"{f} is the {name} of more than one individual ({', '.join(owners)})"
     if rule == "value-range":
         return f"{p} of {f} is {v}, out of range: expected {expects or _bound(r, shapes)}"
     if rule in ("datatype", "enumeration", "class", "node-kind", "pattern"):
@@ -175,8 +181,12 @@ def _message(rule: str, r: ShaclResult, src: Any, data: Graph, shapes: Graph, na
 def _expects(shapes: Graph, shape: Node, namer: "Namer", src: Any) -> str:
     """What a generated property shape wants, in words (``kitkbsh:expects``), led by the name of
     the model's datatype where it is one read as an XSD type (``ktw:positiveDecimal, an
-    xsd:decimal > 0``), spelt with the file's prefixes."""
+    xsd:decimal > 0``), spelt with the file's prefixes: the classes of an object range too
+    (``an individual of :RollPitchYaw``, never a prefix the shapes generator made up)."""
     words = str(shapes.value(shape, EXPECTS) or "")
+    classes = _classes_of(shapes, shape)
+    if classes and (not words or words.startswith("an individual of ")):
+        return "an individual of " + " or ".join(namer.name(c, src) for c in classes)
     defined = [d for d in _datatypes_of(shapes, shape) if (d, READ_AS, None) in shapes]
     if words and defined:
         names = " or ".join(namer.name(d, src) for d in defined)
@@ -238,10 +248,38 @@ def _result_line(rule: str, r: ShaclResult, src: Any, data: Graph) -> int | None
         found = [n for o in data.objects(r.focus, r.path) if (n := line_of(src, r.focus, r.path, o))]
         if found:
             return max(found)
+    if rule not in ("min-count", "disjoint-classes") and not isinstance(r.path, URIRef) \
+            and r.value is not None and r.value != r.focus:
+        # a rule without a path (SPARQL): the statement of the focus that carries the value
+        # (a vessel's part quantity, the part it lists), where there is one
+        line = _carrying_line(r.focus, r.value, src)
+        if line is not None:
+            return line
     if rule in ("min-count", "disjoint-classes") or not isinstance(r.path, URIRef):
         return line_of(src, r.focus, RDF.type, None) or line_of(src, r.focus, None, None)
     return line_of(src, r.focus, r.path, r.value) or line_of(src, r.focus, r.path, None) \
         or line_of(src, r.focus, None, None)
+
+
+def _carrying_line(focus: Node, value: Node, src: Any) -> int | None:
+    """The line of the statement of ``src`` about ``focus`` whose object is ``value`` (the
+    earliest), or whose object is a literal of the same value when one statement has one (a
+    query's result may give ``"12"^^xsd:integer`` for the file's ``"12"^^xsd:nonNegativeInteger``);
+    None when there is none."""
+    g = rules.graph_of(src)
+    found = [n for q in set(g.predicates(focus, value)) if (n := line_of(src, focus, q, value))]
+    if not found and isinstance(value, Literal):
+        same = [(q, o) for q, o in g.predicate_objects(focus) if isinstance(o, Literal) and _same_value(o, value)]
+        if len(same) == 1:
+            found = [n for n in [line_of(src, focus, *same[0])] if n]
+    return min(found) if found else None
+
+
+def _same_value(a: Literal, b: Literal) -> bool:
+    try:
+        return bool(a.eq(b))
+    except (TypeError, ValueError):
+        return False
 
 
 def line_of(src: Any, s: Node, p: Node | None, o: Node | None) -> int | None:
@@ -272,17 +310,27 @@ _BARE = {XSD.decimal, XSD.integer}
 
 
 class Namer:
-    """Compact names: the file's own prefixes first (``:part_a_1``), then kitkb's (``ktw:Point``)."""
+    """Compact names, as the file writes them: the file's own prefixes first (``:part_a_1``),
+    then kitkb's for kitkb's model (``ktw:Point``), else the full IRI (``<http://...>``),
+    never a prefix the file does not declare.
+
+    A term of NIST's 2012 namespace that kitkb reads as a term of its model is named as the
+    file writes it: with the same local name, in the file's prefix (``:ShapeDesign``); renamed
+    (``hasSku_Shape``, kitkb's ``hasStockKeepingUnit_InternalShape``), where the message is
+    about a statement of the file that uses it (``at``), as written with kitkb's name after it
+    (``:hasSku_Shape (kitkb's hasStockKeepingUnit_InternalShape)``)."""
 
     def __init__(self) -> None:
         self._cache: dict[str, list[tuple[str, str]]] = {}
+        self._lines: dict[str, list[str]] = {}
         self._spaces = [(ns, p) for p, ns in sorted(PREFIXES.items(), key=lambda kv: -len(kv[1]))]
-        self._spaces += [(NIST_SOAP, "nistsoap"), (str(RDF), "rdf"), (str(RDFS), "rdfs"), (str(OWL), "owl"),
+        self._spaces += [(str(RDF), "rdf"), (str(RDFS), "rdfs"), (str(OWL), "owl"),
                          ("http://www.w3.org/2001/XMLSchema#", "xsd")]
 
-    def name(self, term: Node | None, src: Any = None, typed: bool = False) -> str:
+    def name(self, term: Node | None, src: Any = None, typed: bool = False, at: tuple | None = None) -> str:
         """``:local``, ``prefix:local``, a literal in Turtle, or ``<iri>`` (``typed``: a number
-        with its datatype too, where it is not a decimal or an integer)."""
+        with its datatype too, where it is not a decimal or an integer; ``at``: the statement
+        (s, p, o) of ``src`` the term is written in, for a renamed 2012 term)."""
         if term is None:
             return ""
         if isinstance(term, Literal):
@@ -294,11 +342,47 @@ class Namer:
             return f'"{term}"' + (f"@{term.language}" if term.language else "")
         if not isinstance(term, URIRef):
             return "[]"
+        written = getattr(src, "written_as", None)
+        if written and term in written:
+            said = self._as_written(term, written[term], src, at)
+            if said is not None:
+                return said
+        return self._plain(term, src)
+
+    def _plain(self, term: URIRef, src: Any) -> str:
         text = str(term)
         for ns, prefix in self._file_spaces(src) + self._spaces:
             if text.startswith(ns) and len(text) > len(ns):
                 return f"{prefix}:{text[len(ns):]}"
         return f"<{text}>"
+
+    def _as_written(self, term: URIRef, originals: tuple[str, ...], src: Any, at: tuple | None) -> str | None:
+        """The name of ``term`` as ``src`` writes it (``originals``: the IRIs it was read
+        from), None when that cannot be told."""
+        local = local_name(term)
+        same = [o for o in originals if local_name(o) == local]
+        if same:
+            return self._plain(URIRef(same[0]), src)
+        if at is None:
+            return None
+        pick = originals[0] if len(originals) == 1 else self._on_line(originals, src, at)
+        return None if pick is None else f"{self._plain(URIRef(pick), src)} (kitkb's {local})"
+
+    def _on_line(self, originals: tuple[str, ...], src: Any, at: tuple) -> str | None:
+        """The one of ``originals`` written on the line of the statement ``at``."""
+        line = line_of(src, *at)
+        key = str(getattr(src, "path", ""))
+        if line is None or not key:
+            return None
+        if key not in self._lines:
+            text = src.text() if hasattr(src, "text") else None
+            self._lines[key] = text.splitlines() if text else []
+        lines = self._lines[key]
+        if line > len(lines):
+            return None
+        hits = [o for o in originals
+                if re.search(r"[:#]" + re.escape(local_name(o)) + r"(?![\w-])", lines[line - 1])]
+        return hits[0] if len(hits) == 1 else None
 
     def _file_spaces(self, src: Any) -> list[tuple[str, str]]:
         if src is None or not hasattr(src, "path"):

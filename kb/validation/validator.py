@@ -27,9 +27,9 @@ from kb.core.diagnostics import Diagnostic
 from kb.core.errors import InputError
 from kb.core.memory import gc_paused
 from kb.core.progress import SILENT, Progress, Task
-from kb.core.namespaces import KTW
+from kb.core.namespaces import KTW, NIST_KTW_2012
 from kb.core.resources import ontologies_dir, ontology_path, scenario_dirs, shapes_path
-from kb.io.loader import load, load_file
+from kb.io.loader import NIST_2012_TERM, load, load_file, not_read_warning
 from kb.io.views import UnionView
 from kb.io.vocabulary import no_model
 from kb.model.owl import OwlModel
@@ -64,13 +64,17 @@ class ValidationReport:
         return not self.errors
 
     def summary(self) -> str:
-        """One phrase: ``conforms`` or ``3 errors, 1 warning``."""
-        n_err, n_warn = len(self.errors), len(self.diagnostics) - len(self.errors)
+        """One phrase: ``conforms`` or ``3 errors, 1 warning`` (``, 1 note`` for the infos)."""
+        n_err = len(self.errors)
+        n_info = sum(d.severity == "info" for d in self.diagnostics)
+        n_warn = len(self.diagnostics) - n_err - n_info
         if not self.diagnostics:
             return "conforms"
         parts = [f"{n_err} error{'s' * (n_err != 1)}"] if n_err else ["conforms"]
         if n_warn:
             parts.append(f"{n_warn} warning{'s' * (n_warn != 1)}")
+        if n_info:
+            parts.append(f"{n_info} note{'s' * (n_info != 1)}")
         return ", ".join(parts)
 
     def as_dict(self) -> dict[str, Any]:
@@ -151,10 +155,11 @@ def _validate(paths: Sequence[str | Path], shapes_files: Sequence[str | Path] | 
     step.update(description="the Python rules and geometry" + (", SHACL meanwhile" if pending else ""))
     ctx = rules.RuleContext(model, _individuals(kb.sources), namer.name, later.locate)
     for src in sources:
-        ctx.out.extend(getattr(src, "warnings", []) or [])
+        ctx.out.extend(w for w in getattr(src, "warnings", None) or [] if w.rule != NIST_2012_TERM)
         (rules.check_data_source if src in data else rules.check_model_source)(ctx, src)
         if src in data:
             check_geometry(ctx, src, ignore)
+        ctx.out.extend(_not_read(src, ctx, ignore))
     step.update(description=f"SHACL shapes on {len(checked)} file(s)")
     for key, finish in pending:
         # while a forked child is still evaluating, the big files get ready for line look-ups
@@ -177,6 +182,22 @@ def _validate(paths: Sequence[str | Path], shapes_files: Sequence[str | Path] | 
                                        user.graph if user is not None else None)
     diags = _follows(dedupe(ctx.out + shacl_diags), ctx.follows)
     return ValidationReport(diags, [str(s.path) for s in sources], time.perf_counter() - started)
+
+
+def _not_read(src: Any, ctx: rules.RuleContext, ignore: frozenset[str]) -> list[Diagnostic]:
+    """The loader's warning about the terms of NIST's 2012 namespace kitkb does not read, less
+    the terms reported at each statement that uses them (``unknown-property``,
+    ``unknown-class``, ``data-declares-term``, unless ignored): one defect, one report. The
+    other commands, which have no such errors, print the loader's warning whole."""
+    warnings = [w for w in getattr(src, "warnings", None) or [] if w.rule == NIST_2012_TERM]
+    unmapped = getattr(src, "unmapped_2012", None)
+    if not warnings or unmapped is None:
+        return warnings
+    path = str(src.path)
+    reported = {str(term) for file, rule, term in ctx.reported_terms if file == path and rule not in ignore}
+    left = {name: line for name, line in unmapped.items() if NIST_KTW_2012 + name not in reported}
+    warning = not_read_warning(src.path, left)
+    return [warning] if warning is not None else []
 
 
 def _follows(diags: list[Diagnostic], follows: dict[tuple[str, str, str, str], frozenset[Any]]
