@@ -92,10 +92,10 @@ CASES = {
     "through the tray's floor": (
         {"part_a_1": {"Z": -0.02}},
         [("interpenetration", "part_a_1", ":part_a_1 and :parts_table_1 interpenetrate by {20}"),
-         ("interpenetration", "part_a_1", ":part_a_1 goes {20} through the floor of :part_a_tray")]),
+         ("interpenetration", "part_a_1", ":part_a_1 goes through the floor of :part_a_tray, {20} below it")]),
     "through the tray's wall": (
         {"part_a_1": {"X": -0.24}},
-        [("interpenetration", "part_a_1", ":part_a_1 goes {40} through a wall of :part_a_tray")]),
+        [("interpenetration", "part_a_1", ":part_a_1 goes through the -x wall of :part_a_tray, {60} beyond it and {40} inside")]),
     "floating": (
         {"part_a_1": {"Z": 0.05}},
         [("floating-object", "part_a_1", ":part_a_1 floats {50} above the floor of :part_a_tray")]),
@@ -174,7 +174,7 @@ def test_within_the_tolerance_is_plausible(tmp_path: Path) -> None:
     assert [message for _, _, message in _found(path)] == [
         ":part_a_1 floats 0.002 m above the floor of :part_a_tray",
         ":part_a_2 and :parts_table_1 interpenetrate by 0.002 m",
-        ":part_a_2 goes 0.002 m through the floor of :part_a_tray"]
+        ":part_a_2 goes through the floor of :part_a_tray, 0.002 m below it"]
 
 
 def test_warnings_keep_exit_code_0_and_ignore_leaves_them_out(tmp_path: Path, capsys) -> None:

@@ -68,7 +68,11 @@ class Finding:
     interpenetrates or floats above (None: the ground); ``depth``: metres; ``how``: ``"overlap"``,
     ``"floor"`` or ``"wall"`` (through an open container's floor or wall), ``"ground"``
     (below z = 0), ``"top"`` / ``"floor"`` / ``"ground"`` for what a floating object is above;
-    ``pose``: the IRI of ``obj``'s pose location (from ``locations``), for its line.
+    ``pose``: the IRI of ``obj``'s pose location (from ``locations``), for its line;
+    ``faces``: for ``"floor"`` / ``"wall"``, each face of the container ``obj`` goes through,
+    the furthest first: (``"floor"`` or the wall's side ``"-x"``, ``"+x"``, ``"-y"``, ``"+y"``
+    in the container's frame, how far ``obj`` reaches beyond it, how far it reaches on the
+    cavity's side of it), metres; ``depth`` is the first's reach beyond it.
     """
 
     rule: str
@@ -77,6 +81,7 @@ class Finding:
     depth: float
     how: str
     pose: str | None = None
+    faces: tuple[tuple[str, float, float], ...] = ()
 
 
 @dataclass
@@ -140,6 +145,66 @@ def sat_depth(a: Boxes, b: Boxes) -> np.ndarray:
 
 #: for each of the three axes, the next one and the one after (cyclic)
 _NEXT, _AFTER = np.array([1, 2, 0]), np.array([2, 0, 1])
+
+
+def sat_excess(a: Boxes, b: Boxes, tol: float, thin: np.ndarray | None = None,
+               a_radii: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """(depth, excess), each (P,): :func:`sat_depth` and by how much the two boxes overlap
+    beyond the tolerance: the smallest, over the 15 candidate axes, of the overlap along the
+    axis less the tolerance along it (positive: they interpenetrate).
+
+    The tolerance along an axis is ``tol``, or half the smaller positive extent of the two
+    boxes along that axis (their projections on it) where that is less
+    (:func:`kb.spatial.rcc8.depth_tolerance`): a washer 0.343 mm thick overlaps a floor once its
+    middle is through it, as the predicates decide. It is computed only for the pairs flagged
+    ``thin`` (P,) (a box with an extent under ``2 tol``); the others, and every pair when
+    ``thin`` is None, get ``tol`` on every axis (``excess = depth - tol``, exactly as before).
+    ``a_radii`` (P, 3): the half sizes of ``a`` its extents are taken from, if not ``a.half``
+    (a floating object's column: the object's own height, not the column's)."""
+    depth = sat_depth(a, b)
+    excess = depth - tol
+    rows = np.flatnonzero(thin) if thin is not None else np.zeros(0, np.intp)
+    if rows.size:
+        sub_a, sub_b = a.take(rows), b.take(rows)
+        overlap, ra, rb = _sat_axes(sub_a, sub_b, a_radii[rows] if a_radii is not None else None)
+        allowed = np.minimum(np.minimum(tol, np.where(ra > 0.0, ra, tol)), np.where(rb > 0.0, rb, tol))
+        excess[rows] = (overlap - allowed).min(axis=1)
+    return depth, excess
+
+
+def _sat_axes(a: Boxes, b: Boxes, a_radii: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(overlap, ra, rb), each (P, 15): along each of the 15 candidate axes (``a``'s three,
+    ``b``'s three, the nine edge cross products, normalised; ``inf`` overlap where two edges are
+    parallel), the overlap of the boxes' projections and their radii (half extents) along it.
+    ``a_radii`` (P, 3): the half sizes of ``a`` for its radii (default ``a.half``)."""
+    p = a.centre.shape[0]
+    r = np.matmul(np.swapaxes(a.axes, 1, 2), b.axes)  # (P, 3, 3): a_i . b_j
+    ar = np.abs(r)
+    t = np.einsum("pji,pj->pi", a.axes, b.centre - a.centre)
+    ea, eb = a.half, b.half
+    ha = a_radii if a_radii is not None else ea
+    n1, n2 = _NEXT, _AFTER
+
+    def radii(e_a: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        face_a = e_a
+        face_b = np.einsum("pij,pi->pj", ar, e_a)
+        edge = e_a[:, n1, None] * ar[:, n2, :] + e_a[:, n2, None] * ar[:, n1, :]
+        return face_a, face_b, edge
+    fa_a, fb_a, ed_a = radii(ea)
+    fa_b = np.einsum("pij,pj->pi", ar, eb)
+    fb_b = eb
+    ed_b = eb[:, None, n1] * ar[:, :, n2] + eb[:, None, n2] * ar[:, :, n1]
+    dist_a, dist_b = np.abs(t), np.abs(np.einsum("pij,pi->pj", r, t))
+    dist_e = np.abs(t[:, n2, None] * r[:, n1, :] - t[:, n1, None] * r[:, n2, :])
+    length = np.sqrt(r[:, :, n1] ** 2 + r[:, :, n2] ** 2)
+    valid = length > 1e-6  # parallel edges give no axis
+    norm = np.where(valid, length, 1.0)
+    overlap = np.concatenate([fa_a + fa_b - dist_a, fb_a + fb_b - dist_b,
+                              np.where(valid, (ed_a + ed_b - dist_e) / norm, np.inf).reshape(p, 9)], axis=1)
+    ta, tb, te = radii(ha) if a_radii is not None else (fa_a, fb_a, ed_a)
+    ra = np.concatenate([ta, tb, (te / norm).reshape(p, 9)], axis=1)
+    rb = np.concatenate([fa_b, fb_b, (ed_b / norm).reshape(p, 9)], axis=1)
+    return overlap, ra, rb
 
 
 def in_frame_of(a: Boxes, b: Boxes) -> tuple[np.ndarray, np.ndarray]:
@@ -391,17 +456,26 @@ def check(scene: Scene, tol: float = DEFAULT_TOLERANCE, locations: Mapping[str, 
     reach = lo.copy()
     reach[:, 2] = np.minimum(reach[:, 2], 0.0)  # down to the ground: what may hold it up
     a, b = overlapping_pairs(reach, hi, tol)
-    pairs = _Pairs(scene, st, idx, boxes, a, b, tol)
+    thin = thin_boxes(boxes.half, tol)
+    pairs = _Pairs(scene, st, idx, boxes, a, b, tol, thin)
     found: list[Finding] = []
     if INTERPENETRATION in rules:
         found += pairs.interpenetrations()
-        below = np.flatnonzero(lo[:, 2] < -tol)
+        allowed = np.where(thin, depth_tolerance(tol, hi[:, 2] - lo[:, 2]), tol)  # a washer: by its middle
+        below = np.flatnonzero(lo[:, 2] < -allowed)
         found += [Finding(INTERPENETRATION, scene.names[idx[n]], None, float(-lo[n, 2]), "ground") for n in below]
     if FLOATING in rules:
         found += pairs.floating(_hanging(st, idx, boxes, tol))
     locations = locations or {}
-    found = [Finding(f.rule, f.obj, f.other, f.depth, f.how, locations.get(f.obj)) for f in found]
+    found = [Finding(f.rule, f.obj, f.other, f.depth, f.how, locations.get(f.obj), f.faces) for f in found]
     return sorted(found, key=lambda f: (f.obj, f.rule, f.other or ""))
+
+
+def thin_boxes(half: np.ndarray, tol: float) -> np.ndarray:
+    """(K,) bool: the boxes of half sizes ``half`` (K, 3) with an extent under ``2 tol`` (a
+    zero extent, a point or a plate, does not count): the only ones whose depths are compared
+    with less than ``tol`` (:func:`kb.spatial.rcc8.depth_tolerance`)."""
+    return ((half > 0.0) & (half < tol)).any(axis=1)
 
 
 def _hanging(st: _Structure, idx: np.ndarray, boxes: Boxes, tol: float) -> np.ndarray:
@@ -423,42 +497,43 @@ class _Pairs:
     """The candidate pairs (indices into the active objects) and what each needs."""
 
     def __init__(self, scene: Scene, st: _Structure, idx: np.ndarray, boxes: Boxes, a: np.ndarray,
-                 b: np.ndarray, tol: float) -> None:
+                 b: np.ndarray, tol: float, thin: np.ndarray) -> None:
         self.scene, self.st, self.idx, self.boxes, self.tol = scene, st, idx, boxes, tol
         self.a, self.b = a, b
+        self.thin = thin  # (len(idx),): a box with an extent under 2 tol
         self.exempt = _exempt(st, idx[a], idx[b])  # may overlap (still hold each other up)
         self.open = scene.open_top[idx]
         self.ba, self.bb = boxes.take(a), boxes.take(b)  # each pair's boxes
-        self.inside_ab = _Cavity(self.ba, self.bb, tol)  # a in b's cavity
-        self.inside_ba = _Cavity(self.bb, self.ba, tol)
+        self.inside_ab = _Cavity(self.ba, self.bb, tol, thin[a])  # a in b's cavity
+        self.inside_ba = _Cavity(self.bb, self.ba, tol, thin[b])
 
     def interpenetrations(self) -> list[Finding]:
         a, b, tol = self.a, self.b, self.tol
-        depth = sat_depth(self.ba, self.bb)
-        hit = (depth > tol) & ~self.exempt
+        depth, excess = sat_excess(self.ba, self.bb, tol, self.thin[a] | self.thin[b])
+        hit = (excess > 0.0) & ~self.exempt
         if not hit.any():
             return []
         open_b, open_a = self.open[b], self.open[a]
         contained = (open_b & self.inside_ab.within) | (open_a & self.inside_ba.within)
-        out = []
-        for n in np.flatnonzero(hit & ~contained):
-            out.append(self._one(n, float(depth[n])))
-        return [f for f in out if f.depth > tol]
+        return [self._one(n, float(depth[n])) for n in np.flatnonzero(hit & ~contained)]
 
     def _one(self, n: int, depth: float) -> Finding:
-        """The finding of pair ``n``. With an open container and a smaller object: through its
-        floor or a wall, by the smaller of how far the object is out of the cavity and how far
-        it is in the box; otherwise an overlap, reported at the object referring to the other,
-        else the smaller."""
+        """The finding of pair ``n``. With an open container and a smaller object: through the
+        faces of the container (its floor, its walls) it reaches beyond by more than the
+        tolerance, each by how far; otherwise an overlap by the separating-axis depth, reported
+        at the object referring to the other, else the smaller."""
         names, a, b = self.scene.names, int(self.idx[self.a[n]]), int(self.idx[self.b[n]])
         options = []
         if self.open[self.b[n]] and self._volume(a) < self._volume(b):
-            options.append((self.inside_ab.excess[n], self.inside_ab.where[n], a, b))
+            options.append((self.inside_ab, a, b))
         if self.open[self.a[n]] and self._volume(b) < self._volume(a):
-            options.append((self.inside_ba.excess[n], self.inside_ba.where[n], b, a))
+            options.append((self.inside_ba, b, a))
         if options:
-            excess, how, inner, outer = options[0]
-            return Finding(INTERPENETRATION, names[inner], names[outer], float(min(excess, depth)), str(how))
+            cavity, inner, outer = options[0]
+            faces = cavity.faces(n)
+            if faces:
+                how = "floor" if faces[0][0] == "floor" else "wall"
+                return Finding(INTERPENETRATION, names[inner], names[outer], faces[0][1], how, faces=faces)
         first, second = self._reported(a, b)
         return Finding(INTERPENETRATION, names[first], names[second], depth, "overlap")
 
@@ -484,13 +559,19 @@ class _Pairs:
         ups, downs, heights, floors = [], [], [], []
         for up, down, cavity, up_boxes, down_boxes in ((self.a, self.b, self.inside_ab, self.ba, self.bb),
                                                        (self.b, self.a, self.inside_ba, self.bb, self.ba)):
-            # only what reaches below the bottom by more than tol along z can be under it (the
-            # column's depth along z bounds its separating-axis depth; 1 nm for the rounding)
-            maybe = np.flatnonzero(self.scene.lo[self.idx[down], 2] < bottom[up] - self.tol + 1e-9)
+            # only what reaches below the bottom by more than its tolerance along z can be under
+            # it (the column's depth along z bounds its separating-axis depth; 1 nm for the
+            # rounding); that tolerance is tol but for thin boxes (half their heights, if less)
+            thin = self.thin[up] | self.thin[down]
+            allowed = np.full(up.size, self.tol)
+            if thin.any():
+                tall = [self.scene.hi[self.idx[x[thin]], 2] - self.scene.lo[self.idx[x[thin]], 2] for x in (up, down)]
+                allowed[thin] = depth_tolerance(self.tol, *tall)
+            maybe = np.flatnonzero(self.scene.lo[self.idx[down], 2] < bottom[up] - allowed + 1e-9)
             under = np.zeros(up.size, bool)
             if maybe.size:
-                shadow = _shadow(up_boxes.take(maybe), bottom[up[maybe]], self.tol)
-                under[maybe] = sat_depth(shadow, down_boxes.take(maybe)) > self.tol
+                shadow, radii = _shadow(up_boxes.take(maybe), bottom[up[maybe]], self.tol)
+                under[maybe] = sat_excess(shadow, down_boxes.take(maybe), self.tol, thin[maybe], radii)[1] > 0.0
             in_cavity = self.open[down] & cavity.walls & cavity.rises  # on (or through) its floor
             height = np.where(in_cavity, self.scene.lo[self.idx[down], 2], self.scene.hi[self.idx[down], 2])
             ok = ((under & ~(self.open[down] & cavity.walls)) | in_cavity) & (height > -self.tol)
@@ -512,28 +593,50 @@ class _Pairs:
         return out
 
 
+#: the faces of an open container (:meth:`_Cavity.faces`), in the order of ``_Cavity.beyond``
+FACES = ("-x", "+x", "-y", "+y", "floor")
+
+
 class _Cavity:
-    """Box ``a`` against the cavity of box ``b`` (as if ``b`` were an open container): within
-    its walls and above its floor (``within``), within its walls in plan (``walls``), and by
-    how much it is out of the cavity (``excess``, metres) and where (``where``: floor, wall)."""
+    """Box ``a`` against the cavity of box ``b`` (as if ``b`` were an open container: walls and
+    a floor of no thickness), in ``b``'s frame: how far ``a`` reaches beyond each face of
+    :data:`FACES` (``beyond`` (P, 5), metres) and on the cavity's side of it (``inside``), the
+    tolerance of each (``allowed``: ``tol``, or for a ``thin`` box (P,) half its extent across
+    the face where that is less, as the predicates decide: a washer is in once its middle is);
+    within its walls in plan (``walls``), also above its floor (``within``), not all under the
+    floor (``rises``)."""
 
-    def __init__(self, a: Boxes, b: Boxes, tol: float) -> None:
+    def __init__(self, a: Boxes, b: Boxes, tol: float, thin: np.ndarray) -> None:
         lo, hi = in_frame_of(a, b)
-        wall = np.maximum(np.maximum(b.lo[:, :2] - lo[:, :2], hi[:, :2] - b.hi[:, :2]).max(axis=1), 0.0) \
-            if len(lo) else np.zeros(0)
-        floor = np.maximum(b.lo[:, 2] - lo[:, 2], 0.0) if len(lo) else np.zeros(0)
-        self.walls = wall <= tol
-        self.rises = hi[:, 2] > b.lo[:, 2] + tol if len(lo) else np.zeros(0, bool)  # not all under the floor
-        self.within = self.walls & (floor <= tol)
-        self.excess = np.maximum(wall, floor)
-        self.where = np.where(floor >= wall, "floor", "wall")
+        self.beyond = np.stack([b.lo[:, 0] - lo[:, 0], hi[:, 0] - b.hi[:, 0], b.lo[:, 1] - lo[:, 1],
+                                hi[:, 1] - b.hi[:, 1], b.lo[:, 2] - lo[:, 2]], axis=1)
+        self.inside = np.stack([hi[:, 0] - b.lo[:, 0], b.hi[:, 0] - lo[:, 0], hi[:, 1] - b.lo[:, 1],
+                                b.hi[:, 1] - lo[:, 1], hi[:, 2] - b.lo[:, 2]], axis=1)
+        allowed = np.full((len(lo), 3), tol)
+        rows = np.flatnonzero(thin)
+        if rows.size:
+            allowed[rows] = depth_tolerance(tol, hi[rows] - lo[rows])
+        self.allowed = allowed[:, [0, 0, 1, 1, 2]]
+        out = ~(self.beyond <= self.allowed)  # (a NaN, of coordinates past float's range, is out)
+        self.walls = ~out[:, :4].any(axis=1)
+        self.within = self.walls & ~out[:, 4]
+        self.rises = hi[:, 2] > b.lo[:, 2] + allowed[:, 2]  # not all under the floor
+
+    def faces(self, n: int) -> tuple[tuple[str, float, float], ...]:
+        """Pair ``n``'s faces that box ``a`` reaches beyond by more than their tolerance: (face,
+        how far beyond, how far on the cavity's side), the furthest first."""
+        out = [(FACES[k], float(self.beyond[n, k]), float(self.inside[n, k])) for k in range(5)
+               if self.beyond[n, k] > self.allowed[n, k]]
+        return tuple(sorted(out, key=lambda f: -f[1]))
 
 
-def _shadow(a: Boxes, bottom: np.ndarray, tol: float) -> Boxes:
+def _shadow(a: Boxes, bottom: np.ndarray, tol: float) -> tuple[Boxes, np.ndarray]:
     """The column under each box ``a``: its footprint, from just below the ground to its
     bottom (what reaches more than ``tol`` into it is under ``a``; what rests on the same floor
     is not). Along a local axis that is vertical (up or down) the box is stretched; a tilted
-    box's column is the axis-aligned one under its world box."""
+    box's column is the axis-aligned one under its world box. Returns the columns and their
+    half sizes with the box's own height for the column's (P, 3): what a thin box's tolerance
+    is taken from (:func:`sat_excess`)."""
     p = a.centre.shape[0]
     top, ground = bottom, np.full(p, -tol)
     vertical = np.abs(a.axes[:, 2, :]) > 1 - 1e-9  # (P, 3): which local axis is vertical
@@ -547,15 +650,17 @@ def _shadow(a: Boxes, bottom: np.ndarray, tol: float) -> Boxes:
     z0 = origin[rows, 2]
     lo[rows, k[rows]] = np.minimum((ground[rows] - z0) * sign, (top[rows] - z0) * sign)
     hi[rows, k[rows]] = np.maximum((ground[rows] - z0) * sign, (top[rows] - z0) * sign)
+    radii = a.half.copy()  # upright: the box's own half sizes along the column's axes
     tilted = np.flatnonzero(~upright)
     if tilted.size:
         corners = _world_hull(a.take(tilted))
         origin[tilted] = 0.0
         lo[tilted], hi[tilted] = corners[0], corners[1]
+        radii[tilted] = (corners[1] - corners[0]) / 2
         lo[tilted, 2], hi[tilted, 2] = ground[tilted], top[tilted]
     poses = np.zeros((p, 4, 4))
     poses[:, :3, :3], poses[:, :3, 3], poses[:, 3, 3] = axes, origin, 1.0
-    return Boxes.of(poses, lo, hi)
+    return Boxes.of(poses, lo, hi), radii
 
 
 def _world_hull(a: Boxes) -> tuple[np.ndarray, np.ndarray]:
@@ -632,8 +737,28 @@ def describe(f: Finding, name: Callable[[str], str], units: Units = SI) -> str:
     if f.how == "ground":
         return f"{obj} is {depth} below the ground (z = 0 of the workstation)"
     if f.how in ("floor", "wall"):
-        return f"{obj} goes {depth} through {'the floor' if f.how == 'floor' else 'a wall'} of {other}"
+        if not f.faces:
+            return f"{obj} goes {depth} through {'the floor' if f.how == 'floor' else 'a wall'} of {other}"
+        parts = [_through(face, beyond, inside, units) for face, beyond, inside in f.faces]
+        face, where = parts[0]
+        text = f"{obj} goes through {face} of {other}, {where}"
+        for face, where in parts[1:]:
+            text += f", and through {face.replace('the ', 'its ', 1)}, {where}"
+        return text
     return f"{obj} and {other} interpenetrate by {depth}"
+
+
+def _through(face: str, beyond: float, inside: float, units: Units) -> tuple[str, str]:
+    """(the face's name, where the object reaches) for one face of a container an object goes
+    through: ``("the -y wall", "91.5 mm beyond it")``, ``("the floor", "0.3 mm below it and
+    0.043 mm above")``: how far beyond the face and, when that is the larger part of it, how
+    far on the cavity's side (a part beside a tray, its edge in the wall)."""
+    floor = face == "floor"
+    name = "the floor" if floor else f"the {face} wall"
+    where = f"{length_text(beyond, units)} {'below' if floor else 'beyond'} it"
+    if beyond > inside:
+        where += f" and {length_text(max(inside, 0.0), units)} {'above' if floor else 'inside'}"
+    return name, where
 
 
 def length_text(metres: float, units: Units = SI) -> str:
