@@ -6,11 +6,14 @@ arguments are the action's parameter names or numbers (metres). The functions ar
 geometry of kit building, not per-action code:
 
 ===============================  ===============================================================
-``grasp(x)``                     the tip on the centre of x's top face (tool z down, x along x's)
+``grasp(x)``                     the tip on the top of x as it lies, above the middle of its
+                                 footprint (tool z down, x along x's level axis: :func:`top_of`,
+                                 :func:`level_axis`)
 ``above(x, d)``                  ``grasp(x)`` raised by d
-``place(x, where)``              the tip where x's top face will be once x stands at its place in
-                                 ``where``: a kit (a free slot of x's SKU in the kit's design), a
-                                 work table (its top), a large box (a free spot on its floor)
+``place(x, where)``              the tip where the top of x will be once x lies at its place in
+                                 ``where`` (:meth:`Targets.placed_pose`): a kit (a free slot of
+                                 x's SKU in the kit's design), a work table (its top), a large box
+                                 (a free spot on its floor)
 ``above_place(x, where, d)``     ``place`` raised by d
 ``mount(e)``                     the bare tool flange on effector e's mount face
 ``above_mount(e, d)``            ``mount(e)`` raised by d
@@ -23,10 +26,25 @@ geometry of kit building, not per-action code:
 
 The tool tip is the far end of the mounted effector (the flange's far face with none): the
 effector's box extends from its frame along its z axis (the tool direction).
+
+Parts as they lie (docs/execution.md, "Grasp and place targets"). A part's frame is where its
+file puts it: NIST's GearBox shafts are CylindricalShapes framed at the centre of one end cap,
+z along the shaft, and lie in their tray with that z axis level. So the top of a part is taken
+in the world, not along its own z axis: the point above the centre of its box at the height of
+its highest corner (the top face of its hull in the frame of its heading, where the simulated
+gripper looks for it too), whatever its orientation. The tool's x axis follows the part's
+level axis (of its three axes the first that is not the most vertical, projected on the
+floor: its x axis when it stands upright, as before), so the part turns with the tool's yaw.
+At a place the part takes the slot's orientation when a turn about the vertical gets it
+there (it rests on the face the slot wants); else it keeps the face it lies on, turned as
+near the slot's orientation as the vertical allows, its frame over the slot's point and its
+lowest point where the slot's part's would be (a warning says so once per part and slot).
 """
 
 from __future__ import annotations
 
+import logging
+import math
 import re
 from typing import Callable
 
@@ -40,6 +58,14 @@ from kb.spatial.scene import Scene
 
 _CALL = re.compile(r"^\s*([a-z_]+)\s*\((.*)\)\s*$")
 UP = np.array([0.0, 0.0, 1.0])
+log = logging.getLogger("kitkb.execution")
+#: A part whose orientation, turned about the vertical, is this near its slot's (largest
+#: difference of the rotation matrices' entries) takes the slot's orientation exactly: what is
+#: left is rounding (an upright part in an upright slot gives the targets it always gave).
+SAME_ORIENTATION = 1e-6
+#: cos 45 degrees: a part whose up direction (in its own frame) is nearer than this to the
+#: slot's rests on the face the slot wants; farther, it rests on another face.
+SAME_FACE = math.cos(math.pi / 4)
 
 
 class TargetError(KitkbError):
@@ -71,6 +97,41 @@ def tool_down(point: np.ndarray, x_axis: np.ndarray) -> np.ndarray:
     return m
 
 
+def top_of(pose: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """The top of the box (lo, hi) at ``pose`` as it lies: the point above its centre at the
+    height of its highest corner (world up; for a box standing on its bottom face, the centre
+    of its top face). Computed in the box's frame, so an upright box framed at the middle of
+    its bottom (every shape kitkb reads) gets its top face's centre to the bit."""
+    up = pose[2, :3]  # the world's up direction in the box's frame
+    half = (np.asarray(hi, float) - np.asarray(lo, float)) / 2
+    local = (np.asarray(lo, float) + np.asarray(hi, float)) / 2 + up * float(np.abs(up) @ half)
+    return (pose @ np.append(local, 1.0))[:3]
+
+
+def height_of(pose: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> float:
+    """The height of the box (lo, hi) at ``pose``: from its lowest corner to its highest."""
+    return float(np.abs(pose[2, :3]) @ (np.asarray(hi, float) - np.asarray(lo, float)))
+
+
+def level_axis(pose: np.ndarray) -> np.ndarray:
+    """The axis of ``pose`` the tool's x axis follows: of its three axes the first that is not
+    the most vertical (its x axis, or its y axis when x is the most vertical), as
+    :func:`kb.spatial.rcc8.headings` chooses. It is never nearer vertical than 45 degrees, and
+    a turn about the vertical turns it alike."""
+    vertical = int(np.argmax(np.abs(pose[2, :3])))
+    return pose[:3, 1 if vertical == 0 else 0]
+
+
+def turned_to(current: np.ndarray, wanted: np.ndarray) -> np.ndarray:
+    """The rotation (3x3) of ``current`` turned about the vertical as near ``wanted`` as such a
+    turn gets (the yaw that maximises the trace of ``wanted^T Rz(yaw) current``, which is
+    ``cos(yaw) (m00 + m11) + sin(yaw) (m01 - m10) + m22`` with ``m = current wanted^T``)."""
+    m = current @ wanted.T
+    yaw = math.atan2(m[0, 1] - m[1, 0], m[0, 0] + m[1, 1])
+    c, s = math.cos(yaw), math.sin(yaw)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]) @ current
+
+
 def raised(pose: np.ndarray, d: float) -> np.ndarray:
     out = pose.copy()
     out[:3, 3] += UP * d
@@ -92,6 +153,8 @@ class Targets:
         lo, hi = belief.box(robot)
         self.tip = flange @ _along_z(float(hi[2]))
         self._stowed = self._holder_places()
+        self._warned: set[tuple] = set()  # (part, slot, point) said to go in on another face
+        self._slot_name: str | None = None  # the design slot the last destination was
 
     def _holder_places(self) -> dict[str, np.ndarray]:
         """Effector -> its pose relative to its holder in the initial state."""
@@ -124,11 +187,11 @@ class Targets:
         return self.b.pose(x)
 
     def top(self, x: str) -> tuple[np.ndarray, np.ndarray]:
-        """(point, x axis) of the centre of x's top face."""
+        """(point, x axis) of the tool on x: the top of x as it lies (:func:`top_of`) and x's
+        level axis (:func:`level_axis`)."""
         g = self._seen(x)
         lo, hi = self.b.box(x)
-        c = g @ np.array([(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, hi[2], 1.0])
-        return c[:3], g[:3, 0]
+        return top_of(g, lo, hi), level_axis(g)
 
     def grasp(self, x: str) -> np.ndarray:
         point, xaxis = self.top(x)
@@ -138,21 +201,57 @@ class Targets:
         return raised(self.grasp(x), d)
 
     def place(self, x: str, where: str, dest: np.ndarray | None = None) -> np.ndarray:
-        dest = self.destination(x, where) if dest is None else dest
+        return self._on_top(x, self.placed_pose(x, self.destination(x, where) if dest is None else dest))
+
+    def _on_top(self, x: str, at: np.ndarray) -> np.ndarray:
+        """The tip on the top of x lying at ``at``, its x axis along x's level axis."""
         lo, hi = self.b.box(x)
-        point = dest @ np.array([(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, hi[2], 1.0])
-        return tool_down(point[:3], dest[:3, 0])
+        return tool_down(top_of(at, lo, hi), level_axis(at))
+
+    def placed_pose(self, x: str, dest: np.ndarray) -> np.ndarray:
+        """Where x will lie when put at ``dest`` (the frame its slot or place gives it): ``dest``
+        itself when x, turned about the vertical (all a tool pointing down can do), gets its
+        orientation; else x as it is held, turned as near ``dest``'s orientation as the vertical
+        allows, its frame over ``dest``'s point and its lowest point at the height where x's
+        would be at ``dest`` (a part lying on its side in a slot that stands it up: it goes in
+        lying, its frame where the slot says). x not seen (held out of the sensor's view):
+        ``dest``."""
+        if not self.b.placed(x):
+            return dest
+        now = self.b.pose(x)
+        rot = turned_to(now[:3, :3], dest[:3, :3])
+        if np.abs(rot - dest[:3, :3]).max() <= SAME_ORIENTATION:
+            return dest
+        lo, hi = self.b.box(x)
+        at = np.eye(4)
+        at[:3, :3] = rot
+        at[:3, 3] = dest[:3, 3]
+        at[2, 3] += _bottom(dest, lo, hi) - _bottom(at, lo, hi)
+        if float(now[2, :3] @ dest[2, :3]) < SAME_FACE:
+            self._another_face(x, dest)
+        return at
+
+    def _another_face(self, x: str, dest: np.ndarray) -> None:
+        """Say once per part and place that x goes in on another face than its place wants."""
+        key = (x, self._slot_name, tuple(np.round(dest[:3, 3], 6)))
+        if key in self._warned:
+            return
+        self._warned.add(key)
+        place = f"slot {_local(self._slot_name)}" if self._slot_name else "its place"
+        log.warning("%s lies on another face than %s wants: a tool pointing down turns a part about the vertical "
+                    "only, so it goes in as it lies, its frame at %s point", _local(x), place,
+                    "the slot's" if self._slot_name else "the place's")
 
     def above_place(self, x: str, where: str, d: float) -> np.ndarray:
         """``place`` raised until x's bottom is d above everything at its place (a box's walls,
         the parts already in a kit), at least d. Footprints are compared in the frame of x at its
         place (the world turned by its heading: a turned kit's neighbours are not in the way)."""
-        dest = self.destination(x, where)
-        tip = self.place(x, where, dest)
+        at = self.placed_pose(x, self.destination(x, where))
+        tip = self._on_top(x, at)
         lo, hi = self.b.box(x)
-        bottom = float(tip[2, 3]) - float(hi[2] - lo[2])  # x's bottom when placed
-        yaw = _heading(dest)
-        flo, fhi = frame_boxes(dest[None], lo[None], hi[None], yaw)
+        bottom = float(tip[2, 3]) - height_of(at, lo, hi)  # x's bottom when placed
+        yaw = _heading(at)
+        flo, fhi = frame_boxes(at[None], lo[None], hi[None], yaw)
         scene = self.b.scene()
         slo, shi = self._frame(scene, yaw)
         tops = [float(shi[j, 2]) for j in range(len(scene)) if self.b.names[j] != x and scene.placed[j]
@@ -215,6 +314,7 @@ class Targets:
     def destination(self, x: str, where: str) -> np.ndarray:
         """The global frame x's origin (middle of its bottom) goes to."""
         classes = self.b.classes[self.b.index[where]]
+        self._slot_name = None
         if str(KTW.Kit) in classes:
             return self._slot(x, where)
         if str(KTW.WorkTable) in classes:
@@ -238,6 +338,7 @@ class Targets:
                     continue
                 frame = g @ self._prp_pose(prp)
                 if all(np.linalg.norm(frame[:2, 3] - t[:2]) > 0.01 or abs(frame[2, 3] - t[2]) > 0.05 for t in taken):
+                    self._slot_name = prp
                     return frame
         raise TargetError(f"no free slot for {_local(part)} ({', '.join(map(_local, sku))}) in {_local(kit)}")
 
@@ -287,6 +388,11 @@ def _heading(pose: np.ndarray) -> float:
     """The heading of ``pose`` (:func:`kb.spatial.rcc8.headings`), 0 within HEADING_MERGE of it."""
     h = float(headings(pose[None])[0])
     return 0.0 if not abs(h) > HEADING_MERGE else h
+
+
+def _bottom(pose: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> float:
+    """The height of the lowest corner of the box (lo, hi) at ``pose``."""
+    return float(top_of(pose, lo, hi)[2]) - height_of(pose, lo, hi)
 
 
 def _along_z(d: float) -> np.ndarray:
