@@ -219,6 +219,8 @@ class Targets:
         if not self.b.placed(x):
             return dest
         now = self.b.pose(x)
+        if np.array_equal(now[2, :3], dest[2, :3]):  # up is the same direction in both: they differ by a yaw
+            return dest
         rot = turned_to(now[:3, :3], dest[:3, :3])
         if np.abs(rot - dest[:3, :3]).max() <= SAME_ORIENTATION:
             return dest
