@@ -198,6 +198,14 @@ def box_of(t: Targets, part: str, pose: np.ndarray) -> tuple[np.ndarray, np.ndar
     return lo[0], hi[0]
 
 
+def gripped(t: Targets, tip: np.ndarray) -> str | None:
+    """What the simulated gripper closing at ``tip`` takes, the cell being as ``t`` believes it
+    (its own test: a top face within the grasp tolerance, the tip over the footprint)."""
+    world = World.from_scene(t.b.scene())
+    found = Robot(world)._at_point(tip[:3, 3])  # noqa: SLF001
+    return None if found is None else world.names[found]
+
+
 def slot_frame(t: Targets, key: str) -> np.ndarray:
     """The world frame of kit_1's slot ``kit_design_gearbox_prp_<key>``."""
     return t.b.pose(NS + "kit_1") @ t.b.slots[NS + f"kit_design_gearbox_prp_{key}"]
@@ -258,9 +266,7 @@ def test_the_grasp_is_on_the_top_of_the_part_as_it_lies(goal_targets: Targets, p
     np.testing.assert_allclose(tip[:3, 3], [(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, hi[2]], atol=1e-12)
     np.testing.assert_allclose(tip[:3, 2], [0, 0, -1], atol=1e-12)
     assert abs(tip[2, 0]) < 1e-12 and np.linalg.norm(tip[:3, 0]) == pytest.approx(1.0)
-    world = World.from_scene(goal_targets.b.scene())
-    robot = Robot(world)
-    assert world.names[robot._at_point(tip[:3, 3])] == NS + part  # noqa: SLF001 (the simulated gripper's own test)
+    assert gripped(goal_targets, tip) == NS + part
 
 
 @pytest.mark.parametrize("part,key", [("part_shaft_1", "shaft_1"), ("part_gear_1", "gear_1"),
@@ -319,7 +325,8 @@ def test_a_tilted_part_goes_in_as_tilted_as_it_is_held(goal_targets: Targets, pa
     t = goal_targets
     slot = slot_frame(t, key)
     start = rz(1.1) @ frame(slot[:3, 0], slot[:3, 2], (0.5, 0.4, 2.0)) @ rx(tilt)
-    _grasp, _place, end = put(t, part, start)
+    grasp, _place, end = put(t, part, start)
+    assert gripped(t, grasp) == NS + part
     np.testing.assert_allclose(end[:2, 3], slot[:2, 3], atol=1e-9)
     assert box_of(t, part, end)[0][2] == pytest.approx(box_of(t, part, slot)[0][2], abs=1e-9)
     np.testing.assert_allclose(end[2, :3], start[2, :3], atol=1e-12)  # the same tilt: only a yaw changed it
