@@ -58,8 +58,8 @@ from common import ROOT, cpu_model, write_doc  # noqa: E402
 RESULTS = ROOT / "benchmarks" / "results" / "validate_geometry.json"
 TITLE = "Validation: geometry checks at 10,000 parts"
 #: every rule of the geometry checks (``--ignore``d: none is computed)
-GEOMETRY_RULES = ("no-shape,reference-cycle,missing-value,unusable-number,degenerate-pose,unit,slot-outside-tray,"
-                  "interpenetration,floating-object")
+GEOMETRY_RULES = ("no-shape,reference-cycle,missing-value,unusable-number,degenerate-pose,unit,unknown-reference,"
+                  "slot-outside-tray,interpenetration,floating-object")
 PLAUSIBILITY = ("[interpenetration]", "[floating-object]")
 
 _IN_PROCESS = """

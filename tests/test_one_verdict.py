@@ -78,6 +78,12 @@ TURTLE = {
         "unusable-number"),
     "a slot axis of length zero": (
         _sub(r"(:kit_design_a2b1_prp_a_1_z_axis a .*?ktw:hasVector_K) [-0-9.]+", r"\1 0.0"), "axis-unit-length"),
+    "a misspelt reference object": (
+        _sub(r"(:part_a_1_pose a .*?ktw:hasPhysicalLocation_RefObject) :\w+", r"\1 :part_a_tary"), "unknown-individual"),
+    "a reference object located with no point": (  # tests/test_unknown_reference.py has more
+        _sub(r"(:part_a_tray_pose a owl:NamedIndividual, ktw:)PoseLocationOn ;(\s*ktw:hasPhysicalLocation_RefObject"
+             r" :\w+) ;.*?\.\n", r'\1RelativeLocationOn ;\2 ;\n    ktw:hasRelativeLocation_Description "on a table" .\n'),
+        "unknown-reference"),
 }
 
 
@@ -213,7 +219,8 @@ def test_validate_reads_names_and_limits_as_the_commands_do() -> None:
 def test_what_has_no_geometry_error_is_read_by_the_commands(path: Path) -> None:
     assert _refusal(path) is None
     assert not [d for d in validate([path]).errors if d.rule in ("no-shape", "reference-cycle", "missing-value",
-                                                                 "unusable-number", "degenerate-pose", "unit")]
+                                                                 "unusable-number", "degenerate-pose", "unit",
+                                                                 "unknown-reference")]
 
 
 def test_the_survey_builds_the_builders_scene(tmp_path: Path) -> None:

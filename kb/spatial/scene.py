@@ -261,7 +261,7 @@ class _Builder:
         index = {n: i for i, n in enumerate(names)}
         parents = np.full(k, -1, np.int64)
         open_top = np.zeros(k, bool)
-        self.place(names, classes, own, index, poses, parents)
+        self.place(names, classes, own, index, poses, parents, asserted)
         self.shape(names, classes, index, poses, llo, lhi, open_top)
         lo, hi = _boxes(poses, llo, lhi)
         return Scene([str(n) for n in names], classes, lo, hi, facts, values, {}, poses, self.path, parents,
@@ -343,9 +343,12 @@ class _Builder:
                              self.locate(node)) from None
 
     @np.errstate(over="ignore", invalid="ignore")  # NaN / infinite coordinates: no RuntimeWarning lines
-    def place(self, names, classes, own, index, poses, parents) -> None:  # noqa: ANN001
-        """Global poses of the placed objects of the state file, level by level down the tree."""
+    def place(self, names, classes, own, index, poses, parents, asserted) -> None:  # noqa: ANN001
+        """Global poses of the placed objects of the state file, level by level down the tree.
+        A reference object that is not an object the state places (nor the world frame) is an
+        InputError at the location's statement of it (:func:`unknown_reference`)."""
         rel: dict[int, tuple[int | None, np.ndarray]] = {}
+        refs: dict[int, tuple] = {}
         for i, n in enumerate(names):
             if n not in own or SOLID not in classes[i]:
                 continue
@@ -359,6 +362,16 @@ class _Builder:
             if m is None:
                 continue
             rel[i] = (index.get(ref) if ref is not None else None, m)
+            if ref is not None:
+                refs[i] = (loc, ref)
+        for i, (loc, ref) in refs.items():  # each reference: an object the state places, or the world frame
+            j = index.get(ref)
+            ref_loc = self.value(ref, _PRIMARY)
+            why = unknown_reference(ref in own, asserted.get(ref, ()) if ref in own else (), j is not None and j in rel,
+                                    _local(ref_loc) if ref_loc is not None else None, self.refers_to_itself(ref))
+            if why:
+                raise InputError(f"{_local(loc)}: its reference object {_local(ref)} {why}", self.path,
+                                 self.locate(loc, _REF, ref))
         done: dict[int, np.ndarray | None] = {}
 
         def glob(i: int, trail: tuple) -> np.ndarray | None:
@@ -382,6 +395,11 @@ class _Builder:
             if g is not None:
                 poses[i] = g
                 parents[i] = rel[i][0] if rel[i][0] is not None and rel[i][0] in rel else -1
+
+    def refers_to_itself(self, n) -> bool:  # noqa: ANN001
+        """Whether ``n``'s location refers to ``n`` itself (the world frame)."""
+        loc = self.value(n, _PRIMARY)
+        return loc is not None and self.value(loc, _REF) == n
 
     # --- shapes ---------------------------------------------------------------------
     def shape(self, names, classes, index, poses, llo, lhi, open_top) -> None:  # noqa: ANN001
@@ -439,6 +457,35 @@ class _Builder:
         if str(KTW.Robot) in classes:
             return np.zeros(3), np.zeros(3), False
         return None
+
+
+#: the classes whose object is the world frame when it is not placed (it has no location)
+_WORLD = str(KTW.KittingWorkstation)
+
+
+def unknown_reference(declared: bool, classes: Iterable[str], placed: bool, location: str | None,
+                      itself: bool) -> str:
+    """Why a location's reference object cannot be its frame, or ``""`` when it can: it is an
+    object the state places (``placed``: a solid object with a location that has a point), or
+    the world frame — an object whose location refers to itself (``itself``), or a kitting
+    workstation with no location (``location``: the name of its primary location, None when it
+    has none). ``declared``: the reference is typed with a class of the kitting model in the
+    state's files; ``classes``: those classes, as asserted. The words of
+    :mod:`kb.spatial.survey`'s ``unknown-reference`` defect too (docs/validation.md, "Geometry of
+    state files")."""
+    if placed or itself:
+        return ""
+    anc = class_ancestors()
+    closed = frozenset().union(*(anc.get(c, frozenset()) for c in classes))
+    if not declared or not closed:
+        return ("is not an object of the state: none of its files declares it with a class of the kitting model "
+                "(a misspelt name, or an individual of another file)")
+    if SOLID not in closed:
+        kinds = sorted(c[len(_KTW):] for c in classes if c.startswith(_KTW))
+        return f"is not a solid object: it is a {' / '.join(kinds[:3])}"
+    if _WORLD in closed and location is None:
+        return ""
+    return "is not placed by the state: " + (f"its location {location} has no point" if location else "it has no location")
 
 
 def _local(node) -> str:  # noqa: ANN001

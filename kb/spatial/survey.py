@@ -29,7 +29,7 @@ from rdflib.namespace import RDF
 from kb.core.namespaces import KTW
 from kb.core.units import KINDS, Units, unit_factor
 from kb.model.units import UNIT_PROPS, quantity_kinds
-from kb.spatial.scene import STAND_INS, Scene, class_ancestors, scene_boxes
+from kb.spatial.scene import STAND_INS, Scene, class_ancestors, scene_boxes, unknown_reference
 
 #: the rules of the defects (docs/validation.md, "One verdict per defect")
 NO_SHAPE = "no-shape"                  # a placed object with no box
@@ -38,7 +38,8 @@ MISSING_VALUE = "missing-value"        # a coordinate, axis component or dimensi
 BAD_NUMBER = "unusable-number"         # a coordinate or dimension that is no usable number
 DEGENERATE_POSE = "degenerate-pose"    # an axis of length zero, or x and z axes parallel
 UNIT = "unit"                          # a unit kitkb cannot convert, or two units of one kind
-RULES = (NO_SHAPE, REFERENCE_CYCLE, MISSING_VALUE, BAD_NUMBER, DEGENERATE_POSE, UNIT)
+UNKNOWN_REFERENCE = "unknown-reference"  # a location's reference object that the state does not place
+RULES = (NO_SHAPE, REFERENCE_CYCLE, MISSING_VALUE, BAD_NUMBER, DEGENERATE_POSE, UNIT, UNKNOWN_REFERENCE)
 
 _KTW = str(KTW)
 _SOLID, _PRP = str(KTW.SolidObject), str(KTW.PartRefAndPose)
@@ -314,6 +315,7 @@ class _Reader:
         rows: list[int] = []
         numbers: list[list[float]] = []
         located: dict[int, Any] = {}
+        refs: list[tuple[int, Any, Any]] = []
         xyz, ijk = self.reading(_XYZ), self.reading(_IJK)
         for i, n in enumerate(names):
             loc = primary.get(n)
@@ -327,6 +329,8 @@ class _Reader:
             if point is None:
                 continue
             located[i] = loc
+            if ref is not None:
+                refs.append((i, loc, ref))
             xa, za = _first(lp.get(x_p)), _first(lp.get(z_p))
             try:
                 row = xyz(point)
@@ -338,6 +342,8 @@ class _Reader:
             rel_ref[i] = index.get(ref) if ref is not None else None
             rows.append(i)
             numbers.append(row)
+        for i in self.references(refs, index, located, primary):  # a reference the state does not place
+            rel_ref.pop(i, None)
         m, zero, parallel = _frames(numbers)
         local: dict[int, np.ndarray] = {}
         bad = (zero | parallel).tolist()
@@ -350,6 +356,33 @@ class _Reader:
                 local[i] = m[n]
         placed = self.compose(names, {i: r for i, r in rel_ref.items() if i in local}, local, poses, parents)
         return {i: loc for i, loc in located.items() if i not in placed}
+
+    def references(self, refs: list[tuple[int, Any, Any]], index: dict, located: dict, primary: dict) -> list[int]:
+        """The objects (of ``refs``: object, its location, the location's reference object)
+        whose reference object is neither an object the state places (one with a location
+        that has a point, even one with a defect of its own) nor the world frame: an
+        ``unknown-reference`` defect each, at the location's statement of it, in the builder's
+        words (:func:`kb.spatial.scene.unknown_reference`)."""
+        get, t = self.spo.get, self.t
+        anc = class_ancestors()
+        a, primary_p, ref_p = t[RDF.type], t[KTW.hasSolidObject_PrimaryLocation], t[KTW.hasPhysicalLocation_RefObject]
+        out = []
+        for i, loc, ref in refs:
+            if index.get(ref) in located:
+                continue
+            preds = get(ref) or {}
+            classes = [str(c) for c in preds.get(a, ()) if str(c).startswith(_KTW) and str(c) in anc]
+            ref_loc = primary.get(ref)
+            itself = ref_loc is not None and _first((get(ref_loc) or {}).get(ref_p)) == ref
+            why = unknown_reference(bool(classes), classes, False, _local(ref_loc) if ref_loc is not None else None,
+                                    itself)
+            if not why:
+                continue
+            message = f"{_local(loc)}: its reference object {_local(ref)} {why}"
+            self.defects.append(Defect(UNKNOWN_REFERENCE, message, loc, (loc, KTW.hasPhysicalLocation_RefObject, ref),
+                                       ((loc, "refobject"), (ref, "primarylocation"), (ref_loc, "point"))))
+            out.append(i)
+        return out
 
     @np.errstate(over="ignore", invalid="ignore")  # NaN / infinite coordinates: no RuntimeWarning lines
     def compose(self, names: list, rel: dict, local: dict, poses: np.ndarray, parents: np.ndarray) -> set[int]:

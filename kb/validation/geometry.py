@@ -6,8 +6,8 @@ Each data file is read by :func:`kb.spatial.survey.survey` (one pass, metres):
 * every defect that keeps kitkb from building the file's scene — the commands (``predicates``,
   ``plan``, ``run``) stop at the first with exit 2 — is an **error** here, with the same
   message at the same line and a rule naming it (``no-shape``, ``reference-cycle``,
-  ``missing-value``, ``unusable-number``, ``degenerate-pose``, ``unit``): one verdict per
-  defect, so an author learns it from ``validate`` first;
+  ``missing-value``, ``unusable-number``, ``degenerate-pose``, ``unit``, ``unknown-reference``):
+  one verdict per defect, so an author learns it from ``validate`` first;
 * ``slot-outside-tray`` (**error**, at the slot's line): a kit design's slot whose part would
   not lie in (or on) the design's kit tray, by how much and on which side, in the file's
   length unit (:func:`kb.spatial.plausibility.slot_misfits`); ``kitkb run`` refuses such a
