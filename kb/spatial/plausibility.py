@@ -8,11 +8,20 @@ What ``kitkb validate`` reports as the warnings ``interpenetration`` and ``float
 
 Geometry: each placed object is its oriented box (its local box under its global pose, any
 rotation). Two boxes interpenetrate when the separating-axis test finds no separating axis
-among the 15 candidates (the 3 + 3 face normals and the 9 edge cross products); the depth is
-the smallest overlap along those axes (how far one must move for them to part). Pairs are
-found on world boxes first (:func:`overlapping_pairs`: a sweep along x in bands along y, the
-few large objects in the cells of a grid in plan), so only neighbours are tested, all at once
-with numpy.
+among the 15 candidates (the 3 + 3 face normals and the 9 edge cross products) along which
+they overlap by at most the tolerance; the depth is the smallest overlap along those axes (how
+far one must move for them to part). Pairs are found on world boxes first
+(:func:`overlapping_pairs`: a sweep along x in bands along y, the few large objects in the
+cells of a grid in plan), so only neighbours are tested, all at once with numpy.
+
+Tolerance: ``tol``, as the predicates use it; for a box thinner than ``2 tol`` on some axis
+(:func:`thin_boxes`: NIST's 0.343 mm washers, narrow shafts), a depth measured along an axis is
+compared with half the boxes' extents along it where that is less
+(:func:`kb.spatial.rcc8.depth_tolerance`, the predicates' rule: a thin box is through a face
+once its middle is): along a separating axis the two boxes' projections on it
+(:func:`sat_excess`), for a face of an open container the inner object's extent across it, for
+the ground its height. Gaps keep the whole tolerance (a washer 0.5 mm above a table rests on
+it). Boxes at least ``2 tol`` across get exactly ``tol``, as before.
 
 What is not a pair, or not an interpenetration:
 
@@ -22,8 +31,8 @@ What is not a pair, or not an interpenetration:
   NIST's kit tray in its kit, refers to what the stand-in refers to);
 * an object inside an open container (``open_top``: trays, large boxes, open holders) that lies
   within the container's walls and not below its floor (in the container's frame, beyond the
-  tolerance); an object partly through a wall or the floor interpenetrates it by the smaller
-  of how far it is out of the cavity and how far it is in the box;
+  tolerance); an object partly through a wall or the floor goes through each face it reaches
+  beyond (``Finding.faces``: the face, how far beyond it, how far on the cavity's side);
 * in the robot's assembly (everything whose chain of reference objects reaches the robot), an
   object and what it holds (the flange and its effector, the effector and its load; not the
   effector and the parts of a kit it holds); an effector and the holder it hangs in; anything
@@ -721,13 +730,17 @@ def describe_misfit(slot: str, design: str, part: str, tray: str, by: float, sid
             f"({tray}, {size(tray_size)})")
 
 
-__all__ = ["FLOATING", "INTERPENETRATION", "RULES", "SIDES", "SLOT_OUTSIDE", "Boxes", "Finding", "check",
-           "describe_misfit", "in_frame_of", "overlapping_pairs", "sat_depth", "slot_misfits"]
+__all__ = ["FACES", "FLOATING", "INTERPENETRATION", "RULES", "SIDES", "SLOT_OUTSIDE", "Boxes", "Finding", "check",
+           "describe", "describe_misfit", "in_frame_of", "overlapping_pairs", "sat_depth", "sat_excess", "slot_misfits",
+           "thin_boxes"]
 
 
 def describe(f: Finding, name: Callable[[str], str], units: Units = SI) -> str:
-    """One sentence for finding ``f``: objects spelled by ``name`` (IRI -> text), the depth in
-    the file's length unit with four significant digits (``"20 mm"``, ``"0.7874 in"``)."""
+    """One sentence for finding ``f``: objects spelled by ``name`` (IRI -> text), lengths in the
+    file's length unit with four significant digits (``"20 mm"``, ``"0.7874 in"``). Through an
+    open container, each face with how far the object reaches beyond it, which a reader checks
+    against the object's box in the container's frame (``:GearBox_top_1 goes through the -y wall
+    of :GearBox_top_tray, 91.5 mm beyond it, and through its floor, 47.8 mm below it``)."""
     obj = name(f.obj)
     other = name(f.other) if f.other else None
     depth = length_text(f.depth, units)

@@ -54,8 +54,11 @@ Thin boxes
     it). Nothing changes where both boxes are wider than ``2 t`` on the axis (two bounds of a
     box cannot then both be within ``t`` of one bound), nor for a point (its two bounds are
     equally near: a point at the end of an interval is EC to it). docs/soap.md, "Thin and
-    narrow parts", has the reasoning. :func:`depth_tolerance` is the same rule for a penetration depth or a
-    gap measured along an axis (the simulated cell's support test, plausibility checks).
+    narrow parts", has the reasoning. :func:`depth_tolerance` is the same rule for a depth
+    measured along an axis — how far one box enters another, or how far two footprints
+    overlap: the simulated cell's support test, and ``kitkb validate``'s plausibility checks
+    (:mod:`kb.spatial.plausibility`: each separating-axis depth, each face of an open
+    container, the ground), which like the predicates keep the whole tolerance for a gap.
 
 Floating point: every test compares one subject bound with one object bound shifted by the
 pair's tolerance, ``b - t`` or ``b + t`` (``|x - b| <= t`` is read as ``b - t <= x <= b + t``,
