@@ -8,7 +8,11 @@ Geometry, as the kitting model states it:
 * every placed object has a ``PoseLocation`` (point, x axis, z axis) in the frame of its
   reference object; its global pose is the chain of these poses down the transformation tree
   (``G = G_ref @ L``, :mod:`kb.spatial.transforms`). The object whose location refers to itself
-  (the kitting workstation) is the world frame: it is not a solid in the scene;
+  (the kitting workstation), or a kitting workstation with no location, is the world frame: it
+  is not a solid in the scene. Any other reference object must be an object the state places:
+  one that is not (a name no file of the state declares, a SKU, a solid with no location or with
+  a relative location, which has no point) is an :class:`~kb.core.errors.InputError` at the
+  location's statement of it (:func:`unknown_reference` says why), never the world frame;
 * a shape is the ``InternalShape`` of the object's SKU, else its own
   (``hasNoSkuObject_InternalShape``): a ``BoxyShape`` (length along x, width along y, height
   along z, frame in the middle of the bottom) or a ``CylindricalShape`` (by its bounding box).
@@ -366,8 +370,10 @@ class _Builder:
                 refs[i] = (loc, ref)
         for i, (loc, ref) in refs.items():  # each reference: an object the state places, or the world frame
             j = index.get(ref)
+            if j is not None and j in rel:
+                continue
             ref_loc = self.value(ref, _PRIMARY)
-            why = unknown_reference(ref in own, asserted.get(ref, ()) if ref in own else (), j is not None and j in rel,
+            why = unknown_reference(ref in own, asserted.get(ref, ()) if ref in own else (), False,
                                     _local(ref_loc) if ref_loc is not None else None, self.refers_to_itself(ref))
             if why:
                 raise InputError(f"{_local(loc)}: its reference object {_local(ref)} {why}", self.path,
@@ -378,7 +384,7 @@ class _Builder:
             if i in done:
                 return done[i]
             if i not in rel:
-                return np.eye(4)  # the world frame (or an object with no pose: NIST's workstation)
+                return np.eye(4)  # the world frame (its location refers to itself, or a workstation with none)
             ref, m = rel[i]
             if ref is None:
                 g = m
