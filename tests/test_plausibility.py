@@ -19,7 +19,7 @@ from kb.cli import main
 from kb.core.resources import scenario_dirs
 from kb.scenario import write_scenario
 from kb.scenario.variants import write_variant
-from kb.spatial.plausibility import Boxes, check, overlapping_pairs, sat_depth
+from kb.spatial.plausibility import Boxes, check, in_frame_of, overlapping_pairs, sat_depth
 from kb.spatial.scene import Scene
 from kb.validation import validate
 from tests.shared_data import NIST_DIR
@@ -366,3 +366,40 @@ def test_findings_of_generated_workstations_with_moved_parts(tmp_path: Path) -> 
     z = [{n: re.search(r"hasPoint_Z (\S+)", b).group(1) for n, b in block.items()} for block in blocks]
     assert {n for n in moved_parts if z[0][n] != z[1][n]} <= named  # each part moved up or down is found
 
+
+
+# --- through an open container: the faces, by how much (issue 26, point 3) --------------------------
+
+@pytest.mark.parametrize("yaw", [0.0, 30.0])
+def test_a_part_on_its_side_through_a_wall_and_the_floor_names_both(tmp_path: Path, yaw: float) -> None:
+    """NIST's GearBox parts lie on their side with their origin at the floor (half of them
+    below it), some past a wall of their tray: GearBox_top_1 reaches 91.5 mm beyond the -y wall
+    and 47.8 mm below the floor, and validate said "goes 29 mm through a wall" (29 mm: how far
+    it must move along x to clear the whole tray, the separating-axis depth; "a wall" because
+    the wall's 91.5 mm is more than the floor's 47.8). Shaped so in the GearBox-like millimetre
+    workstation (a shaft lying along y, its axis at the floor, 20 mm past the -y wall, in a tray
+    as it is and turned): each face is named with how far the part reaches beyond it, in the
+    tray's frame — numbers a reader checks against the boxes."""
+    from kb.io.turtle import turtle
+    from kb.scenario.variants import turn
+    from tests.test_thin_parts import gearbox_graphs
+    from tests.test_thin_plausibility import _move
+
+    g = gearbox_graphs()["init"]
+    if yaw:
+        turn(g, yaw, ["part_shaft_tray"])
+    path = tmp_path / "init.ttl"
+    path.write_text(_move(turtle(g), "part_shaft_1", Y=-94.239, Z=0.0))  # the tray's -y wall is at y = -74.239 mm
+    assert [m for _, _, m in _found(path) if "part_shaft_tray" in m] == [
+        ":part_shaft_1 goes through the -y wall of :part_shaft_tray, 20 mm beyond it and 14.24 mm inside, and through "
+        "its floor, 2.483 mm below it"]
+    scene = Scene.from_files([path])
+    i, tray = (scene.index[next(n for n in scene.names if n.endswith("#" + k))] for k in ("part_shaft_1", "part_shaft_tray"))
+    part = Boxes.of(scene.poses[[i]], scene.local_lo[[i]], scene.local_hi[[i]])
+    lo, hi = (x[0] * 1000 for x in in_frame_of(part, Boxes.of(scene.poses[[tray]], scene.local_lo[[tray]],
+                                                                 scene.local_hi[[tray]])))
+    t_lo = scene.local_lo[tray] * 1000
+    assert (t_lo[1] - lo[1], hi[1] - t_lo[1], t_lo[2] - lo[2]) == pytest.approx((20.0, 14.239, 2.483))
+    (finding,) = [f for f in check(scene) if f.other and f.other.endswith("#part_shaft_tray")]
+    assert [(face, round(b * 1000, 6), round(c * 1000, 6)) for face, b, c in finding.faces] == [
+        ("-y", 20.0, 14.239), ("floor", 2.483, 2.483)]
