@@ -22,7 +22,8 @@ Whole processes (``bench_validate.run_e2e``: wall and CPU seconds, children incl
 Then, in one process of this checkout per file: the time ``check_geometry`` takes inside
 ``validate`` (wall and the thread's CPU) against validate's own wall time, medians of
 ``--runs``. The findings (the ``interpenetration`` and ``floating-object`` lines) of ``now``
-and ``before`` are compared line for line.
+and ``before`` are compared line by line: the place, the rule and the objects named (the words of a
+part through a container changed with 34c1ce9).
 
     git worktree add /tmp/kitkb-66febab 66febab
     git worktree add /tmp/kitkb-8749b58 8749b58
@@ -122,8 +123,15 @@ def data(parts: int, out: Path, rate: float) -> dict[str, Path]:
     return {"init": init, "init-implausible": target}
 
 
-def findings(report: str) -> list[str]:
-    return sorted(line for line in report.splitlines() if line.endswith(PLAUSIBILITY))
+def findings(report: str) -> list[tuple[str, str, tuple[str, ...]]]:
+    """The plausibility findings of a report: (file:line, rule, the objects named), the words
+    aside (a part through a container names the faces it goes through since 34c1ce9)."""
+    out = []
+    for line in report.splitlines():
+        if line.endswith(PLAUSIBILITY):
+            where, message = line.split(": warning: ", 1)
+            out.append((where, message.rsplit("[", 1)[1].rstrip("]"), tuple(re.findall(r":[\w.-]+", message))))
+    return sorted(out)
 
 
 def in_process(tree: Path, path: Path, runs: int) -> dict[str, float]:
@@ -177,7 +185,7 @@ def measure(files: dict[str, Path], trees: dict[str, list[str]], runs: int) -> d
     return out
 
 
-def render(rec: dict[str, Any]) -> str:
+def render(rec: dict[str, Any], earlier: list[dict[str, Any]] = ()) -> str:  # type: ignore[assignment]
     m = rec["machine"]
     lines = [f"## {TITLE}", "",
              f"`benchmarks/bench_validate_geometry.py` ({rec['date']}; {m['cpu']}, {m['cores']} cores, Python "
@@ -210,7 +218,7 @@ def render(rec: dict[str, Any]) -> str:
     for name, row in rec["files"].items():
         same = row.get("same_findings_as_before")
         lines.append(f"- {name}: {row['findings']} plausibility findings"
-                     + ("" if same is None else (", line for line the same as `before`'s" if same
+                     + ("" if same is None else (", the same as `before`'s (each line, rule and objects)" if same
                                                  else ", NOT the same as `before`'s"))
                      + f"; now / baseline {row['ratio_now_baseline']:.2f}"
                      + (f" (before / baseline {row['ratio_before_baseline']:.2f})" if "ratio_before_baseline" in row
@@ -218,6 +226,20 @@ def render(rec: dict[str, Any]) -> str:
                      + f"; the geometry checks add {row['now']['wall_s'] - row['now-no-geometry']['wall_s']:+.2f} s wall "
                        f"and {row['now']['cpu_s'] - row['now-no-geometry']['cpu_s']:+.2f} s CPU to the whole process "
                        "(they run while SHACL runs in its forked helper).")
+    if rec.get("note"):
+        lines += ["", rec["note"]]
+    if earlier:
+        lines += ["", "Earlier runs (`benchmarks/results/validate_geometry.json`), wall / baseline and the geometry's "
+                      "share of validate's wall in one process:", ""]
+        for old in earlier:
+            ratios = "; ".join(
+                f"{name} now {row['ratio_now_baseline']:.2f}"
+                + (f", before ({old['before_rev']}) {row['ratio_before_baseline']:.2f}" if "ratio_before_baseline" in row
+                   else "")
+                + f", share {100 * old['in_process'][name]['share_wall']:.1f} %"
+                for name, row in old["files"].items())
+            lines.append(f"- {old['date'][:10]}, now {old.get('now_rev', '?')} (load {old['load'][0]:.1f} to "
+                         f"{old['load'][1]:.1f}): {ratios}")
     return "\n".join(lines) + "\n"
 
 
@@ -240,7 +262,8 @@ def main() -> int:
     ap.add_argument("--render", action="store_true", help="only rewrite the section from the latest results")
     args = ap.parse_args()
     if args.render:
-        write_doc(TITLE, render(json.loads(RESULTS.read_text())[-1]))
+        history = json.loads(RESULTS.read_text())
+        write_doc(TITLE, render(history[-1], history[-3:-1]))
         return 0
     if args.baseline is None:
         ap.error("--baseline DIR is needed (git worktree add /tmp/kitkb-66febab 66febab)")
@@ -264,9 +287,9 @@ def main() -> int:
               "load": [round(load0, 2), round(os.getloadavg()[0], 2)]}
     history = json.loads(RESULTS.read_text()) if RESULTS.exists() else []
     RESULTS.write_text(json.dumps(history + [record], indent=1) + "\n")
-    print(render(record))
+    print(render(record, history[-2:]))
     if not args.no_doc:
-        write_doc(TITLE, render(record))
+        write_doc(TITLE, render(record, history[-2:]))
     return 0
 
 
