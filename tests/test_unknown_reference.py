@@ -173,6 +173,26 @@ def test_nist_misspelt_reference(capsys: pytest.CaptureFixture[str]) -> None:
     assert "did you mean :part_b_tray?" in errors[0].message
 
 
+@pytest.mark.parametrize("ref, words", [
+    ("part_b_tary", "unknown individual part_b_tary (object of hasPhysicalLocation_RefObject on part_b_1_pose)"),
+    ("stock_keeping_unit_part_b", "hasPhysicalLocation_RefObject of part_b_1_pose is stock_keeping_unit_part_b (it is "
+                                  "StockKeepingUnit), not an individual of the property's range"),
+])
+def test_db_load_names_the_reference_the_model_requires_at_its_statement(ref: str, words: str, tmp_path: Path,
+                                                                          capsys: pytest.CaptureFixture[str]) -> None:
+    """A required object value that is no individual of its range is refused by db load at the
+    statement that gives it, saying so (not "has no value", at the subject's declaration)."""
+    text = (DATA / "kittingInstancesMisspelt.owl").read_text().replace(":part_b_tary)", f":{ref})")
+    path = tmp_path / "state.owl"
+    path.write_text(text)
+    line = text[:text.index(f":part_b_1_pose :{ref})")].count("\n")  # the statement's first line, before it
+    assert main(["db", "load", str(path), "--db", str(tmp_path / "w.sqlite")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"{path}:{line}: error: {words}"), err
+    assert not (tmp_path / "w.sqlite").exists() or main(["db", "dump", "--db", str(tmp_path / "w.sqlite"),
+                                                         "-o", str(tmp_path / "d.ttl")]) != 0
+
+
 def test_nist_parts_with_relative_locations_are_read_as_before() -> None:
     """Parts located by a relative location in their tray (NIST's InitNoLoc): not placed,
     nothing refers to them; the state is read and conforms."""

@@ -136,6 +136,7 @@ class RowBuilder:
         self.props: dict[Any, _Prop] = {}  # predicate term -> model property
         self.class_of: dict[Any, str | None] = {}  # type term -> model class IRI or None
         self.pending: list[Any] = []  # statements whose subject was not typed (yet)
+        self.out_of_range: dict[tuple[int, str], int] = {}  # (node, property) -> a value outside its range
         self.other_types: list[tuple[int, Any]] = []  # (node, type term) of non-model types
         self.literals: dict[tuple[int, str], tuple[str, str | None, str | None]] = {}
         self.outside: dict[tuple[str, str, str, str, str | None, str | None], None] = {}
@@ -470,6 +471,7 @@ class RowBuilder:
                 if value is not None and not _fits(in_tables[value], target):
                     row[pos] = None
                     self._keep_resource(node, prop.iri, keys[value])
+                    self.out_of_range[(node, prop.iri)] = value
 
     def _required(self) -> None:
         """Every NOT NULL column of every row is filled, or the file is refused."""
@@ -479,9 +481,23 @@ class RowBuilder:
                     if row[pos] is None:
                         cls = self.primary(node)
                         col = self.m.tables[table.name].column(table.columns[pos])
+                        iri = col.info.get("iri", col.name)
+                        if (node, iri) in self.out_of_range:  # given, but not an individual it may be
+                            raise self._out_of_range(node, iri, self.out_of_range[(node, iri)])
                         raise self.fail(node, RDF_TYPE, None,
                                         f"{local_name(self.keys[node])} ({local_name(cls)}) has no value for "
                                         f"{local_name(col.info.get('iri', col.name))}, which the model requires")
+
+    def _out_of_range(self, node: int, iri: str, value: int) -> InputError:
+        """The required value ``value`` of ``node``'s ``iri`` that the model's range does not admit,
+        at its statement, in the words of validate's unknown-individual and class rules."""
+        subject, obj = local_name(self.keys[node]), local_name(self.keys[value])
+        if self.in_tables[value] is None:
+            return self.fail(node, iri, None, f"unknown individual {obj} (object of {local_name(iri)} on {subject}), "
+                                              "which the model requires")
+        return self.fail(node, iri, None, f"{local_name(iri)} of {subject} is {obj} (it is "
+                                          f"{local_name(self.primary(value))}), not an individual of the property's "
+                                          "range, which the model requires")
 
     def _types(self) -> dict[tuple[int, str], None]:
         """``kitkb_type`` rows: asserted types of individuals other than their primary class."""
