@@ -252,3 +252,13 @@ def test_the_builder_and_the_survey_agree_on_every_reference(tmp_path: Path) -> 
         mine = [d for d in survey(src).defects if d.rule == UNKNOWN_REFERENCE]
         assert [(src.line_of(*d.at), d.message) for d in mine][:1] == [(got.value.line, got.value.message)], case
         assert len({d.node for d in mine}) == len(mine)
+
+
+def test_an_ignored_error_does_not_hide_what_follows_from_it() -> None:
+    """validate --ignore unknown-individual: the misspelt reference is still reported, as the
+    unknown-reference that predicates refuses (an ignored rule stands for nothing)."""
+    path = DATA / "kittingInstancesMisspelt.owl"
+    report = validate([path], ignore={"unknown-individual"})
+    assert not report.conforms
+    assert [(d.rule, d.line) for d in report.diagnostics if d.severity == "error"] == [("unknown-reference", 1386)]
+    assert "unknown-reference" not in {d.rule for d in validate([path]).diagnostics}

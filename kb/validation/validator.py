@@ -180,7 +180,7 @@ def _validate(paths: Sequence[str | Path], shapes_files: Sequence[str | Path] | 
             g = checked[id(src)]
             shacl_diags += diagnostics(found[id(src)], src, g, shapes, namer, ctx,
                                        user.graph if user is not None else None)
-    diags = _follows(dedupe(ctx.out + shacl_diags), ctx.follows)
+    diags = _follows(dedupe(ctx.out + shacl_diags), ctx.follows, ignore)
     return ValidationReport(diags, [str(s.path) for s in sources], time.perf_counter() - started)
 
 
@@ -200,16 +200,19 @@ def _not_read(src: Any, ctx: rules.RuleContext, ignore: frozenset[str]) -> list[
     return [warning] if warning is not None else []
 
 
-def _follows(diags: list[Diagnostic], follows: dict[tuple[str, str, str, str], frozenset[Any]]
-             ) -> list[Diagnostic]:
+def _follows(diags: list[Diagnostic], follows: dict[tuple[str, str, str, str], frozenset[Any]],
+             ignore: frozenset[str] = frozenset()) -> list[Diagnostic]:
     """Without the findings that only follow from another error of the same file: geometry
     that cannot be read once an error says why (a misspelt coordinate is an unknown property,
     not also a missing value); a pose found implausible when one of its nodes has an error (an
     axis not of unit length). A finding's nodes are names (any other error there) or pairs
-    (name, word): another error there whose message has the word in it (case aside)."""
+    (name, word): another error there whose message has the word in it (case aside). An error
+    of a rule in ``ignore`` is left out of the report, so it stands for nothing: what follows from
+    it is reported (``--ignore unknown-individual`` must not hide the unknown-reference that
+    ``predicates`` then refuses)."""
     wrong: dict[tuple[str, str], list[Diagnostic]] = {}
     for d in diags:
-        if d.severity == "error":
+        if d.severity == "error" and d.rule not in ignore:
             wrong.setdefault((d.file, d.focus), []).append(d)
 
     def follows_error(d: Diagnostic) -> bool:
