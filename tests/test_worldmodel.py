@@ -336,3 +336,22 @@ def test_poses_are_read_fresh_while_the_tree_is_kept(wm, url):
         other.set_global_pose(part, target)
     assert np.allclose(wm.global_pose(part), target)
     assert np.allclose(wm.global_poses([part])[part], target)
+
+
+def test_an_object_located_by_a_relative_location_has_no_pose(tmp_path):
+    """A tray located "in" the workstation by a relative location (no numbers), and the parts
+    posed in its frame, have no global pose: refused by name, left out of global_poses(), never
+    read as the identity (the tray at its reference's origin, its parts around it)."""
+    data = Path(__file__).parent / "data" / "unknown_reference" / "kittingInstancesRelativeTray.owl"
+    db = tmp_path / "w.sqlite"
+    world.load(data, world.normalize_url(db))
+    with WorldModel(world.normalize_url(db)) as w:
+        with pytest.raises(InputError, match="part_a_tray has no pose in the world model: its location has no point"):
+            w.global_pose("part_a_tray")
+        with pytest.raises(InputError, match="part_a_1 has no pose .* its reference object part_a_tray's location"):
+            w.global_pose("part_a_1")
+        poses = w.global_poses()
+        assert "part_b_1" in poses and not {"part_a_tray", "part_a_1", "part_a_2"} & set(poses)
+        assert np.allclose(poses["part_b_1"], w.global_pose("part_b_1"))
+        with pytest.raises(InputError, match="part_a_1 has no pose"):
+            w.global_poses(["part_a_1"])

@@ -39,8 +39,12 @@ class PoseTree:
 
     ``ref[i]`` is the index of object ``i``'s reference object (-1 at the root), ``loc[i]``
     the id of its primary location, ``point[i]``/``x_axis[i]``/``z_axis[i]`` the ids of its
-    pose rows (0 for a location without numbers, which counts as the identity). ``depth[i]``
-    is its distance from the root (-1 when its chain has a cycle or leaves the tree).
+    pose rows (0 for a location without numbers). ``depth[i]`` is its distance from the root
+    (-1 when its chain has a cycle or leaves the tree). ``posed[i]`` is False where the object,
+    or one of its reference objects, is located relative to another by a location without
+    numbers (a ``RelativeLocation``: "in the tray", no point): it has no pose to compute, as the
+    scene builder says (:mod:`kb.spatial.scene`). A root without numbers (NIST's workstation,
+    located relative to itself) is the world frame.
     """
 
     ids: list[int]
@@ -57,6 +61,7 @@ class PoseTree:
     by_iri: dict[str, int] = field(default_factory=dict)
     depth: NDArray[np.int64] = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     levels: list[NDArray[np.int64]] = field(default_factory=list)
+    posed: NDArray[np.bool_] = field(default_factory=lambda: np.zeros(0, dtype=bool))
 
     @classmethod
     def from_rows(cls, rows: Sequence[tuple[Any, ...]], token: str | None) -> "PoseTree":
@@ -75,6 +80,9 @@ class PoseTree:
         order = np.argsort(tree.depth, kind="stable")
         bounds = np.searchsorted(tree.depth[order], np.arange(top + 2))
         tree.levels = [order[bounds[d]:bounds[d + 1]] for d in range(top + 1)]
+        tree.posed = (ref < 0) | (np.array(tree.point, dtype=np.int64) != 0)  # its own numbers, or the root
+        for level in tree.levels[1:]:
+            tree.posed[level] &= tree.posed[ref[level]]
         return tree
 
     def find(self, name: str) -> int:
@@ -97,6 +105,11 @@ class PoseTree:
         out = [i]
         while self.ref[out[-1]] >= 0:
             out.append(int(self.ref[out[-1]]))
+        if not self.posed[i]:
+            j = next(j for j in reversed(out) if not self.posed[j])  # the first without numbers, from the root
+            whose = "its location" if j == i else f"its reference object {self.names[j]}'s location"
+            raise InputError(f"{self.names[i]} has no pose in the world model: {whose} has no point (a relative "
+                             "location, such as 'in the tray', has no numbers to compose)")
         return out
 
     def closure(self, indexes: Sequence[int]) -> list[int]:

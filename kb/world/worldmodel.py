@@ -11,7 +11,8 @@ Poses: an object's primary location is a ``PoseLocation`` (point, x axis, z axis
 to its reference object; :meth:`WorldModel.pose` is that relative transform ``L``, and
 :meth:`WorldModel.global_pose` composes ``L`` up the transformation tree. A sensed global
 pose ``G'`` is stored with equation (1), ``L' = L G^-1 G'``, keeping the reference object.
-A ``RelativeLocation`` (no numbers) counts as the identity relative to its reference.
+An object located by a ``RelativeLocation`` (no numbers), or relative to such an object, has no
+pose: ``global_pose`` says so (an InputError) and ``global_poses()`` leaves it out.
 
 Stable states: :meth:`WorldModel.step` collects updates and applies them in one transaction
 only if the caller confirms that all predicates of the step hold; otherwise nothing changes.
@@ -266,14 +267,15 @@ class WorldModel:
         return self._read(run)  # type: ignore[no-any-return]
 
     def global_poses(self, names: Iterable[str] | None = None) -> dict[str, Matrix]:
-        """Global poses of all solid objects (or of ``names``), keyed by name: one query, numpy."""
+        """Global poses of all solid objects that have one (or of ``names``), keyed by name: one query, numpy."""
         def run(cur: Any, tree: P.PoseTree) -> dict[str, Matrix]:
             wanted = None if names is None else [self._find(tree, n) for n in names]
             if wanted is None:
                 bad = np.nonzero(tree.depth < 0)[0]
                 if len(bad):
                     tree.chain(int(bad[0]))  # names the cycle
-                members = P.Members(tree, [int(i) for i in np.concatenate(tree.levels or [np.zeros(0, int)])])
+                members = P.Members(tree, [int(i) for i in np.concatenate(tree.levels or [np.zeros(0, int)])
+                                           if tree.posed[i]])  # objects with no pose are left out
                 numbers = self._numbers(cur, None)
             else:
                 members = P.Members(tree, tree.closure(wanted))
