@@ -23,6 +23,7 @@ works, and a killed run leaves the lock to the system, which gives it back.
 from __future__ import annotations
 
 import datetime as dt
+import itertools
 import json
 import logging
 import tempfile
@@ -35,8 +36,10 @@ import numpy as np
 from sqlalchemy import (Boolean, Column, DateTime, Float, ForeignKey, Integer, MetaData, String, Table, Text,
                         func, insert, inspect, select, text, update)
 
+from kb.core.errors import InputError
 from kb.core.resources import ontology_path
 from kb.io import load_file
+from kb.io.turtle import Names
 from kb.core.units import SI, Units
 from kb.execution.records import ActionRecord, AtomCheck, FailureRecord, RunRecord, Sighting
 from kb.metrics.kits import KitScore, LostPoint
@@ -124,11 +127,22 @@ def prepare(url: str | Path, init: str | Path, domain_files: Sequence[str | Path
         domain = _domain_sources(domain_files) if domain_files else [ontology_path("kitting-domain.ttl")]
         with tempfile.TemporaryDirectory(prefix="kitkb-run-") as tmp:
             both = Path(tmp) / f"{Path(init).stem}+domain.nt"
+            # N-Triples spellings: <iri>, _:label, "escaped"^^<dt> (rdflib's n3() writes a string with
+            # a line break as """...""", which is Turtle, not N-Triples: NIST's STL file names are such)
+            spell = Names({}).term
+            starts: list[tuple[int, Any]] = []  # (first line in `both`, source) of each file's statements
             with open(both, "w", encoding="utf-8") as out:
+                line = 1
                 for path in [init, *domain]:
-                    for s, p, o in load_file(path).triples():
-                        out.write(f"{s.n3()} {p.n3()} {o.n3()} .\n")
-            report = load(both, url, replace=replace)
+                    src = load_file(path)
+                    starts.append((line, src))
+                    for s, p, o in src.triples():
+                        out.write(f"{spell(s)} {spell(p)} {spell(o)} .\n")
+                        line += 1
+            try:
+                report = load(both, url, replace=replace)
+            except InputError as exc:
+                raise _in_source(exc, both, starts, init) from None
     except BaseException:
         held.release()
         raise
@@ -137,6 +151,19 @@ def prepare(url: str | Path, init: str | Path, domain_files: Sequence[str | Path
         old.release()
     _PREPARED[url] = held
     return report
+
+
+def _in_source(exc: InputError, both: Path, starts: list[tuple[int, Any]], init: str | Path) -> InputError:
+    """An error of the load at a line of kitkb's own N-Triples file ``both``, told at the file
+    and line of the statement it was written from (the temporary file is gone when it is read)."""
+    if exc.file is None or Path(exc.file) != both:
+        return exc
+    if exc.line is None:
+        return InputError(exc.message, init)
+    first, src = next((start for start in reversed(starts) if start[0] <= exc.line), starts[0])
+    statement = next(itertools.islice(src.triples(), exc.line - first, None), None)
+    line = src.line_of(*statement) if statement is not None else None
+    return InputError(exc.message, src.path, line)
 
 
 def _domain_sources(domain_files: Sequence[str | Path]) -> list[Path]:
