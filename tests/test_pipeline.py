@@ -66,3 +66,15 @@ def test_main_job_reports_a_broken_scenario(tmp_path: Path, monkeypatch: pytest.
     text = out.getvalue()
     assert "did you mean ktw:hasPoint_X?" in text and "found problems" in text
     assert not (tmp_path / "out" / "broken" / "plan.txt").exists()
+
+
+def test_a_run_started_inside_the_scenario_folder_is_named_by_it(tmp_path: Path,
+                                                                   monkeypatch: pytest.MonkeyPatch) -> None:
+    """`kitkb run init.ttl goal.ttl` from inside the folder: the scenario is the folder's name
+    (its outputs in their own folder, the report's `scenario`), not an empty name."""
+    small = next(d for d in scenario_dirs() if d.name == "small-kit")
+    monkeypatch.chdir(small)
+    report = tmp_path / "run.json"
+    assert main(["-q", "run", "init.ttl", "goal.ttl", "-o", str(tmp_path / "out"), "--report", str(report)]) == 0
+    assert json.loads(report.read_text())["scenario"] == "small-kit"
+    assert (tmp_path / "out" / "small-kit" / "plan.txt").is_file()

@@ -177,7 +177,8 @@ def run_files(out: TextIO, init: str | Path, goal: str | Path, out_dir: str | Pa
     """The closed loop on one initial and goal state: 0 when the goal holds at the end."""
     progress = _Progress(out, quiet, show)
     reports: list[dict] = []
-    name = Path(init).parent.name if Path(init).stem == "init" else Path(init).stem
+    # a state called init.ttl is named by its folder (run from inside it too: ./init.ttl)
+    name = Path(init).resolve().parent.name if Path(init).stem == "init" else Path(init).stem
     status = _scenario(name, Path(init), Path(goal), Path(out_dir) / name, progress, options, reports, model_files=False)
     _write_report(report, reports, progress.show)
     return status

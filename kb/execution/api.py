@@ -158,7 +158,7 @@ def run_plan(plan: Sequence[str], init: str | Path, goal: str | Path, *, cell: C
         from kb.execution.store import RunStore, prepare
         prepare(db, init, domain_files, replace=replace)
         store = own_store = RunStore(db)
-    record = RunRecord(name or Path(init).parent.name, seed, plan_time=plan_time)
+    record = RunRecord(name or Path(init).resolve().parent.name, seed, plan_time=plan_time)
     try:
         return execute_plan(plan, cell, inputs, record, accuracy=accuracy, store=store, paths=(init, goal),
                             notifier=notifier, progress=progress, planner=planner)
