@@ -1,7 +1,8 @@
 """CRCL, the canonical robot command language of the first paper (§V-C): commands as typed
 values (:mod:`.commands`, :mod:`.pose`), their text form (:mod:`.text`: NIST's kittingViewer
 layout, written by default, and the first paper's Fig. 11) and XML
-instances of NIST's early CRCL.xsd (:mod:`.xml`), files by suffix (:mod:`.files`,
+instances of NIST's early CRCL.xsd (:mod:`.xml`), CRCL 1.x documents (:mod:`.instance`:
+CRCLCommandInstance, CRCLProgramInstance, CRCLStatus), files by suffix (:mod:`.files`,
 ``kitkb crcl convert``); the cell contract an executor talks to (:mod:`.cell`:
 :class:`CellInterface`, :class:`Status`, :class:`Observation`, USARTruth lines), kitkb's cell
 protocol on TCP (:mod:`.wire`) and a cell behind it (:mod:`.remote`: :class:`RemoteCell`).
@@ -16,7 +17,15 @@ from kb.crcl.commands import (ANGLE_UNITS, COMMANDS, COORDINATE_FRAMES, LENGTH_U
                               SetRelativeAcceleration, SetRelativeSpeed, StartObjectScan,
                               StopMotion, StopObjectScan, Unreadable)
 from kb.crcl.cell import CellInterface, Observation, Status, execute_program, parse_truth_line, truth_line
+from kb.crcl.commands import (CRCL1_COMMANDS, CRCL1_UNITS, PAPER_UNITS, ActuateJoints, ConfigureJointReports,
+                              GetStatus, JointActuation, JointReport, Parameter, PoseTolerance, RotSetting,
+                              RunProgram, SetEndEffector, SetEndEffectorParameters, SetEndPoseTolerance,
+                              SetForceUnits, SetIntermediatePoseTolerance, SetMotionCoordination,
+                              SetRobotParameters, SetRotAccel, SetRotSpeed, SetTorqueUnits)
 from kb.crcl.files import convert, read_file, write_file
+from kb.crcl.instance import (CommandStatus, GripperStatus, JointStatus, read_command_instance,
+                              read_program_instance, read_status, write_command_instance,
+                              write_program_instance, write_status)
 from kb.crcl.pose import Pose
 from kb.crcl.remote import RemoteCell
 from kb.crcl.text import read_text, write_text
@@ -30,6 +39,12 @@ __all__ = [
     "SetEndAngleTolerance", "SetEndPointTolerance", "SetIntermediatePointTolerance", "SetLengthUnits",
     "SetRelativeAcceleration", "SetRelativeSpeed", "StartObjectScan", "Status", "StopMotion",
     "StopObjectScan", "Unreadable",
+    "CRCL1_COMMANDS", "CRCL1_UNITS", "PAPER_UNITS", "ActuateJoints", "ConfigureJointReports", "GetStatus",
+    "JointActuation", "JointReport", "Parameter", "PoseTolerance", "RotSetting", "RunProgram", "SetEndEffector",
+    "SetEndEffectorParameters", "SetEndPoseTolerance", "SetForceUnits", "SetIntermediatePoseTolerance",
+    "SetMotionCoordination", "SetRobotParameters", "SetRotAccel", "SetRotSpeed", "SetTorqueUnits",
+    "CommandStatus", "GripperStatus", "JointStatus", "read_command_instance", "read_program_instance",
+    "read_status", "write_command_instance", "write_program_instance", "write_status",
     "convert", "default_xsd", "execute_program", "parse_truth_line", "read_file", "read_text", "read_xml",
     "schema", "truth_line", "write_file", "write_text", "write_xml",
 ]

@@ -25,6 +25,10 @@ LENGTH_UNITS = ("meter", "millimeter", "inch")
 ANGLE_UNITS = ("degree", "radian")
 #: Coordinate systems of the paper's ``SetCoordinateFrame``.
 COORDINATE_FRAMES = ("Workstation", "RobotBase", "ToolTip")
+#: Force units of CRCL 1.x's ``ForceUnitEnumType``.
+FORCE_UNITS = ("newton", "pound", "ounce")
+#: Torque units of CRCL 1.x's ``TorqueUnitEnumType``.
+TORQUE_UNITS = ("newtonMeter", "footPound")
 
 
 def _checked(cls_name: str, name: str, kind: str, value: object) -> object:
@@ -40,10 +44,24 @@ def _checked(cls_name: str, name: str, kind: str, value: object) -> object:
             return operator.index(value)  # type: ignore[arg-type]
         except TypeError:
             raise ValueError(f"{cls_name}.{name} must be an integer, not {value!r}") from None
+    if kind == "bool":
+        if not isinstance(value, bool):
+            raise ValueError(f"{cls_name}.{name} must be true or false, not {value!r}")
+        return value
+    if kind == "float | None":
+        return None if value is None else _checked(cls_name, name, "float", value)
+    if kind == "fraction":
+        number = _checked(cls_name, name, "float", value)
+        if not 0.0 <= number <= 1.0:  # type: ignore[operator]
+            raise ValueError(f"{cls_name}.{name} must be a fraction from 0 to 1, not {value!r}")
+        return number
     expected = {"str": str, "Pose": Pose}[kind]
     if not isinstance(value, expected):
         raise ValueError(f"{cls_name}.{name} must be a {kind}, not {value!r}")
     return value
+
+
+_KINDS = frozenset({"float", "int", "str", "Pose", "bool", "float | None", "fraction"})
 
 
 @dataclass(frozen=True)
@@ -62,7 +80,7 @@ class Command:
     def __post_init__(self) -> None:
         name = type(self).__name__
         for f in fields(self):
-            if f.name != "line" and isinstance(f.type, str) and f.type in ("float", "int", "str", "Pose"):
+            if f.name != "line" and isinstance(f.type, str) and f.type in _KINDS:
                 object.__setattr__(self, f.name, _checked(name, f.name, f.type, getattr(self, f.name)))
         for f in fields(self):
             if self.choices and f.type == "str" and getattr(self, f.name) not in self.choices:
@@ -119,15 +137,20 @@ class MoveStraightTo(Command):
 
 @dataclass(frozen=True)
 class MoveThroughTo(Command):
-    """Move near every waypoint but the last, and stop at the last (at least one waypoint).
+    """Move near every waypoint but the last, and stop at the last (at least one waypoint);
+    ``straight`` (CRCL 1.x's ``MoveStraight``): in straight lines between them, which the
+    paper's form and CRCL.xsd cannot say (only ``straight=False`` is written there).
 
     ``num_positions`` (the XSD's ``NumPositions``, the paper's ``numPoses``) is derived.
     """
 
     waypoints: tuple[Pose, ...]
+    straight: bool = False
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "waypoints", tuple(self.waypoints))
+        if not isinstance(self.straight, bool):
+            raise ValueError(f"MoveThroughTo.straight must be true or false, not {self.straight!r}")
         if not self.waypoints or not all(isinstance(p, Pose) for p in self.waypoints):
             raise ValueError(f"MoveThroughTo.waypoints must be one or more Poses, not {self.waypoints!r}")
 
@@ -255,6 +278,188 @@ class StopObjectScan(Command):
     """Deactivate the object sensor (not in CRCL.xsd)."""
 
 
+# --- CRCL 1.x (NIST's CRCLCommands.xsd, doc/Reference.md) ---------------------------------------
+
+@dataclass(frozen=True)
+class GetStatus(Command):
+    """Report status immediately (CRCL 1.x)."""
+
+
+@dataclass(frozen=True)
+class SetEndEffector(Command):
+    """Set the end effector's effectivity, a fraction from 0 to 1 (CRCL 1.x): of a gripper
+    0 closed, 1 open. Settings 1 and 0 are :class:`OpenGripper` and :class:`CloseGripper`
+    when read; this class holds the settings between."""
+
+    setting: float
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        object.__setattr__(self, "setting", _checked("SetEndEffector", "setting", "fraction", self.setting))
+
+
+@dataclass(frozen=True)
+class SetForceUnits(Command):
+    """Force units of later commands: ``newton``, ``pound`` or ``ounce`` (CRCL 1.x)."""
+
+    unit_name: str
+    choices: ClassVar[tuple[str, ...]] = FORCE_UNITS
+
+
+@dataclass(frozen=True)
+class SetTorqueUnits(Command):
+    """Torque units of later commands: ``newtonMeter`` or ``footPound`` (CRCL 1.x)."""
+
+    unit_name: str
+    choices: ClassVar[tuple[str, ...]] = TORQUE_UNITS
+
+
+@dataclass(frozen=True)
+class SetMotionCoordination(Command):
+    """Whether rotation and translation must finish together (CRCL 1.x)."""
+
+    coordinated: bool
+
+
+@dataclass(frozen=True)
+class RotSetting(Command):
+    """Base of :class:`SetRotSpeed` and :class:`SetRotAccel`: an absolute ``setting`` or, with
+    ``relative``, a fraction (0 to 1) of the maximum."""
+
+    setting: float
+    relative: bool = False
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.relative and not 0.0 <= self.setting <= 1.0:
+            raise ValueError(f"{type(self).__name__}: a relative setting is a fraction from 0 to 1, "
+                             f"not {self.setting!r}")
+
+
+@dataclass(frozen=True)
+class SetRotSpeed(RotSetting):
+    """Rotational speed (CRCL 1.x): ``setting`` in angle units per second, or with
+    ``relative`` a fraction (0 to 1) of the maximum."""
+
+
+@dataclass(frozen=True)
+class SetRotAccel(RotSetting):
+    """Rotational acceleration (CRCL 1.x): ``setting`` in angle units per second per second,
+    or with ``relative`` a fraction (0 to 1) of the maximum."""
+
+
+@dataclass(frozen=True)
+class PoseTolerance:
+    """CRCL 1.x's ``PoseToleranceType``: each optional; point tolerances in length units, axis
+    tolerances in angle units."""
+
+    x_point: float | None = None
+    y_point: float | None = None
+    z_point: float | None = None
+    x_axis: float | None = None
+    z_axis: float | None = None
+
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            object.__setattr__(self, f.name, _checked("PoseTolerance", f.name, "float | None", getattr(self, f.name)))
+
+
+@dataclass(frozen=True)
+class SetEndPoseTolerance(Command):
+    """Tolerance of the final pose (CRCL 1.x); the paper's SetEndPointTolerance and
+    SetEndAngleTolerance are the two halves of it."""
+
+    tolerance: PoseTolerance
+
+
+@dataclass(frozen=True)
+class SetIntermediatePoseTolerance(Command):
+    """Tolerance near intermediate waypoints (CRCL 1.x)."""
+
+    tolerance: PoseTolerance
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A name and a value, as CRCL 1.x's ``ParameterSettingType`` (both tokens)."""
+
+    name: str
+    value: str
+
+
+@dataclass(frozen=True)
+class SetEndEffectorParameters(Command):
+    """Parameters of the end effector, meaning not CRCL's (CRCL 1.x)."""
+
+    settings: tuple[Parameter, ...]
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "settings", tuple(self.settings))
+        if not all(isinstance(p, Parameter) for p in self.settings):
+            raise ValueError(f"{type(self).__name__}.settings must be Parameters, not {self.settings!r}")
+
+
+@dataclass(frozen=True)
+class SetRobotParameters(SetEndEffectorParameters):
+    """Parameters of the robot, meaning not CRCL's (CRCL 1.x)."""
+
+
+@dataclass(frozen=True)
+class JointActuation:
+    """One joint of an :class:`ActuateJoints`: its number (from 1), target position (length or
+    angle units) and either speed and acceleration or (``force_control``) force or torque and
+    its rate of change, each optional."""
+
+    number: int
+    position: float
+    speed: float | None = None
+    accel: float | None = None
+    force_control: bool = False
+    force: float | None = None
+    change_rate: float | None = None
+
+
+@dataclass(frozen=True)
+class ActuateJoints(Command):
+    """Move the given joints to their positions (CRCL 1.x)."""
+
+    joints: tuple[JointActuation, ...]
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "joints", tuple(self.joints))
+        if not all(isinstance(j, JointActuation) for j in self.joints):
+            raise ValueError(f"ActuateJoints.joints must be JointActuations, not {self.joints!r}")
+
+
+@dataclass(frozen=True)
+class JointReport:
+    """What to report of one joint (CRCL 1.x's ``ConfigureJointReportType``)."""
+
+    number: int
+    position: bool
+    torque_or_force: bool
+    velocity: bool
+
+
+@dataclass(frozen=True)
+class ConfigureJointReports(Command):
+    """Which joint statuses to report (CRCL 1.x); ``reset_all``: none but these."""
+
+    reset_all: bool
+    reports: tuple[JointReport, ...] = ()
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        object.__setattr__(self, "reports", tuple(self.reports))
+
+
+@dataclass(frozen=True)
+class RunProgram(Command):
+    """Run a program in the controller's own language (CRCL 1.x)."""
+
+    program_text: str
+
+
 # --- what could not be read -------------------------------------------------------------------
 
 @dataclass(frozen=True)
@@ -276,14 +481,31 @@ COMMANDS: dict[str, type[Command]] = {
         SetAbsoluteAcceleration, SetRelativeAcceleration, SetEndAngleTolerance,
         SetEndPointTolerance, SetIntermediatePointTolerance, StartObjectScan, StopObjectScan)
 }
+#: The commands of CRCL 1.x that the first paper's language lacks (read and written only as CRCL 1.x
+#: XML; :mod:`kb.crcl.instance`).
+CRCL1_COMMANDS: dict[str, type[Command]] = {
+    cls.__name__: cls for cls in (
+        GetStatus, SetEndEffector, SetForceUnits, SetTorqueUnits, SetMotionCoordination, SetRotSpeed,
+        SetRotAccel, SetEndPoseTolerance, SetIntermediatePoseTolerance, SetEndEffectorParameters,
+        SetRobotParameters, ActuateJoints, ConfigureJointReports, RunProgram)
+}
+
+
+#: (length unit, angle unit) a controller resets to at InitCanon, by form: the first paper's
+#: (its text forms and NIST's 2014 CRCL.xsd XML) and CRCL 1.x's (doc/Reference.md). docs/crcl.md.
+PAPER_UNITS = ("millimeter", "degree")
+CRCL1_UNITS = ("meter", "radian")
 
 
 @dataclass(frozen=True)
 class Program:
-    """A CRCL program: its commands in order, and the file it was read from (not compared)."""
+    """A CRCL program: its commands in order, the file it was read from, and ``units``: the
+    (length, angle) units of its form's InitCanon (:data:`PAPER_UNITS`, :data:`CRCL1_UNITS`;
+    None: not known, as made in code). Neither is compared."""
 
     commands: tuple[Command, ...]
     source: str | None = field(default=None, compare=False)
+    units: tuple[str, str] | None = field(default=None, compare=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "commands", tuple(self.commands))
