@@ -1,7 +1,9 @@
 """The main job: everything kitkb does, end to end, on the shipped scenarios.
 
-Each stage is a library call; this module only sequences them and prints one line per
-stage, so that ``./main.sh`` shows a new user what the project does:
+The closed loop is the library's (:class:`kb.execution.loop.ClosedLoop`: each file read once,
+every stage a library call); this module only draws its typed events (:mod:`kb.execution.events`,
+no text parsed back) as one line per stage and per action, so that ``./main.sh`` shows a new
+user what the project does:
 
 1. validate the shipped model (closed world, SHACL);
 2. for each shipped scenario: validate its initial and goal state files, generate the PDDL
@@ -19,7 +21,6 @@ left out and the report (what ``--report`` writes) is printed on standard output
 from __future__ import annotations
 
 import json
-import re
 import sys
 import time
 from collections import Counter
@@ -27,22 +28,15 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, TextIO
 
-from kb import planning
 from kb.cli.output import Output
-from kb.core.errors import InputError, NotSolvableError
+from kb.core.errors import InputError
 from kb.core.files import write_atomic
-from kb.core.generators import get_generator
 from kb.core.namespaces import local_name
 from kb.core.progress import SILENT, Progress
 from kb.core.resources import ontologies_dir, scenario_dirs
-from kb.crcl.remote import RemoteCell
-from kb.execution import run_plan
-from kb.execution.store import RunStore, prepare
-from kb.planning.geometry import check_geometry
+from kb.execution import events as ev
+from kb.execution.loop import ClosedLoop, LoopOptions
 from kb.validation import validate
-from kb.world import WorldModel
-from kb.world.database import normalize_url, safe_url
-from kb.world.lock import hold
 
 
 def run(files: list[str], output: str, faults: str | None, seed: int, db: str | None, report: str | None,
@@ -213,144 +207,164 @@ def _report_data(reports: list[dict]) -> dict:
 
 def _scenario(name: str, init: Path, goal: Path, target: Path, progress: _Progress, options: RunOptions,
               reports: list[dict], model_files: bool = True) -> int:
-    """One scenario's closed loop, holding its world model's writer lock from the start (a second
-    run or a load of the same database is refused before any work, not after planning)."""
+    """One scenario's closed loop (:class:`kb.execution.loop.ClosedLoop`), drawn from its events;
+    the loop holds its world model's writer lock from the start (a second run or a load of the
+    same database is refused before any work, not after planning)."""
     db_file: str | Path = options.db or target / "world.sqlite"
-    with hold(normalize_url(db_file), "a run"):
-        return _closed_loop(name, init, goal, target, progress, options, reports, db_file)
-
-
-def _closed_loop(name: str, init: Path, goal: Path, target: Path, progress: _Progress, options: RunOptions,
-                 reports: list[dict], db_file: str | Path) -> int:
-    t = time.perf_counter()
-    display = progress.display
-    with display.task(f"{name}: validating {init.name} and {goal.name}"):
-        report = validate([str(init), str(goal)])
-    progress.stage(f"validate: {report.summary()}", t)
-    for diag in report.diagnostics:
-        progress.problem(f"    {name}: {diag.format()}")
-    if not report.conforms:
-        return _not_executed(name, _invalid(report.errors), progress, reports)
-    t = time.perf_counter()
-    with display.task(f"{name}: generating the PDDL domain and problem"):
-        model = planning.kitting_model([init], [goal], "strips", match_names=options.match_names,
-                                       domain_files=options.domain)
-        get_generator("pddl")(model).write_outputs(target)
-    progress.stage(f"pddl: {target / 'domain.pddl'}, {target / 'problem.pddl'}", t)
-    t = time.perf_counter()
+    loop_options = LoopOptions(faults=options.faults, seed=options.seed, cell=options.cell,
+                               match_names=options.match_names, domain_files=options.domain,
+                               sensor_noise=options.sensor_noise, out_dir=target, db=db_file,
+                               replace=options.replace or not options.db,  # the job's own output is replaced
+                               notifier=_quiet, name=name)
+    drawing = _Drawing(name, init, goal, target, progress, options)
     try:
-        with display.task(f"{name}: planning"):
-            result = planning.run(model.up_problem, target / "plan.txt", progress=display)
-    except NotSolvableError as e:
-        return _not_executed(name, f"no plan: {e}", progress, reports)
-    plan_time = time.perf_counter() - t
-    progress.stage(f"plan: {len(result.lines)} actions by {result.planner}, validated -> {target / 'plan.txt'}", t)
-    t = time.perf_counter()
-    with display.task(f"{name}: deciding the predicates from geometry"):
-        geo = check_geometry([init], [goal], match_names=options.match_names, domain_files=options.domain)
-    verdict = ("equal to the PDDL init facts" if geo.initial_agrees else "DISAGREE with the PDDL init facts") + (
-        "; every goal fact holds in the goal" if not geo.goal_not_holding else
-        f"; {len(geo.goal_not_holding)} goal fact(s) do not hold in the goal file's own geometry")
-    progress.stage(f"geometry: {geo.atoms} atoms hold in the initial state's boxes, {verdict}", t)
-    for what, atoms in (("only in geometry", geo.only_geometry), ("only in PDDL", geo.only_symbolic)):
-        for atom in atoms:
-            progress.problem(f"    {name}: {what}: ({' '.join(atom)})")
-    for atom in geo.goal_not_holding:  # the run is judged on the cell's geometry at its end
-        progress.problem(f"    {name}: warning: goal file's geometry does not show ({' '.join(atom)})")
-    if not geo.initial_agrees:
-        for cause in geo.causes:
-            progress.problem(f"    {name}: likely cause: {cause}")
-        return _not_executed(name, geo.reason(), progress, reports)
-    t = time.perf_counter()
-    with display.task(f"{name}: loading the world model"):  # the job's own output is replaced (under
-        # the run's lock: never removed under another run writing it)
-        loaded = prepare(db_file, init, options.domain, replace=options.replace or not options.db)
-        with WorldModel(db_file) as world:
-            poses = world.global_poses()
-    progress.stage(f"world model: {loaded.individuals} individuals (workstation and domain), {len(poses)} global "
-                   f"poses -> {safe_url(str(db_file))}", t)
-    return _execute(name, init, goal, result.lines, progress, options, reports, db_file, plan_time)
-
-
-def _execute(name: str, init: Path, goal: Path, plan: list[str], progress: _Progress, options: RunOptions,
-             reports: list[dict], db: str | Path, plan_time: float | None = None) -> int:
-    """Carry the plan out, every action checked from geometry, stable states and records in
-    the database ``db``; a line per action, a summary."""
-    t = time.perf_counter()
-    store = RunStore(db)
-    cell = RemoteCell.from_address(options.cell) if options.cell else None
-    where = f"the cell at {options.cell}" if options.cell else "the simulated cell" + (
-        f" (faults {options.faults}, seed {options.seed})" if options.faults else "") + (
-        f" (sensor noise {options.sensor_noise})" if options.sensor_noise else "")
-    progress.say(f"  execute in {where}:")
-    try:
-        with progress.display.task(f"{name}: executing the plan", total=len(plan), unit="actions") as task:
-            actions = _Actions(task, progress)
-            run = run_plan(plan, init, goal, cell=cell, faults=options.faults, seed=options.seed,
-                           match_names=options.match_names, domain_files=options.domain, progress=actions.line,
-                           notifier=lambda who, text: progress.say(f"      notify {who}: {text}"), name=name,
-                           store=store, plan_time=plan_time, sensor_noise=options.sensor_noise)
+        result = ClosedLoop(init, goal, loop_options, on_event=drawing, progress=progress.display).run()
     finally:
-        store.close()
-        if cell is not None:
-            cell.close()
-    rec = run.record
-    data = {"executed": True, **run.report(), "units": store.units.as_dict()}
-    reports.append(data)
-    modes = Counter(f.mode for f in rec.failures)
-    recoveries = Counter(f.recovery for f in rec.failures if f.recovery)
-    kits = sorted(_kits(rec))
-    summary = (f"execute: goal {'holds' if rec.goal_holds else 'DOES NOT hold'} (from geometry); kits "
-               f"{', '.join(kits) or '-'}; {data['actions']} actions, {data['checks']} checks; failures "
-               f"{', '.join(f'{m} {n}' for m, n in sorted(modes.items())) or 'none'}; recoveries "
-               f"{', '.join(f'{m} {n}' for m, n in sorted(recoveries.items())) or 'none'}; replans {rec.replans}")
-    if rec.injected:
-        summary += "; injected " + ", ".join(f"{x['kind']}@{x['action_index']}" for x in rec.injected)
-    contacts = data["metrics"]["contact_errors"]
-    if contacts:
-        summary += f"; contact errors {contacts}"
-    progress.stage(summary, t)
-    for kit in rec.kits:
-        progress.say(f"  kit {local_name(kit.kit)}: {kit.score} of {kit.max_score} points" +
-                     ("" if not kit.lost else "; lost: " + "; ".join(
-                         f"{x.points} for {x.reason} ({x.predicate})" for x in kit.lost)))
-    if rec.stopped:
-        progress.problem(f"    {name}: stopped: {rec.stopped}")
-    return 0 if run.goal_holds and rec.stopped is None else 1
+        drawing.close()
+    reports.append(result.report())
+    return 0 if result.ok else 1
 
 
-class _Actions:
-    """The executor's lines, said and counted: an action done (``ok``) advances ``task``; a
-    replan makes the total the actions done plus the new plan's."""
+def _quiet(recipient: str, message: str) -> None:
+    """The run's notifier: its notifications are drawn from their events."""
 
-    _REPLANNED = re.compile(r"replanned: (\d+) actions")
 
-    def __init__(self, task: Any, progress: _Progress) -> None:
-        self.task, self.progress, self.done = task, progress, 0
+class _Drawing:
+    """The lines and progress of one scenario's closed loop, drawn from its events
+    (:mod:`kb.execution.events`): a line per stage (its result, its time) and per executor
+    event, the problems found, and on a terminal a progress task per stage (the execution as
+    actions done of the plan's)."""
 
-    def line(self, text: str) -> None:
-        self.progress.say("  " + text)
-        if text.endswith("  ok"):
+    _TASKS = {"pddl": "generating the PDDL domain and problem", "plan": "planning",
+              "geometry": "deciding the predicates from geometry", "world": "loading the world model"}
+
+    def __init__(self, name: str, init: Path, goal: Path, target: Path, progress: _Progress,
+                 options: RunOptions) -> None:
+        self.name, self.init, self.goal, self.target = name, init, goal, target
+        self.progress, self.options = progress, options
+        self.task: Any = None
+        self._open: Any = None
+        self.done = 0
+
+    def __call__(self, event: ev.Event) -> None:
+        if isinstance(event, ev.StageStarted):
+            self._started(event)
+        elif isinstance(event, ev.StageEnded):
+            self.close()
+            getattr(self, f"_{event.stage}")(event)
+        else:
+            self._executor(event)
+
+    def close(self) -> None:
+        """Close the progress task of the stage that is running (if any)."""
+        if self._open is not None:
+            opened, self._open, self.task = self._open, None, None
+            opened.__exit__(None, None, None)
+
+    def _started(self, event: ev.StageStarted) -> None:
+        total, unit = None, ""
+        if event.stage == "validate":
+            what = f"validating {self.init.name} and {self.goal.name}"
+        elif event.stage == "execute":
+            what, total, unit = "executing the plan", event.detail.get("actions"), "actions"
+            self.progress.say(f"  execute in {self._where()}:")
+        else:
+            what = self._TASKS[event.stage]
+        self._open = self.progress.display.task(f"{self.name}: {what}", total=total, unit=unit)
+        self.task = self._open.__enter__()
+        self.done = 0
+
+    def _where(self) -> str:
+        o = self.options
+        if o.cell:
+            return f"the cell at {o.cell}"
+        return "the simulated cell" + (f" (faults {o.faults}, seed {o.seed})" if o.faults else "") + (
+            f" (sensor noise {o.sensor_noise})" if o.sensor_noise else "")
+
+    def _line(self, label: str, event: ev.StageEnded) -> None:
+        self.progress.say(f"  {label} ({event.seconds:.2f} s)")
+
+    def _problem(self, text: str) -> None:
+        self.progress.problem(f"    {self.name}: {text}")
+
+    def _not_executed(self, event: ev.StageEnded) -> None:
+        if not event.ok:
+            self._problem(f"not executed: {event.reason}")
+
+    # --- one method per stage, at its end ---------------------------------------------------
+    def _validate(self, event: ev.StageEnded) -> None:
+        report = event.result
+        self._line(f"validate: {report.summary()}", event)
+        for diag in report.diagnostics:
+            self._problem(diag.format())
+        self._not_executed(event)
+
+    def _pddl(self, event: ev.StageEnded) -> None:
+        self._line(f"pddl: {self.target / 'domain.pddl'}, {self.target / 'problem.pddl'}", event)
+
+    def _plan(self, event: ev.StageEnded) -> None:
+        if event.ok:
+            result = event.result
+            self._line(f"plan: {len(result.lines)} actions by {result.planner}, validated -> "
+                       f"{self.target / 'plan.txt'}", event)
+        self._not_executed(event)
+
+    def _geometry(self, event: ev.StageEnded) -> None:
+        geo = event.result
+        verdict = ("equal to the PDDL init facts" if geo.initial_agrees else "DISAGREE with the PDDL init facts") + (
+            "; every goal fact holds in the goal" if not geo.goal_not_holding else
+            f"; {len(geo.goal_not_holding)} goal fact(s) do not hold in the goal file's own geometry")
+        self._line(f"geometry: {geo.atoms} atoms hold in the initial state's boxes, {verdict}", event)
+        for what, atoms in (("only in geometry", geo.only_geometry), ("only in PDDL", geo.only_symbolic)):
+            for atom in atoms:
+                self._problem(f"{what}: ({' '.join(atom)})")
+        for atom in geo.goal_not_holding:  # the run is judged on the cell's geometry at its end
+            self._problem(f"warning: goal file's geometry does not show ({' '.join(atom)})")
+        if not geo.initial_agrees:
+            for cause in geo.causes:
+                self._problem(f"likely cause: {cause}")
+        self._not_executed(event)
+
+    def _world(self, event: ev.StageEnded) -> None:
+        world = event.result
+        self._line(f"world model: {world.individuals} individuals (workstation and domain), {world.poses} global "
+                   f"poses -> {world.url}", event)
+
+    def _execute(self, event: ev.StageEnded) -> None:
+        rec = event.result.record
+        data = event.result.report()
+        modes = Counter(f.mode for f in rec.failures)
+        recoveries = Counter(f.recovery for f in rec.failures if f.recovery)
+        kits = sorted(_kits(rec))
+        summary = (f"execute: goal {'holds' if rec.goal_holds else 'DOES NOT hold'} (from geometry); kits "
+                   f"{', '.join(kits) or '-'}; {data['actions']} actions, {data['checks']} checks; failures "
+                   f"{', '.join(f'{m} {n}' for m, n in sorted(modes.items())) or 'none'}; recoveries "
+                   f"{', '.join(f'{m} {n}' for m, n in sorted(recoveries.items())) or 'none'}; replans {rec.replans}")
+        if rec.injected:
+            summary += "; injected " + ", ".join(f"{x['kind']}@{x['action_index']}" for x in rec.injected)
+        contacts = data["metrics"]["contact_errors"]
+        if contacts:
+            summary += f"; contact errors {contacts}"
+        self._line(summary, event)
+        for kit in rec.kits:
+            self.progress.say(f"  kit {local_name(kit.kit)}: {kit.score} of {kit.max_score} points" +
+                              ("" if not kit.lost else "; lost: " + "; ".join(
+                                  f"{x.points} for {x.reason} ({x.predicate})" for x in kit.lost)))
+        if rec.stopped:
+            self._problem(f"stopped: {rec.stopped}")
+
+    # --- the executor's events --------------------------------------------------------------
+    def _executor(self, event: ev.Event) -> None:
+        text = event.text()
+        if text is not None:
+            self.progress.say("  " + text)
+        if self.task is None:
+            return
+        if isinstance(event, ev.ActionEnded) and event.status == "done":
             self.done += 1
             self.task.advance()
-        elif (m := self._REPLANNED.search(text)) is not None:
-            self.task.update(total=self.done + int(m.group(1)))
-
-
-def _not_executed(name: str, reason: str, progress: _Progress, reports: list[dict]) -> int:
-    """The plan was not carried out: say why (exit status 1), and so does the report."""
-    progress.problem(f"    {name}: not executed: {reason}")
-    reports.append({"scenario": name, "executed": False, "reason": reason, "goal_holds": False, "stopped": None,
-                    "injected": [], "failures": []})
-    return 1
-
-
-def _invalid(errors: list[Any]) -> str:
-    """Why state files that do not validate are not executed: how many errors of which rules,
-    and the first (a kit design whose slots do not fit its tray says so)."""
-    rules = Counter(d.rule or "error" for d in errors)
-    counts = ", ".join(f"{rule} {n}" if n > 1 else rule for rule, n in sorted(rules.items(), key=lambda kv: -kv[1]))
-    return f"the state files do not validate ({len(errors)} error(s): {counts}); first: {errors[0].format()}"
+        elif isinstance(event, ev.Replanned):
+            self.task.update(total=self.done + event.actions)
 
 
 def _kits(rec) -> set[str]:  # noqa: ANN001

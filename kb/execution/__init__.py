@@ -5,12 +5,14 @@ return a :class:`Run` to query (failures by kit, action, predicate, mode and tim
 why an action failed). Inside: the executor (:mod:`.executor`), its focus of attention on an
 action's neighbourhood (:mod:`.focus`), its recovery from failed checks (:mod:`.recovery`:
 diagnosis, retry, rebind, replan, stop), the plan's steps
-(:mod:`.steps`), its belief of the cell (:mod:`.belief`), late-bound CRCL targets
+(:mod:`.steps`), the closed loop that runs it all once over inputs read once (:mod:`.loop`,
+:mod:`.inputs`) and its typed events (:mod:`.events`), its belief of the cell (:mod:`.belief`), late-bound CRCL targets
 (:mod:`.targets`), the records a run leaves (:mod:`.records`) and their store (:mod:`.store`).
 """
 
-from kb.execution.api import Run, open_run, run_plan, run_scenario
+from kb.execution.api import Run, open_run
+from kb.execution.loop import ClosedLoop, LoopOptions, LoopResult, run_plan, run_scenario
 from kb.execution.executor import Executor, Stop, log_notifier
 from kb.execution.records import FailureRecord, RunRecord
 
-__all__ = ["Executor", "FailureRecord", "Run", "RunRecord", "Stop", "log_notifier", "open_run", "run_plan", "run_scenario"]
+__all__ = ["ClosedLoop", "Executor", "LoopOptions", "LoopResult", "FailureRecord", "Run", "RunRecord", "Stop", "log_notifier", "open_run", "run_plan", "run_scenario"]

@@ -8,7 +8,8 @@
     >>> print(run.why(6))                                        # doctest: +ELLIPSIS
     action 6 (take-part robot_1 part_a_1 part_a_tray part_gripper) failed its effect check: ...
 
-A :class:`Run` holds the :class:`~kb.execution.records.RunRecord` (actions, checks, commands,
+:func:`run_scenario` and :func:`run_plan` are the closed loop's (:mod:`kb.execution.loop`);
+this module has what they return and share. A :class:`Run` holds the :class:`~kb.execution.records.RunRecord` (actions, checks, commands,
 failures, recoveries) and answers queries on it; with a database (``db=``), the same records
 are stored beside the world model and :func:`open_run` reads a run back from SQLite or
 PostgreSQL (:mod:`kb.execution.store`).
@@ -17,7 +18,6 @@ PostgreSQL (:mod:`kb.execution.store`).
 from __future__ import annotations
 
 import dataclasses
-import time
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Sequence
@@ -25,14 +25,15 @@ from typing import Any, Callable, Sequence
 from kb.core.errors import InputError
 from kb.crcl.cell import CellInterface
 from kb.execution.belief import Belief
+from kb.execution.events import Event
 from kb.execution.executor import Executor, log_notifier
+from kb.execution.inputs import PlanInputs
 from kb.execution.records import ActionRecord, FailureRecord, RunRecord, local
 from kb.metrics.kits import KitScore
-from kb.model.definitions import Definitions, load_definitions
-from kb.model.failures import FailureModel, load_failure_model
-from kb.model.soap import DomainSpec
-from kb.planning.problem import ProblemSpec
 from kb.spatial.scene import Scene
+
+__all__ = ["PlanInputs", "Run", "execute_plan", "note_ground_truth", "open_run", "sensor_accuracy"]
+
 
 @dataclass
 class Run:
@@ -119,91 +120,20 @@ class Run:
         return self.record.report()
 
 
-def run_plan(plan: Sequence[str], init: str | Path, goal: str | Path, *, cell: CellInterface | None = None,
-             faults: Any = None, seed: int = 0, match_names: bool = False, db: str | Path | None = None,
-             replace: bool = False, store: Any = None,
-             progress: Callable[[str], None] | None = None, notifier: Callable[[str, str], None] = log_notifier,
-             planner: str | None = None, domain_files: Sequence[str | Path] | None = None,
-             name: str | None = None, truth: str | Path | None = None, plan_time: float | None = None,
-             sensor_noise: Any = None) -> Run:
-    """Carry out ``plan`` (PDDL action lines) from the state ``init`` towards ``goal``.
-
-    ``cell``: any :class:`~kb.crcl.cell.CellInterface` (a real cell, :class:`kb.crcl.RemoteCell`);
-    default: a simulated cell of ``init`` with ``faults`` (a :class:`kb.sim.FaultSpec` or its
-    text, ``"missed-grasp=0.2,part-missing@3"``) and ``seed``. ``db``: a database (SQLite file
-    or URL) that gets the initial state and the domain (a database that already holds a world
-    model or run history only with ``replace``), then the stable states and the run's records
-    (:mod:`kb.execution.store`); or pass an open ``store``. ``truth``: a state file the simulated
-    cell holds instead of ``init`` (the same objects placed and turned otherwise: the first
-    paper's "the actual location of the kit tray and parts supplies will not be known before
-    runtime"); the executor starts from ``init``, the nominal layout, and finds the objects by
-    sensing. ``plan_time``: the seconds the plan took to make (a metric of the run).
-    ``sensor_noise``: the sensor's accuracy (a :class:`kb.sim.noise.SensorNoise` or its text,
-    ``"position=1mm,orientation=0.5deg,misdetection=0.01"``), over the sensor individual of
-    ``init`` (:meth:`SensorNoise.from_scene <kb.sim.noise.SensorNoise.from_scene>`): the
-    simulated cell's sensor has it, and the executor verifies with it (docs/execution.md,
-    "Sensing with noise"); with another ``cell``, what the executor assumes of its sensor.
-
-    It is :func:`read_inputs`, the cell made, then :func:`execute_plan`.
-    """
-    inputs = read_inputs(init, goal, domain_files=domain_files, match_names=match_names)
-    accuracy = sensor_accuracy(inputs.scene, sensor_noise)
-    if cell is None:
-        from kb.sim import FaultSpec, SimulatedCell  # imported only when no cell is given
-        spec_f = FaultSpec.parse(faults, seed=seed) if isinstance(faults, str) else faults
-        cell = SimulatedCell(Scene.from_files([truth or init], declared=[goal], match_names=match_names),
-                             faults=spec_f, seed=seed, **({"noise": accuracy} if accuracy is not None else {}))
-    own_store = None
-    if db is not None and store is None:
-        from kb.execution.store import RunStore, prepare
-        prepare(db, init, domain_files, replace=replace)
-        store = own_store = RunStore(db)
-    record = RunRecord(name or Path(init).resolve().parent.name, seed, plan_time=plan_time)
-    try:
-        return execute_plan(plan, cell, inputs, record, accuracy=accuracy, store=store, paths=(init, goal),
-                            notifier=notifier, progress=progress, planner=planner)
-    finally:  # interrupted too: the store ended the run at its last stable state
-        if own_store is not None:
-            own_store.close()
-
-
-@dataclass(frozen=True)
-class PlanInputs:
-    """What :func:`run_plan` reads from its files before it runs a plan: the domain and the
-    problem (numeric encoding), the initial state's scene (the executor's first belief), the
-    predicate definitions and the failure modes. A caller that runs many plans of one design
-    (``kb.testmethod``) reads them once and passes them to :func:`execute_plan`."""
-
-    domain: DomainSpec
-    problem: ProblemSpec
-    scene: Scene
-    definitions: Definitions
-    failures: FailureModel
-
-
-def read_inputs(init: str | Path, goal: str | Path, *, domain_files: Sequence[str | Path] | None = None,
-                match_names: bool = False) -> PlanInputs:
-    """The :class:`PlanInputs` of the state files ``init`` and ``goal``."""
-    from kb.planning.model import read_specs
-    domain, problem = read_specs([init], [goal], encoding="numeric", domain_files=domain_files,
-                                 match_names=match_names)
-    scene = Scene.from_files([init], declared=[goal], match_names=match_names)
-    return PlanInputs(domain, problem, scene, load_definitions(domain_files), load_failure_model(domain_files))
-
-
 def execute_plan(plan: Sequence[str], cell: CellInterface, inputs: PlanInputs, record: RunRecord, *,
                  accuracy: Any = None, store: Any = None, paths: tuple[Any, Any] = (None, None),
                  notifier: Callable[[str, str], None] = log_notifier, progress: Callable[[str], None] | None = None,
-                 planner: str | None = None) -> Run:
+                 planner: str | None = None, on_event: Callable[[Event], None] | None = None) -> Run:
     """Carry out ``plan`` on ``cell`` from ``inputs`` (the second half of :func:`run_plan`,
     once its files are read): the executor's run into ``record``, then what a simulated cell
     knows that the executor does not (the faults it injected, its sensor's mistakes with a
     noisy ``accuracy``, the constraints the robot violated). ``store``: an open run store that
     gets the run (begun with ``paths``, the state files; ended when the run ends, interrupted
-    too)."""
+    too). ``on_event``: the executor's events (:mod:`kb.execution.events`); ``progress``: their
+    lines. The closed loop (:mod:`kb.execution.loop`) makes ``inputs`` and ``cell`` and calls this."""
     executor = Executor(cell, inputs.domain, inputs.problem, inputs.definitions, inputs.failures,
                         Belief(inputs.scene), store=store, notifier=notifier, progress=progress, planner=planner,
-                        record=record, accuracy=accuracy)
+                        record=record, accuracy=accuracy, on_event=on_event)
     if store is not None:
         store.begin_run(record, *paths)
     try:
@@ -266,16 +196,3 @@ def open_run(url: str | Path, run_id: int | None = None) -> Run:
     """A run recorded in a world-model database (the latest one by default), to query."""
     from kb.execution.store import read_run
     return Run(read_run(url, run_id))
-
-
-def run_scenario(init: str | Path, goal: str | Path, **kw: Any) -> Run:
-    """Plan from ``init`` to ``goal`` with a real planner, then :func:`run_plan` it."""
-    from kb import planning
-    t = time.perf_counter()
-    model = planning.kitting_model([init], [goal], "strips", match_names=kw.get("match_names", False),
-                                   domain_files=kw.get("domain_files"))
-    plan = planning.run(model.up_problem, None, kw.get("planner")).lines
-    kw.setdefault("plan_time", time.perf_counter() - t)
-    run = run_plan(plan, init, goal, **kw)
-    run.record.started = min(run.record.started, t)
-    return run

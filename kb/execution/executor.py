@@ -53,6 +53,7 @@ from kb.crcl import COMMANDS, Command, Dwell, EndCanon, InitCanon, Message, Pose
 from kb.crcl.cell import CellInterface, execute_program
 from kb.diagnosis import diagnose
 from kb.execution.belief import Belief
+from kb.execution.events import (ActionEnded, ActionStarted, CheckMade, Event, StableState, Stopped)
 from kb.execution.focus import Focus
 from kb.execution.looks import RECHECK, RELEASE, WIDEST, Looks
 from kb.execution.records import ActionRecord, AtomCheck, Check, FailureRecord, RunRecord, StoreLike, local
@@ -98,7 +99,8 @@ class Executor(Recovery):
     belief: Belief
     store: StoreLike | None = None
     notifier: Callable[[str, str], None] = log_notifier
-    progress: Callable[[str], None] | None = None
+    progress: Callable[[str], None] | None = None  # each event's line (kb.execution.events)
+    on_event: Callable[[Event], None] | None = None  # each event (kb.execution.events)
     planner: str | None = None
     tolerance: float = DEFAULT_TOLERANCE
     max_replans: int = 10
@@ -147,13 +149,13 @@ class Executor(Recovery):
                 self._do(step, queue)
         except Stop as stop:
             rec.stopped = str(stop)
-            self._say(f"stopped: {stop}")
+            self._emit(Stopped(str(stop)))
         except CellError:  # the cell is gone: nothing more can be sensed or done (exit 2, as at the start)
             raise
         except Exception as exc:  # noqa: BLE001 - a fault of kitkb's own: the run stops, the report says why
             log.exception("execution stopped by an internal error")
             rec.stopped = f"stopped for the operator: internal error at action {self.index}: {type(exc).__name__}: {exc}"
-            self._say(rec.stopped)
+            self._emit(Stopped(rec.stopped, internal=True))
         try:
             rec.goal_holds = self.goal_holds()
         except CellError:
@@ -193,6 +195,7 @@ class Executor(Recovery):
             self.index += 1
             act = ActionRecord(i, step.action, tuple(step.args.values()), started=time.perf_counter())
             self.record.actions.append(act)
+            self._emit(ActionStarted(i, step.action, act.args, step.line()))
             self.cell.begin_action(i, step.action, tuple(step.args.values()))
             try:
                 self._sense(step)
@@ -201,6 +204,7 @@ class Executor(Recovery):
                 act.ended = time.perf_counter()
                 if self.store is not None:
                     self.store.record_action(act)
+                self._emit(ActionEnded(i, step.action, act.args, step.line(), act.status))
             if outcome == "done":
                 return
             if outcome == "next":  # the queue was rewritten: its head is what to do now
@@ -332,6 +336,7 @@ class Executor(Recovery):
             atoms = self._atoms(step, phase, self.tolerance)
             check = Check(i, phase, atoms, time.perf_counter())
             self.record.checks.append(check)
+            self._emit_check(check)
             return check
         objects = self._near if self._near is not None else np.flatnonzero(~np.isnan(self.belief.poses[:, 0, 0]))
         tol = self.looks.narrow(objects)
@@ -352,9 +357,12 @@ class Executor(Recovery):
                         atoms[k] = AtomCheck(a.predicate, a.args, a.negated, not a.negated)  # not failing
         check = Check(i, phase, atoms, time.perf_counter(), undecidable)
         self.record.checks.append(check)
-        if undecidable:
-            self._say(f"  action {i}: undecidable under the sensor's noise: " + ", ".join(a.text() for a in undecidable))
+        self._emit_check(check)
         return check
+
+    def _emit_check(self, check: Check) -> None:
+        self._emit(CheckMade(check.action_index, check.phase, check.ok, tuple(a.text() for a in check.violated),
+                             tuple(a.text() for a in check.undecidable)))
 
     def _atoms(self, step: Step, phase: str, tolerance: float) -> list[AtomCheck]:
         spec = self.actions[step.action]
@@ -445,6 +453,7 @@ class Executor(Recovery):
         args = {"robot": step.args["robot"], "part": part, "partstray": step.args["partstray"]}
         atom = AtomCheck("part-quality-ok", (part,), False, False)
         self.record.checks.append(Check(i, EFF, [atom], time.perf_counter()))
+        self._emit_check(self.record.checks[-1])
         if self._near is not None:
             self._sense_classes(step)
         diag = diagnose(self.failures, self.evaluator(), "look-for-part", EFF, {"part-quality-ok"}, args)
@@ -526,7 +535,7 @@ class Executor(Recovery):
         self.stable = self.belief.poses.copy()
         if self.store is not None:
             self.store.commit_stable(i)
-        self._say(f"  {i:>3} {step.line()}  ok")
+        self._emit(StableState(i))
 
     def _sense_all(self) -> None:
         placed = [n for n in self.belief.of_class(SOLID) if self.belief.placed(n)]
@@ -570,8 +579,10 @@ class Executor(Recovery):
                 if inside:
                     self.belief.passed_inspection(part, self.cell.inspect(part))
 
-    def _say(self, text: str) -> None:
-        if self.progress is not None:
+    def _emit(self, event: Event) -> None:
+        if self.on_event is not None:
+            self.on_event(event)
+        if self.progress is not None and (text := event.text()) is not None:
             self.progress(text)
 
 

@@ -37,6 +37,7 @@ from kb.crcl import COMMANDS, EndCanon, InitCanon, Message, MoveTo, Pose
 from kb.crcl.cell import CellInterface
 from kb.diagnosis import diagnose
 from kb.execution.belief import SKU_OF, Belief
+from kb.execution.events import Event, FailureFound, Recovered, Replanned
 from kb.execution.records import AtomCheck, Check, FailureRecord, RunRecord, Sighting, StoreLike, local
 from kb.execution.steps import Fields, Step, Stop
 from kb.execution.targets import Targets, raised
@@ -72,6 +73,7 @@ class Recovery:
     stable: np.ndarray
     targets: Targets
     taken_from: dict[str, np.ndarray]
+    index: int  # the next action's index
     _queue: deque
     _near: np.ndarray | None
 
@@ -91,7 +93,7 @@ class Recovery:
     def _sense_classes(self, step: Step) -> None:
         raise NotImplementedError
 
-    def _say(self, text: str) -> None:
+    def _emit(self, event: Event) -> None:
         raise NotImplementedError
 
     # --- failures -------------------------------------------------------------------
@@ -124,8 +126,7 @@ class Recovery:
                                 time=time.perf_counter(), considered=list(diag.considered),
                                 kit=self._kit_of(step), witnesses=witnesses)
         self.record.failures.append(failure)
-        self._say(f"  failure at action {i} ({step.line()}, {phase}): " + ", ".join(a.text() for a in violated)
-                  + f" -> {failure.mode}")
+        self._emit(FailureFound(i, step.action, step.line(), phase, tuple(a.text() for a in violated), failure.mode))
         if mode is not None:
             fields = Fields({k: local(v) for k, v in step.args.items()})
             if witnesses:  # {found}: what the check found (the part left on a table, say)
@@ -181,6 +182,7 @@ class Recovery:
             step.retries += 1
             failure.recovery, failure.outcome = "retry", f"retry {step.retries} of {rem.max_retries}"
             self._store_failure(failure)
+            self._emit(Recovered(i, "retry", why=failure.outcome))
             queue.appendleft(step)
             return "next"
         if failure.mode in ("part-missing-from-tray", "parts-tray-empty", "defective-part"):
@@ -204,7 +206,7 @@ class Recovery:
         if failure is not None:
             failure.recovery, failure.outcome = "rebind", f"recovered: bound {local(part)} from {local(tray)}"
             self._store_failure(failure)
-        self._say(f"  rebound {local(old)} -> {local(part)} ({why})")
+        self._emit(Recovered(i, "rebind", local(old), local(part), why))
         queue.appendleft(step)
         return "next"
 
@@ -280,7 +282,7 @@ class Recovery:
                     MoveTo(Pose.from_matrix(raised(grasp, 0.1))), EndCanon()]
         self._send(commands)
         self.targets.tip = raised(grasp, 0.1)
-        self._say(f"  rejected {local(part)}: put back where it was taken")
+        self._emit(Recovered(self.index - 1, "reject", local(part)))
 
     def _replan(self, queue: deque, failure: FailureRecord | None) -> str:
         if self.record.replans >= self.max_replans:
@@ -311,7 +313,7 @@ class Recovery:
             failure.recovery = failure.recovery or "replan"
             failure.outcome = failure.outcome or f"recovered: new plan of {len(result.lines)} actions"
             self._store_failure(failure)
-        self._say(f"  replanned: {len(result.lines)} actions")
+        self._emit(Replanned(len(result.lines)))
         return "next"
 
     def _store_failure(self, failure: FailureRecord) -> None:

@@ -30,7 +30,7 @@ import tempfile
 import time
 from dataclasses import asdict
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any, Mapping, Sequence
 
 import numpy as np
 from sqlalchemy import (Boolean, Column, DateTime, Float, ForeignKey, Integer, MetaData, String, Table, Text,
@@ -118,9 +118,10 @@ _KD = "https://w3id.org/kitkb/kitting-domain#"
 
 
 def prepare(url: str | Path, init: str | Path, domain_files: Sequence[str | Path] | None = None,
-            replace: bool = False) -> LoadReport:
+            replace: bool = False, loaded: Mapping[Path, Any] | None = None) -> LoadReport:
     """Load the initial state and the domain's SOAP individuals into ``url`` (one transaction;
-    a database that holds a world model or run history only with ``replace``)."""
+    a database that holds a world model or run history only with ``replace``). ``loaded``: the
+    files already read (resolved path -> :class:`kb.io.loader.Source`), not parsed again."""
     url = normalize_url(url)
     held = acquire(url, RUN)  # before anything is read: a busy database is refused at once
     try:
@@ -134,7 +135,7 @@ def prepare(url: str | Path, init: str | Path, domain_files: Sequence[str | Path
             with open(both, "w", encoding="utf-8") as out:
                 line = 1
                 for path in [init, *domain]:
-                    src = load_file(path)
+                    src = (loaded or {}).get(Path(path).resolve()) or load_file(path)
                     starts.append((line, src))
                     for s, p, o in src.triples():
                         out.write(f"{spell(s)} {spell(p)} {spell(o)} .\n")

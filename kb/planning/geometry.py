@@ -17,8 +17,9 @@ import numpy as np
 
 from kb.core.namespaces import local_name
 from kb.core.units import LENGTH
-from kb.model.definitions import load_definitions
+from kb.model.definitions import Definitions, load_definitions
 from kb.planning.model import read_specs
+from kb.planning.problem import ProblemSpec
 from kb.planning.state import pddl_name
 from kb.spatial import Evaluator, Scene
 from kb.spatial.plausibility import check, describe
@@ -62,9 +63,17 @@ def check_geometry(init: Sequence[str | Path], goal: Sequence[str | Path], match
                    domain_files: Sequence[str | Path] | None = None) -> Agreement:
     """Compare the geometry of ``init`` and ``goal`` with the generated PDDL facts and goal."""
     _domain, spec = read_specs(init, goal, encoding="numeric", domain_files=domain_files, match_names=match_names)
-    defs = load_definitions(domain_files)
-    start = Evaluator(defs, Scene.from_files(list(init), declared=list(goal), match_names=match_names))
-    end = Evaluator(defs, Scene.from_files(list(goal)))
+    return agreement(spec, load_definitions(domain_files),
+                     Scene.from_files(list(init), declared=list(goal), match_names=match_names),
+                     Scene.from_files(list(goal)))
+
+
+def agreement(spec: ProblemSpec, defs: Definitions, initial: Scene, goal: Scene) -> Agreement:
+    """:func:`check_geometry` of inputs already read: the numeric problem ``spec``, the
+    domain's definitions, the initial state's scene (the goal's individuals declared) and the
+    goal state's."""
+    start = Evaluator(defs, initial)
+    end = Evaluator(defs, goal)
     seen = {(n, *map(pddl_name, a)) for n, a in start.facts()}
     reached = {(n, *map(pddl_name, a)) for n, a in end.facts()}
     counts = {fn: {tuple(map(pddl_name, a)): v for a, v in end.function_values(fn).items()}

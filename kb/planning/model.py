@@ -60,10 +60,25 @@ def read_specs(init: Sequence[str | Path], goal: Sequence[str | Path], encoding:
     tree = ClassTree(graph, used_types(domain))
     start = load_world(init, tree)
     spec = read_problem(domain, start, load_world(goal, tree, like=start if match_names else None))
+    return encoded(domain, spec, encoding)
+
+
+def encoded(domain: DomainSpec, spec: ProblemSpec, encoding: str) -> tuple[DomainSpec, ProblemSpec]:
+    """A numeric domain and problem (:func:`read_problem`'s) in ``encoding`` (neither is changed)."""
+    _check(encoding)
     if encoding == "strips":
         domain, quotas = compile_domain(domain)
         spec = compile_problem(spec, quotas)
     return domain, spec
+
+
+def model_of(domain: DomainSpec, spec: ProblemSpec, encoding: str = "strips",
+             paths: tuple[Sequence[str | Path], Sequence[str | Path]] = ((), ())) -> KittingModel:
+    """:func:`kitting_model` of a numeric domain and problem already read (``paths``: the init
+    and goal files they were read from)."""
+    domain, spec = encoded(domain, spec, encoding)
+    return KittingModel(encoding, domain, spec, build_problem(domain, spec),
+                        tuple(map(str, paths[0])), tuple(map(str, paths[1])))
 
 
 def kitting_model(init: Sequence[str | Path], goal: Sequence[str | Path], encoding: str = "strips",

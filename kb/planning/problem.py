@@ -19,7 +19,7 @@ from rdflib.namespace import RDF
 
 from kb.core.errors import InputError
 from kb.core.namespaces import local_name
-from kb.io.loader import MODEL_STAND_IN, NOT_READ_RULES, load
+from kb.io.loader import MODEL_STAND_IN, NOT_READ_RULES, KnowledgeBase, Source, load
 from kb.io.vocabulary import not_understood
 from kb.model.soap import DomainSpec
 from kb.planning import facts
@@ -57,7 +57,13 @@ def load_world(paths: Sequence[str | Path], tree: ClassTree, like: World | None 
     the same local names: for state files that describe one workstation in two namespaces,
     as NIST's initial and goal files do.
     """
-    kb = load(list(paths), resolve_imports=False)
+    return world_of(load(list(paths), resolve_imports=False).sources, tree, like)
+
+
+def world_of(sources: Sequence[Source], tree: ClassTree, like: World | None = None) -> World:
+    """:func:`load_world` of files already loaded (e.g. by the closed loop, which reads each
+    file once: :class:`kb.execution.inputs.LoopInputs`)."""
+    kb = KnowledgeBase(list(sources))
     first = kb.sources[0]
     graph = kb.graph if like is None else _aligned(kb.graph, like)
     world = World(graph, first.path, tree, first.line_of)

@@ -350,8 +350,11 @@ def work_volumes(scene: Scene) -> dict[str, list[tuple[np.ndarray, np.ndarray]]]
     :class:`~kb.core.errors.InputError` naming it."""
     if scene.path is None or not os.path.isfile(scene.path):
         return {}
-    st = os.stat(scene.path)
     robots = tuple(n for n, c in zip(scene.names, scene.classes) if str(KTW.Robot) in c)
+    source = getattr(scene, "source", None)
+    if source is not None and str(source.path) == scene.path:  # the file as the scene read it: not parsed again
+        return _read_volumes(source, scene.units, robots)
+    st = os.stat(scene.path)
     found = _volumes(scene.path, st.st_mtime_ns, st.st_size, scene.units, robots)
     return {r: [(lo.copy(), hi.copy()) for lo, hi in boxes] for r, boxes in found.items()}
 
@@ -360,7 +363,10 @@ def work_volumes(scene: Scene) -> dict[str, list[tuple[np.ndarray, np.ndarray]]]
 def _volumes(path: str, mtime: int, size: int, units: Units,
              robots: tuple[str, ...]) -> dict[str, list[tuple[np.ndarray, np.ndarray]]]:
     from kb.io import load_file  # the state file again: its points are not in the scene
-    source = load_file(path)
+    return _read_volumes(load_file(path), units, robots)
+
+
+def _read_volumes(source, units: Units, robots: tuple[str, ...]) -> dict[str, list[tuple[np.ndarray, np.ndarray]]]:  # noqa: ANN001
     view = source.view()
     factor = units.factor("length")
     out: dict[str, list[tuple[np.ndarray, np.ndarray]]] = {}

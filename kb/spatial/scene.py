@@ -133,6 +133,9 @@ class Scene:
         self.placed = ~np.isnan(self.lo[:, 0]) if len(self.names) else np.zeros(0, bool)
         self._of: dict[str, np.ndarray] = {}
         self._pairs: dict[str, dict[str, list[str]]] = {}
+        #: the loaded file ``path`` was read from (:meth:`from_sources`), for what else is read
+        #: of it without parsing it again (a robot's work volumes); None otherwise
+        self.source: Source | None = None
 
     def __len__(self) -> int:
         return len(self.names)
@@ -158,7 +161,7 @@ class Scene:
 
     # --- construction -------------------------------------------------------------
     @classmethod
-    def from_files(cls, paths: Sequence[str | Path], declared: Sequence[str | Path] = (),
+    def from_files(cls, paths: Sequence[str | Path], declared: Sequence[str | Path | Source] = (),
                    match_names: bool = False) -> "Scene":
         """The scene of a state given as one or more files; ``declared`` files (e.g. the goal
         state for an initial state) add the individuals they alone state, with their model
@@ -168,17 +171,19 @@ class Scene:
         return cls.from_sources(load(list(paths), resolve_imports=False).sources, declared, match_names)
 
     @classmethod
-    def from_sources(cls, sources: Sequence[Source], declared: Sequence[str | Path] = (),
+    def from_sources(cls, sources: Sequence[Source], declared: Sequence[str | Path | Source] = (),
                      match_names: bool = False) -> "Scene":
         """:meth:`from_files` of files already loaded (:class:`kb.io.loader.Source`: e.g. the
         validator's, so a file is not parsed twice)."""
         views = [s.view() for s in sources]
-        extra = [load_file(p).view() for p in declared]
+        extra = [(p if isinstance(p, Source) else load_file(p)).view() for p in declared]
         if match_names and extra:
             extra = [_renamed(v, views) for v in extra]
         path = str(sources[0].path)
         locate = sources[0].line_of if len(sources) == 1 else (lambda *a: None)
-        return _Builder(views, extra, path, locate).build()
+        scene = _Builder(views, extra, path, locate).build()
+        scene.source = sources[0] if len(sources) == 1 else None
+        return scene
 
     @classmethod
     def from_parts(cls, names: list[str], classes: list[Iterable[str]], poses: np.ndarray, local_lo: np.ndarray,

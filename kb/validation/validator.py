@@ -29,7 +29,7 @@ from kb.core.memory import gc_paused
 from kb.core.progress import SILENT, Progress, Task
 from kb.core.namespaces import KTW, NIST_KTW_2012
 from kb.core.resources import ontologies_dir, ontology_path, scenario_dirs, shapes_path
-from kb.io.loader import NIST_2012_TERM, load, load_file, not_read_warning
+from kb.io.loader import NIST_2012_TERM, KnowledgeBase, load, load_file, not_read_warning
 from kb.io.views import UnionView
 from kb.io.vocabulary import no_model
 from kb.model.owl import OwlModel
@@ -99,7 +99,7 @@ def default_files() -> list[str]:
 
 def validate(paths: Sequence[str | Path], *, shapes_files: Sequence[str | Path] | None = None,
              extra_shapes: Sequence[str | Path] = (), ignore: Collection[str] = (),
-             progress: Progress = SILENT) -> ValidationReport:
+             progress: Progress = SILENT, loaded: KnowledgeBase | None = None) -> ValidationReport:
     """Validate ``paths`` (model and data files) closed-world; see the module docstring.
 
     ``shapes_files`` replaces the hand-written rule files (for tests); an empty shapes
@@ -108,6 +108,8 @@ def validate(paths: Sequence[str | Path], *, shapes_files: Sequence[str | Path] 
     :mod:`kb.validation.user_shapes`, a bad one is an InputError at its ``file:line``).
     ``ignore``: rule names left out of the report (the geometry rules are then not even
     computed). ``progress``: where each step says what it does (:mod:`kb.core.progress`).
+    ``loaded``: ``paths`` already loaded with their imports (:func:`kb.io.load`), so that a
+    caller that goes on with the files (the closed loop) parses each once.
     """
     started = time.perf_counter()
     if not paths:
@@ -116,7 +118,7 @@ def validate(paths: Sequence[str | Path], *, shapes_files: Sequence[str | Path] 
     # collector would walk them all again and again, for nothing
     with gc_paused(), progress.task(f"reading {len(paths)} file(s)") as step:
         user = ShapesFiles.read(extra_shapes) if extra_shapes else None
-        report = _validate(paths, shapes_files, started, frozenset(ignore), step, user)
+        report = _validate(paths, shapes_files, started, frozenset(ignore), step, user, loaded)
     if ignore:
         report.diagnostics = [d for d in report.diagnostics if d.rule not in ignore]
     return report
@@ -124,10 +126,10 @@ def validate(paths: Sequence[str | Path], *, shapes_files: Sequence[str | Path] 
 
 def _validate(paths: Sequence[str | Path], shapes_files: Sequence[str | Path] | None,
               started: float, ignore: frozenset[str] = frozenset(), step: Task | None = None,
-              user: ShapesFiles | None = None) -> ValidationReport:
+              user: ShapesFiles | None = None, loaded: KnowledgeBase | None = None) -> ValidationReport:
     step = step or SILENT.task("")
     located = user.located if user is not None else contextlib.nullcontext
-    kb = load([str(p) for p in paths])
+    kb = loaded if loaded is not None else load([str(p) for p in paths])
     given = {_key(p) for p in paths}
     sources = [s for s in kb.sources if _key(s.path) in given] or list(kb.sources)
     data = [s for s in kb.sources if rules.is_data_graph(rules.graph_of(s))]

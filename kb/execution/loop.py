@@ -1,0 +1,380 @@
+"""The closed loop, once: validate -> plan -> geometry check -> world model -> execute.
+
+:class:`ClosedLoop` is the one orchestration of kitkb's loop; ``kitkb run`` (:mod:`kb.cli.pipeline`),
+the Python API (:func:`run_scenario`, :func:`run_plan`) and the test methods
+(:mod:`kb.testmethod.trial`) all run it, each with the stages it wants (:class:`LoopOptions`):
+
+1. ``validate``: the state files, closed world (:func:`kb.validation.validate`); errors end the loop;
+2. ``pddl``: the planning model (and ``domain.pddl``, ``problem.pddl`` with ``out_dir``);
+3. ``plan``: a validated plan by a real planner (``plan.txt``); no plan ends the loop;
+4. ``geometry``: the predicates decided from the initial state's boxes equal the PDDL facts
+   (:func:`kb.planning.geometry.agreement`); a disagreement ends the loop;
+5. ``world``: the initial state and the domain loaded into the world-model database ``db``,
+   the global poses read back;
+6. ``execute``: the plan carried out on the cell, every action checked from geometry
+   (:func:`kb.execution.api.execute_plan`).
+
+Each input file is parsed once (:class:`~kb.execution.inputs.LoopInputs`) and what is made of
+it is handed to every stage. The loop tells ``on_event`` what happens as typed events
+(:mod:`kb.execution.events`): each stage started and ended with its result, and inside the
+``execute`` stage the executor's actions, checks, failures, recoveries, replans, stable states
+and notifications. :class:`LoopResult` is what the loop made; :meth:`LoopResult.report` is the
+scenario's report (``kitkb run --report``).
+"""
+
+from __future__ import annotations
+
+import time
+from collections import Counter
+from contextlib import ExitStack
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable, Sequence
+
+from kb.core.errors import NotSolvableError
+from kb.core.progress import SILENT, Progress
+from kb.crcl.cell import CellInterface
+from kb.execution.api import Run, execute_plan, sensor_accuracy
+from kb.execution.events import Event, Listener, Notified, StageEnded, StageStarted, WorldLoaded, ignore
+from kb.execution.executor import log_notifier
+from kb.execution.inputs import LoopInputs, PlanInputs
+from kb.execution.records import RunRecord
+from kb.spatial.scene import Scene
+
+
+@dataclass
+class LoopOptions:
+    """Which stages run and how.
+
+    ``validate``, ``geometry``: run those stages; ``out_dir``: where ``domain.pddl``,
+    ``problem.pddl`` and ``plan.txt`` go (None: nowhere); ``db``: the world-model database
+    (SQLite file or URL; the ``world`` stage runs only with one; a database that already
+    holds a world model or run history only with ``replace``), or an open run ``store``.
+    ``cell``: a :class:`~kb.crcl.cell.CellInterface`, a cell's address (``HOST:PORT``), or
+    None: a simulated cell of the initial state (or of ``truth``: a state file or scene of the
+    same objects placed otherwise) with ``faults`` and ``seed``; ``sensor_noise``: the
+    sensor's accuracy (``kb.execution.api.sensor_accuracy``)."""
+
+    faults: Any = None
+    seed: int = 0
+    cell: Any = None
+    match_names: bool = False
+    domain_files: Sequence[str | Path] | None = None
+    sensor_noise: Any = None
+    planner: str | None = None
+    truth: str | Path | Scene | None = None
+    validate: bool = True
+    geometry: bool = True
+    out_dir: str | Path | None = None
+    db: str | Path | None = None
+    replace: bool = False
+    store: Any = None
+    notifier: Callable[[str, str], None] = log_notifier
+    name: str | None = None
+    #: the run's clock starts when planning starts (its timeline shows the planning time)
+    clock_from_plan: bool = False
+
+
+@dataclass
+class LoopResult:
+    """What a closed loop made: each stage's result, and where and why it stopped short."""
+
+    scenario: str
+    validation: Any = None
+    model: Any = None
+    plan: Any = None  # a PlanResult (None when the plan was given)
+    agreement: Any = None
+    world: WorldLoaded | None = None
+    run: Run | None = None
+    units: Any = None  # the world model's units (with a database)
+    #: the stage that ended the loop before execution, and why (the report's reason)
+    halted: str | None = None
+    reason: str | None = None
+    error: Exception | None = None  # what the planner raised when there is no plan
+    seconds: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def executed(self) -> bool:
+        return self.run is not None
+
+    @property
+    def goal_holds(self) -> bool:
+        return self.run is not None and self.run.goal_holds
+
+    @property
+    def ok(self) -> bool:
+        """The plan was carried out, the goal holds and nothing stopped the run."""
+        return self.goal_holds and self.run is not None and self.run.stopped is None
+
+    def report(self) -> dict[str, Any]:
+        """The scenario's report: the run's (``executed`` True, the world model's ``units``
+        with a database), or why it was not executed."""
+        if self.run is None:
+            return {"scenario": self.scenario, "executed": False, "reason": self.reason, "goal_holds": False,
+                    "stopped": None, "injected": [], "failures": []}
+        data = {"executed": True, **self.run.report()}
+        if self.units is not None:
+            data["units"] = self.units.as_dict()
+        return data
+
+
+class ClosedLoop:
+    """One closed loop from ``init`` to ``goal``; :meth:`run` it.
+
+    ``inputs``: the files already read (else read here, once); ``plan``: PDDL action lines to
+    carry out instead of planning (the ``pddl`` and ``plan`` stages are skipped);
+    ``plan_inputs``: what the executor needs, made beforehand (a test method's design);
+    ``on_event``: each :mod:`~kb.execution.events` event; ``progress``: where long stages
+    report their steps (:mod:`kb.core.progress`)."""
+
+    def __init__(self, init: str | Path, goal: str | Path, options: LoopOptions | None = None, *,
+                 inputs: LoopInputs | None = None, plan: Sequence[str] | None = None,
+                 plan_inputs: PlanInputs | None = None, plan_time: float | None = None,
+                 on_event: Listener = ignore, progress: Progress = SILENT) -> None:
+        self.init, self.goal = Path(init), Path(goal)
+        self.options = options or LoopOptions()
+        self.inputs = inputs
+        self.given_plan = list(plan) if plan is not None else None
+        self.plan_inputs = plan_inputs
+        self.plan_time = plan_time
+        self.on_event = on_event
+        self.progress = progress
+        o = self.options
+        self.name = o.name or (self.init.resolve().parent.name if self.init.stem == "init" else self.init.stem)
+        self.result = LoopResult(self.name)
+        self._clock: float | None = None
+
+    # --- the loop ---------------------------------------------------------------------------
+    def run(self) -> LoopResult:
+        """Run the stages; the result says how far they went. Input errors are raised
+        (:class:`~kb.core.errors.InputError`, as each stage raises them)."""
+        o = self.options
+        with ExitStack() as stack:
+            if o.db is not None and o.store is None:  # the writer lock from the start: a second run is
+                from kb.world.database import normalize_url  # refused before any work, not after planning
+                from kb.world.lock import hold
+                stack.enter_context(hold(normalize_url(o.db), "a run"))
+            self._stages()
+        return self.result
+
+    def _stages(self) -> None:
+        o = self.options
+        if self.inputs is None and self.plan_inputs is None:
+            self.inputs = LoopInputs.read(self.init, self.goal, domain_files=o.domain_files,
+                                          match_names=o.match_names, imports=o.validate)
+        if o.validate and not self._validate():
+            return
+        plan = self.given_plan
+        if plan is None:
+            plan = self._plan()
+            if plan is None:
+                return
+        if o.geometry and not self._geometry():
+            return
+        store = o.store
+        own_store = None
+        if store is None and o.db is not None:
+            self._world()
+            from kb.execution.store import RunStore
+            store = own_store = RunStore(o.db)
+            self.result.units = store.units
+        try:
+            self._execute(plan, store)
+        finally:
+            if own_store is not None:
+                own_store.close()
+
+    def _stage(self, stage: str, **detail: Any) -> float:
+        self.on_event(StageStarted(stage, self.name, detail))
+        return time.perf_counter()
+
+    def _ended(self, stage: str, started: float, result: Any, ok: bool = True, reason: str | None = None) -> bool:
+        seconds = time.perf_counter() - started
+        self.result.seconds[stage] = seconds
+        if not ok:
+            self.result.halted, self.result.reason = stage, reason
+        self.on_event(StageEnded(stage, self.name, seconds, result, ok, reason))
+        return ok
+
+    # --- the stages -------------------------------------------------------------------------
+    def _validate(self) -> bool:
+        from kb.validation import validate
+        assert self.inputs is not None
+        t = self._stage("validate", files=[str(self.init), str(self.goal)])
+        report = validate([str(self.init), str(self.goal)], loaded=self.inputs.states)
+        self.result.validation = report
+        return self._ended("validate", t, report, report.conforms,
+                           None if report.conforms else invalid_reason(report.errors))
+
+    def _plan(self) -> list[str] | None:
+        from kb import planning
+        from kb.core.generators import get_generator
+        o, inputs = self.options, self.inputs
+        assert inputs is not None
+        out = Path(o.out_dir) if o.out_dir is not None else None
+        t = self._stage("pddl", out_dir=str(out) if out is not None else None)
+        model = inputs.model("strips")
+        if out is not None:
+            get_generator("pddl")(model).write_outputs(out)
+        self.result.model = model
+        self._ended("pddl", t, model)
+        t = self._stage("plan")
+        self._clock = t
+        try:
+            result = planning.run(model.up_problem, out / "plan.txt" if out is not None else None, o.planner,
+                                  progress=self.progress)
+        except NotSolvableError as e:
+            self.result.error = e
+            self._ended("plan", t, None, False, f"no plan: {e}")
+            return None
+        self.plan_time = time.perf_counter() - t
+        self.result.plan = result
+        self._ended("plan", t, result)
+        return list(result.lines)
+
+    def _geometry(self) -> bool:
+        from kb.planning.geometry import agreement
+        inputs = self.inputs
+        assert inputs is not None
+        t = self._stage("geometry")
+        geo = agreement(inputs.problem, inputs.definitions, inputs.scene, inputs.goal_scene)
+        self.result.agreement = geo
+        return self._ended("geometry", t, geo, geo.initial_agrees, geo.reason() or None)
+
+    def _world(self) -> None:
+        from kb.execution.store import prepare
+        from kb.world import WorldModel
+        from kb.world.database import safe_url
+        o, inputs = self.options, self.inputs
+        t = self._stage("world", db=str(o.db))
+        loaded = prepare(o.db, self.init, o.domain_files, replace=o.replace,
+                         loaded=inputs.loaded() if inputs is not None else None)
+        with WorldModel(o.db) as world:
+            poses = world.global_poses()
+        self.result.world = WorldLoaded(safe_url(str(o.db)), loaded.individuals, len(poses))
+        self._ended("world", t, self.result.world)
+
+    def _execute(self, plan: list[str], store: Any) -> None:
+        o = self.options
+        pin = self.plan_inputs or self.inputs.plan_inputs()  # type: ignore[union-attr]
+        t = self._stage("execute", actions=len(plan))
+        accuracy = sensor_accuracy(pin.scene, o.sensor_noise)
+        cell, own = self._cell(pin, accuracy)
+        record = RunRecord(self.name, o.seed, plan_time=self.plan_time)
+
+        def notify(recipient: str, message: str) -> None:
+            self.on_event(Notified(recipient, message))
+            o.notifier(recipient, message)
+
+        try:
+            run = execute_plan(plan, cell, pin, record, accuracy=accuracy, store=store, paths=(self.init, self.goal),
+                               notifier=notify, planner=o.planner, on_event=self.on_event)
+        finally:
+            if own:
+                cell.close()
+        if o.clock_from_plan and self._clock is not None:
+            run.record.started = min(run.record.started, self._clock)
+        self.result.run = run
+        self._ended("execute", t, run)
+
+    def _cell(self, pin: PlanInputs, accuracy: Any) -> tuple[CellInterface, bool]:
+        """The cell to execute on, and whether the loop opened it (and closes it)."""
+        o = self.options
+        if o.cell is not None and not isinstance(o.cell, str):
+            return o.cell, False
+        if isinstance(o.cell, str):
+            from kb.crcl.remote import RemoteCell
+            return RemoteCell.from_address(o.cell), True
+        from kb.sim import FaultSpec, SimulatedCell  # imported only when no cell is given
+        faults = FaultSpec.parse(o.faults, seed=o.seed) if isinstance(o.faults, str) else o.faults
+        if isinstance(o.truth, Scene):
+            truth = o.truth
+        elif o.truth is not None:
+            goal = self.inputs.goal if self.inputs is not None else self.goal  # not parsed again
+            truth = Scene.from_files([o.truth], declared=[goal], match_names=o.match_names)
+        else:
+            truth = pin.scene  # the belief and the cell each copy it
+        noise = {"noise": accuracy} if accuracy is not None else {}
+        return SimulatedCell(truth, faults=faults, seed=o.seed, **noise), False
+
+
+def invalid_reason(errors: list[Any]) -> str:
+    """Why state files that do not validate are not executed: how many errors of which rules,
+    and the first (a kit design whose slots do not fit its tray says so)."""
+    rules = Counter(d.rule or "error" for d in errors)
+    counts = ", ".join(f"{rule} {n}" if n > 1 else rule for rule, n in sorted(rules.items(), key=lambda kv: -kv[1]))
+    return f"the state files do not validate ({len(errors)} error(s): {counts}); first: {errors[0].format()}"
+
+
+# --- the executives' entry points -----------------------------------------------------------------
+
+def run_plan(plan: Sequence[str], init: str | Path, goal: str | Path, *, cell: CellInterface | str | None = None,
+             faults: Any = None, seed: int = 0, match_names: bool = False, db: str | Path | None = None,
+             replace: bool = False, store: Any = None,
+             progress: Callable[[str], None] | None = None, notifier: Callable[[str, str], None] = log_notifier,
+             planner: str | None = None, domain_files: Sequence[str | Path] | None = None,
+             name: str | None = None, truth: str | Path | None = None, plan_time: float | None = None,
+             sensor_noise: Any = None, on_event: Listener | None = None) -> Run:
+    """Carry out ``plan`` (PDDL action lines) from the state ``init`` towards ``goal``: the
+    closed loop's ``world`` (with ``db``) and ``execute`` stages (:class:`ClosedLoop`).
+
+    ``cell``: any :class:`~kb.crcl.cell.CellInterface` (a real cell, :class:`kb.crcl.RemoteCell`)
+    or a cell's address; default: a simulated cell of ``init`` with ``faults`` (a
+    :class:`kb.sim.FaultSpec` or its text, ``"missed-grasp=0.2,part-missing@3"``) and ``seed``.
+    ``db``: a database (SQLite file or URL) that gets the initial state and the domain (a
+    database that already holds a world model or run history only with ``replace``), then the
+    stable states and the run's records (:mod:`kb.execution.store`); or pass an open ``store``.
+    ``truth``: a state file the simulated cell holds instead of ``init`` (the same objects
+    placed and turned otherwise: the first paper's "the actual location of the kit tray and
+    parts supplies will not be known before runtime"); the executor starts from ``init``, the
+    nominal layout, and finds the objects by sensing. ``plan_time``: the seconds the plan took
+    to make (a metric of the run). ``sensor_noise``: the sensor's accuracy (a
+    :class:`kb.sim.noise.SensorNoise` or its text, ``"position=1mm,orientation=0.5deg,misdetection=0.01"``),
+    over the sensor individual of ``init``: the simulated cell's sensor has it, and the
+    executor verifies with it (docs/execution.md, "Sensing with noise"); with another
+    ``cell``, what the executor assumes of its sensor. ``on_event``: each event of the loop
+    (:mod:`kb.execution.events`); ``progress``: each event's line.
+    """
+    options = LoopOptions(faults=faults, seed=seed, cell=cell, match_names=match_names, domain_files=domain_files,
+                          sensor_noise=sensor_noise, planner=planner, truth=truth, validate=False, geometry=False,
+                          db=db, replace=replace, store=store, notifier=notifier,
+                          name=name or Path(init).resolve().parent.name)
+    loop = ClosedLoop(init, goal, options, plan=plan, plan_time=plan_time, on_event=_listener(on_event, progress))
+    return _ran(loop.run())
+
+
+def run_scenario(init: str | Path, goal: str | Path, *, validate: bool = False, geometry: bool = False,
+                 on_event: Listener | None = None, progress: Callable[[str], None] | None = None, **kw: Any) -> Run:
+    """Plan from ``init`` to ``goal`` with a real planner, then carry the plan out as
+    :func:`run_plan` does: the closed loop, by default without its ``validate`` and
+    ``geometry`` stages (``validate=True``, ``geometry=True`` add them; a stage that ends the
+    loop is an :class:`~kb.core.errors.InputError` or :class:`~kb.core.errors.NotSolvableError`
+    saying why)."""
+    name, plan_time = kw.pop("name", None), kw.pop("plan_time", None)
+    options = LoopOptions(validate=validate, geometry=geometry, clock_from_plan=True,
+                          name=name or Path(init).resolve().parent.name, **kw)
+    loop = ClosedLoop(init, goal, options, plan_time=plan_time, on_event=_listener(on_event, progress))
+    return _ran(loop.run())
+
+
+def _listener(on_event: Listener | None, progress: Callable[[str], None] | None) -> Listener:
+    if progress is None:
+        return on_event or ignore
+
+    def listen(event: Event) -> None:
+        if on_event is not None:
+            on_event(event)
+        text = event.text()
+        if text is not None and not isinstance(event, Notified):  # notifications go to the notifier
+            progress(text)
+    return listen
+
+
+def _ran(result: LoopResult) -> Run:
+    """The run of a loop; a loop that stopped before executing is an error saying why."""
+    if result.run is not None:
+        return result.run
+    from kb.core.errors import InputError
+    if result.error is not None:
+        raise result.error
+    raise InputError(f"not executed: {result.reason}")
