@@ -1,22 +1,31 @@
 """The cell contract: what an executor talks to, and what a simulator or a real cell implements.
 
 As in the seeds' own system (USARSim behind CRCL and the USARTruth pose query, later swapped
-for a real robot), an executor sees the world only through a :class:`CellInterface`:
+for a real robot), an executor sees the world only through a cell. What a cell can do is a set
+of capabilities, each a :class:`typing.Protocol` (runtime-checkable):
 
-* :meth:`~CellInterface.execute`: one CRCL command (:mod:`kb.crcl.commands`) -> a :class:`Status`;
-* :meth:`~CellInterface.sense`: a focus-of-attention query by class or by name ->
+* :class:`Moves` (``"move"``): ``execute`` one CRCL command (:mod:`kb.crcl.commands`) -> a
+  :class:`Status`; :class:`MovesPrograms` (``"move-program"``): ``execute_program``, one
+  action's commands in one round trip (:func:`execute_program` runs a program on any cell that
+  moves, with the same meaning everywhere: commands in order, those after a failed one not
+  executed);
+* :class:`Senses` (``"sense"``): ``sense`` a focus-of-attention query by class or by name ->
   :class:`Observation` s (seed 004 §3.2: name, class, time, location, roll/pitch/yaw; kitkb
-  adds the SKU the sensor recognises);
-  (:func:`sense_names`: several objects by name, in one query where the cell offers it);
-* :meth:`~CellInterface.inspect`: a quality inspection of one part;
-* :meth:`~CellInterface.begin_action`: the executor announces each plan action before its
-  commands (a real cell may log it; the simulator keys fault injection on it).
+  adds the SKU the sensor recognises); :class:`SensesNames` (``"sense-names"``): several
+  objects by name in one query (:func:`sense_names` asks any cell that senses);
+* :class:`Inspects` (``"inspect"``): a quality inspection of one part;
+* :class:`AnnouncesActions` (``"begin-action"``): the executor announces each plan action
+  before its commands (a real cell may log it; the simulator keys fault injection on it);
+* :class:`GroundTruth` (``"ground-truth"``): the faults injected, the constraints violated and
+  the sensor's mistakes; simulation only, for scoring, never for the executor.
 
-:func:`execute_program` runs one action's command list on any cell, in one round trip where
-the cell offers ``execute_program`` (:class:`kb.crcl.remote.RemoteCell`), with the same
-meaning everywhere: commands in order, those after a failed one not executed.
-:func:`truth_line` / :func:`parse_truth_line` are USARTruth's key-value text form of an
-observation. Ground truth (a simulator's ``scene()``) is not part of the contract.
+:class:`CellInterface` is the whole cell (move, sense, inspect, begin-action): the simulator
+and kitkb's cell server are that. :func:`capabilities` names what a cell has (its own
+``capabilities`` declaration, else the protocols it implements); :func:`require` refuses a
+cell that lacks what a run needs with a one-line reason (the executor needs ``move`` and
+``sense`` always, ``inspect`` for a plan with ``look-for-part``). Cells are chosen by URL
+(:mod:`kb.cells`). :func:`truth_line` / :func:`parse_truth_line` are USARTruth's key-value
+text form of an observation.
 
 The contract lives in ``kb.crcl`` (layer 5) so the executor can type against it without
 importing the simulator (``kb.sim``, above it).
@@ -26,8 +35,9 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass
-from typing import Callable, Literal, Protocol, Sequence, TypeVar, runtime_checkable
+from typing import Any, Callable, Literal, Protocol, Sequence, TypeVar, runtime_checkable
 
+from kb.core.errors import InputError
 from kb.crcl.commands import Command
 
 Vector = tuple[float, float, float]
@@ -82,26 +92,129 @@ class Observation:
     sku: str | None = None
 
 
+# --- capabilities ------------------------------------------------------------------------------
+# Each optional ability of a cell is a protocol of its own; :func:`capabilities` names those a
+# cell has, :func:`require` refuses a cell that lacks one a run needs. No getattr probing.
+
 @runtime_checkable
-class CellInterface(Protocol):
-    """A kitting workcell, simulated (:class:`kb.sim.SimulatedCell`) or behind sockets
-    (:class:`kb.crcl.remote.RemoteCell`)."""
+class Moves(Protocol):
+    """A cell that carries out CRCL commands (a robot's controller)."""
 
     def execute(self, command: Command) -> Status:
         """Carry out one CRCL command."""
         ...
 
+
+@runtime_checkable
+class MovesPrograms(Protocol):
+    """A cell that carries out one action's commands at once (one round trip to a remote cell):
+    one status per command, in order, those after a failed one not executed."""
+
+    def execute_program(self, commands: Sequence[Command]) -> list[Status]:
+        """Carry out ``commands`` in order, stopping at the first failure."""
+        ...
+
+
+@runtime_checkable
+class Senses(Protocol):
+    """A cell with a pose sensor answering focus-of-attention queries by class and by name
+    (USARTruth's, seed 004 §3.2)."""
+
     def sense(self, query: str, *, by: Literal["class", "name"] = "class") -> list[Observation]:
         """Objects of a class (local name or IRI, subclasses included) or of a name, as sensed now."""
         ...
+
+
+@runtime_checkable
+class SensesNames(Protocol):
+    """A cell that senses several objects by name in one query."""
+
+    def sense_names(self, names: Sequence[str]) -> list[Observation]:
+        """The named objects as sensed now, in the order asked, those not in the cell left out."""
+        ...
+
+
+@runtime_checkable
+class Inspects(Protocol):
+    """A cell that inspects the quality of a part."""
 
     def inspect(self, name: str) -> bool:
         """Quality inspection of a part: False when it is defective (or not in the cell)."""
         ...
 
+
+@runtime_checkable
+class AnnouncesActions(Protocol):
+    """A cell that hears which plan action starts before its commands (a real cell may log
+    it; the simulator injects its faults and makes a kit there)."""
+
     def begin_action(self, index: int, action: str, args: tuple[str, ...]) -> None:
         """The executor starts plan action ``index`` (PDDL name and its argument IRIs)."""
         ...
+
+
+@runtime_checkable
+class GroundTruth(Protocol):
+    """What only a simulation knows and the executor is never told, for scoring a run: the
+    faults it injected, the constraints its robot violated, what its sensor got wrong (each a
+    list of records with ``as_dict()`` or dataclasses)."""
+
+    @property
+    def injected(self) -> Sequence[Any]: ...
+
+    @property
+    def violations(self) -> Sequence[Any]: ...
+
+    @property
+    def sensor_errors(self) -> Sequence[Any]: ...
+
+
+@runtime_checkable
+class CellInterface(Moves, Senses, Inspects, AnnouncesActions, Protocol):
+    """A whole kitting workcell, simulated (:class:`kb.sim.SimulatedCell`) or behind sockets
+    (:class:`kb.crcl.remote.RemoteCell`): it moves, senses, inspects and hears each action.
+    A cell may have less (a CRCL controller paired with a sensor moves and senses only): the
+    executor asks for what a run needs (:func:`require`), not for all of this."""
+
+
+#: each capability's name -> its protocol (the names :func:`capabilities` and :func:`require` use)
+CAPABILITIES: dict[str, type] = {
+    "move": Moves, "move-program": MovesPrograms, "sense": Senses, "sense-names": SensesNames,
+    "inspect": Inspects, "begin-action": AnnouncesActions, "ground-truth": GroundTruth,
+}
+#: what any run needs of its cell
+RUN_NEEDS = ("move", "sense")
+
+
+def capabilities(cell: object) -> frozenset[str]:
+    """The capabilities of ``cell``: its own ``capabilities`` declaration when it has one (a
+    set of :data:`CAPABILITIES` names; a wrapper declares what it forwards), else those whose
+    protocol it implements."""
+    declared = getattr(cell, "capabilities", None)
+    if isinstance(declared, (set, frozenset, tuple, list)):
+        return frozenset(declared)
+    return frozenset(name for name, proto in CAPABILITIES.items() if isinstance(cell, proto))
+
+
+def missing(cell: object, needs: Sequence[str]) -> list[str]:
+    """The capabilities of ``needs`` that ``cell`` lacks, in the order asked."""
+    have = capabilities(cell)
+    return [n for n in needs if n not in have]
+
+
+def require(cell: object, needs: Sequence[str], why: str = "the run") -> None:
+    """Refuse ``cell`` with a one-line :class:`~kb.core.errors.InputError` when it lacks a
+    capability of ``needs`` (names of :data:`CAPABILITIES`), saying what needs it."""
+    lacking = missing(cell, needs)
+    if lacking:
+        name = getattr(cell, "url", None) or type(cell).__name__
+        raise InputError(f"the cell {name} cannot {', '.join(_VERBS.get(n, n) for n in lacking)}, "
+                         f"which {why} needs")
+
+
+_VERBS = {"move": "execute CRCL commands", "move-program": "execute CRCL programs", "sense": "sense objects",
+          "sense-names": "sense objects by name in one query", "inspect": "inspect parts",
+          "begin-action": "hear which action starts", "ground-truth": "tell its ground truth"}
 
 
 def run_in_order(run: Callable[[T], Status], commands: Sequence[T]) -> list[Status]:
@@ -114,24 +227,22 @@ def run_in_order(run: Callable[[T], Status], commands: Sequence[T]) -> list[Stat
     return out
 
 
-def sense_names(cell: CellInterface, names: Sequence[str]) -> list[Observation]:
+def sense_names(cell: Senses, names: Sequence[str]) -> list[Observation]:
     """The named objects (IRIs) as sensed now, in the order asked, those not in the cell left
-    out: in one query where the cell offers ``sense_names`` (:class:`kb.sim.SimulatedCell`),
+    out: in one query where the cell :class:`SensesNames` (:class:`kb.sim.SimulatedCell`),
     else one ``sense(name, by="name")`` per name. The executor's focus of attention asks for an
     action's neighbourhood this way (a query's cost then follows its answer, not the cell)."""
-    own = getattr(cell, "sense_names", None)
-    if callable(own):
-        return list(own(names))
+    if isinstance(cell, SensesNames):
+        return list(cell.sense_names(names))
     return [o for n in names for o in cell.sense(n, by="name")]
 
 
-def execute_program(cell: CellInterface, commands: Sequence[Command]) -> list[Status]:
+def execute_program(cell: Moves, commands: Sequence[Command]) -> list[Status]:
     """Run one action's commands on ``cell``: one status per command, in order, the commands
-    after a failed one not executed. A cell with its own ``execute_program`` (one round trip
-    to a remote cell) does it; any other cell command by command."""
-    own = getattr(cell, "execute_program", None)
-    if callable(own):
-        return list(own(commands))
+    after a failed one not executed. A cell that :class:`MovesPrograms` (one round trip to a
+    remote cell) does it; any other cell command by command."""
+    if isinstance(cell, MovesPrograms):
+        return list(cell.execute_program(commands))
     return run_in_order(cell.execute, commands)
 
 

@@ -7,11 +7,13 @@ from pathlib import Path
 from typing import Any, Literal, Sequence
 
 
+from kb.cells.registry import CellRequest, CellURL
+from kb.core.errors import InputError
 from kb.core.namespaces import KTW, local_name
 from kb.crcl import Command, EndCanon
 from kb.crcl.cell import Observation, Status
 from kb.sim.faults import FaultSpec, Injected, Injector
-from kb.sim.noise import SensorNoise
+from kb.sim.noise import SensorAccuracy, SensorNoise
 from kb.sim.robot import VIOLATION_KINDS, Robot
 from kb.sim.sensor import Sensor, observe
 from kb.sim.world import KIT_TRAY, SKU, World
@@ -78,6 +80,18 @@ class SimulatedCell:
         self.faults = Injector(faults or FaultSpec(), self.world, self.robot, self.injected.append)
         self.action: tuple[int, str, tuple[str, ...]] | None = None
         self._pending_kit: tuple[str, str] | None = None
+        self.url: str | None = None  # the URL it was opened from (kb.cells), for messages
+
+    @property
+    def accuracy(self) -> SensorAccuracy:
+        """The accuracy of its sensor: the noise it adds (what an executor should verify with)."""
+        return self.sensor.noise
+
+    @property
+    def sensor_errors(self) -> list:
+        """What its sensor got wrong (``sensor.errors``: misdetections, misclassifications):
+        ground truth, like ``injected`` and ``violations``."""
+        return self.sensor.errors
 
     @property
     def time(self) -> float:
@@ -195,3 +209,36 @@ class SimulatedCell:
         w.local_lo[k], w.local_hi[k], w.open_top[k] = w.local_lo[t], w.local_hi[t], w.open_top[t]
         w.parent[k], w.parent[t] = w.parent[t], k
         w.facts.setdefault(KIT_TRAY, set()).add((kit, tray))
+
+
+def open_simulated(url: CellURL, request: CellRequest) -> SimulatedCell:
+    """The ``sim:`` cell (:mod:`kb.cells.registry`): a :class:`SimulatedCell` holding
+    ``request.scene``, with the faults, seed and sensor accuracy of the request or of the URL's
+    ``faults=``, ``seed=`` and ``noise=`` (noise over the request's accuracy); a parameter and a
+    different value of the request at once are refused, as is a request without a scene."""
+    url.only("faults", "seed", "noise")
+    if request.scene is None:
+        raise url.refuse("a simulated cell needs the initial state it holds (no scene was given)")
+    seed = url.number("seed", int)
+    if seed is not None and request.seed not in (None, seed):
+        raise url.refuse(f"seed={seed} and a seed of {request.seed} given besides")
+    seed = seed if seed is not None else (request.seed or 0)
+    faults = request.faults
+    text = url.params.get("faults")
+    if text is not None and faults not in (None, "", text):
+        raise url.refuse(f"faults={text!r} and faults {faults!r} given besides")
+    faults = text if text is not None else faults
+    accuracy = request.accuracy
+    try:
+        spec = FaultSpec.parse(faults, seed=seed) if isinstance(faults, str) and faults.strip() else faults
+        if "noise" in url.params:
+            accuracy = SensorAccuracy.parse(url.params["noise"], accuracy)
+    except ValueError as exc:
+        raise url.refuse(str(exc)) from None
+    try:
+        cell = SimulatedCell(request.scene, faults=spec if spec else None, seed=seed,
+                             **({"noise": accuracy} if accuracy is not None else {}))
+    except ValueError as exc:
+        raise InputError(str(exc)) from None
+    cell.url = url.text
+    return cell
