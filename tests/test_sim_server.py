@@ -39,10 +39,12 @@ REPO = Path(__file__).resolve().parents[1]
 
 
 @contextmanager
-def served(cell: SimulatedCell) -> Iterator[tuple[CellServer, RemoteCell]]:
-    """``cell`` served on free loopback ports, and a RemoteCell on it."""
+def served(cell: SimulatedCell, protocol: str = "crcl") -> Iterator[tuple[CellServer, RemoteCell]]:
+    """``cell`` served on free loopback ports, and a RemoteCell on it (CRCL 1.x, or kitkb's
+    ``{Length N}`` protocol)."""
     with CellServer(cell, sensor_port=0, command_port=0) as server:
-        with RemoteCell("127.0.0.1", server.sensor_port, server.command_port, timeout=10) as remote:
+        with RemoteCell("127.0.0.1", server.sensor_port, server.command_port, timeout=10,
+                        protocol=protocol) as remote:  # type: ignore[arg-type]
             yield server, remote
 
 
@@ -197,8 +199,13 @@ def test_a_program_that_does_not_parse_gets_one_error_line_and_the_server_keeps_
         assert [parse_status_line(x) for x in lines[6:9]] == [(1, Status.ok()), (2, Status.ok()), (3, Status.ok())]
         assert lines[1::2][:3] == [END] * 3 and lines[-1] == END
         # a header that is not {Length N}: answered, that connection closed, the server serving
-        assert talk(server.command_port, b"hello\n<CRCLProgram/>\n")[0].startswith(
+        assert talk(server.command_port, b"{hello}\n<CRCLProgram/>\n")[0].startswith(
             "{Status error} {Message expected a Length header")
+        # what is neither kitkb's protocol nor XML: a CRCL 1.x error status, that connection closed
+        with socket.create_connection(("127.0.0.1", server.command_port), timeout=10) as s:
+            s.sendall(b"hello\n<CRCLProgram/>\n")
+            answer = b"".join(iter(lambda: s.recv(4096), b""))
+        assert b"<CommandState>CRCL_Error</CommandState>" in answer and b"not XML: line 1, column 1" in answer
         assert remote.execute(crcl.Dwell(0.5)) == Status.ok()
         assert remote.sense("Robot")[0].time == 2.0
 
@@ -214,7 +221,7 @@ def test_a_malformed_action_message_is_an_error_status() -> None:
 # --- the client's side of the protocol ----------------------------------------------------------
 
 def test_programs_get_the_envelope_crcl_xsd_needs_and_unsendable_commands_are_errors() -> None:
-    with served(SimulatedCell(INIT)) as (_, remote):
+    with served(SimulatedCell(INIT), protocol="kitkb") as (_, remote):  # (CRCL 1.x: tests/test_crcl_wire.py)
         assert remote.execute_program([]) == []
         assert remote.execute(crcl.InitCanon()) == Status.ok()
         assert remote.execute(crcl.EndCanon()) == Status.ok()
@@ -235,7 +242,7 @@ def test_the_cell_executes_the_commands_sent_and_not_their_frame() -> None:
     executed: list[crcl.Command] = []
     execute = cell.execute
     cell.execute = lambda c: executed.append(c) or execute(c)  # type: ignore[method-assign]
-    with served(cell) as (server, remote):
+    with served(cell, protocol="kitkb") as (server, remote):  # (CRCL 1.x: tests/test_crcl_wire.py)
         assert remote.execute_program([crcl.Dwell(1)]) == [Status.ok()]
         remote.begin_action(0, "attach-endeffector", (ROBOT, GRIPPER))
         assert cell.action == (0, "attach-endeffector", (ROBOT, GRIPPER))

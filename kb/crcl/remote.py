@@ -28,11 +28,15 @@ from dataclasses import dataclass, replace
 from typing import Literal, Sequence
 
 from kb.core import limits
-from kb.core.errors import CellError
+from kb.core.errors import CellError, InputError
 from kb.crcl.cell import NOT_EXECUTED, Observation, Status, parse_truth_line
-from kb.crcl.commands import Command, EndCanon, InitCanon, Program
-from kb.crcl.wire import (COMMAND_PORT, END, EXTRA_FIELDS, MAX_LINE, SENSOR_PORT, action_message, fields,
-                          frame_message, length_line, parse_address, parse_status_line, query_line)
+from kb.crcl.commands import (Command, EndCanon, GetStatus, InitCanon, Program, SetAngleUnits,
+                              SetLengthUnits)
+from kb.crcl.instance import CommandStatus, read_status, write_command_instance
+from kb.crcl.instance import unwritable as unwritable_1x
+from kb.crcl.wire import (COMMAND_PORT, DONE, END, ERROR, EXTRA_FIELDS, MAX_LINE, SENSOR_PORT, DocumentError,
+                          Documents, action_message, fields, frame_message, length_line, parse_address,
+                          parse_status_line, query_line)
 from kb.crcl.xml import unwritable, write_xml
 
 #: bytes asked of the socket at a time
@@ -207,32 +211,253 @@ class Connection:
         self.sock = None
 
 
+# --- CRCL 1.x ------------------------------------------------------------------------------------
+
+#: Largest status document a client takes (bytes).
+MAX_STATUS = 1 << 20
+#: Seconds without any status after which a client asks with GetStatus (controllers that report
+#: only when asked), and again as long as none comes.
+POLL = 0.25
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """How one command sent to a CRCL 1.x controller ended: its ``command_id``, the ``status``
+    naming it Done or Error (None when none came), ``seconds`` from sending it to that status,
+    and why it is not done (``why``: "" when done)."""
+
+    command: Command
+    command_id: int
+    status: "CommandStatus | None"
+    seconds: float
+    why: str = ""
+
+    @property
+    def done(self) -> bool:
+        """True when the controller reported the command CRCL_Done."""
+        return self.status is not None and self.status.state == DONE and not self.why
+
+
+class CrclClient:
+    """One CRCL 1.x session with a controller at ``host:port`` (:mod:`kb.crcl.wire`): command
+    instances written one at a time (CommandIDs 1, 2, 3, ... of this session), each waited for
+    until a status names its CommandID with CRCL_Done or CRCL_Error, statuses of other
+    CommandIDs and CRCL_Working read and waited through, GetStatus sent when the controller
+    has said nothing for :data:`POLL` seconds. ``bounds``: per command, the time from sending
+    it to its end (a command not acknowledged within it is an :class:`Outcome` with ``why``),
+    and the bytes of statuses read meanwhile. A controller that cannot be reached, closes
+    the connection, or writes what is not a CRCLStatus document is a
+    :class:`~kb.core.errors.CellError` naming ``host:port`` (exit code 2)."""
+
+    def __init__(self, host: str, port: int, bounds: Bounds, role: str = "command", poll: float = POLL) -> None:
+        self.host, self.port, self.bounds, self.role, self.poll = host, port, bounds, role, poll
+        self.sock: socket.socket | None = None
+        self.docs = Documents(MAX_STATUS)
+        self.next_id = 1
+        self.last: CommandStatus | None = None  # the last status read
+        self.polls: set[int] = set()  # the CommandIDs of our GetStatus commands
+
+    @property
+    def address(self) -> str:
+        """``host:port``."""
+        return f"{self.host}:{self.port}"
+
+    @property
+    def connected(self) -> bool:
+        """True while the connection is open (and the controller has not closed it)."""
+        if self.sock is None:
+            return False
+        try:
+            self._drain()
+        except CellError:
+            self.close()
+        return self.sock is not None
+
+    def connect(self) -> None:
+        """Open the connection (a new session: CommandIDs from 1)."""
+        self.close()
+        try:
+            self.sock = socket.create_connection((self.host, self.port), timeout=self.bounds.seconds)
+        except OSError as exc:
+            why = "timed out" if isinstance(exc, TimeoutError) else (exc.strerror or str(exc))
+            raise CellError(f"cannot reach the cell's {self.role} port: {why}", self.address) from None
+        self.sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+        self.docs, self.next_id, self.last, self.polls = Documents(MAX_STATUS), 1, None, set()
+
+    def close(self) -> None:
+        """Close the connection."""
+        if self.sock is not None:
+            try:
+                self.sock.close()
+            except OSError:
+                pass
+        self.sock = None
+
+    def run(self, command: Command, timeout: float | None = None) -> Outcome:
+        """Send ``command`` (an InputError, before anything is sent, for one CRCL 1.x cannot
+        hold) and wait for its end, at most ``timeout`` seconds (default: the time bound)."""
+        data = write_command_instance(command, self.next_id)
+        if self.sock is None:
+            self.connect()
+        command_id, self.next_id = self.next_id, self.next_id + 1
+        seconds = self.bounds.seconds if timeout is None else timeout
+        start = time.monotonic()
+        self._drain()
+        self._received = 0
+        self._send(data)
+        status, why = self._wait(command_id, start + seconds if seconds is not None else None, seconds)
+        return Outcome(command, command_id, status, time.monotonic() - start, why)
+
+    def _wait(self, command_id: int, deadline: float | None, seconds: float | None) -> tuple[CommandStatus | None, str]:
+        """The status that ends ``command_id``, or (None or the last status, why) at the deadline."""
+        heard = time.monotonic()
+        mine: CommandStatus | None = None
+        while True:
+            now = time.monotonic()
+            if deadline is not None and now >= deadline:
+                return mine, self._unanswered(command_id, seconds)
+            wait = self.poll - (now - heard)
+            if wait <= 0:
+                self._poll()
+                heard, wait = now, self.poll
+            if deadline is not None:
+                wait = min(wait, deadline - now)
+            for status in self._read(max(wait, 0.0)):
+                heard = time.monotonic()
+                if self.bounds.bytes is not None and self._received > self.bounds.bytes:
+                    raise CellError(f"the {self.role} port sent more than {limits.CELL_BYTES.show(self.bounds.bytes)} "
+                                    f"of status while command {command_id} ran (the bound on {limits.CELL_BYTES.name}; "
+                                    f"set {limits.CELL_BYTES.env} to raise it)", self.address)
+                if status.command_id == command_id:
+                    mine = status
+                    if status.state in (DONE, ERROR):
+                        return status, ""
+
+    def _unanswered(self, command_id: int, seconds: float | None) -> str:
+        last = self.last
+        heard = ("nothing" if last is None else
+                 f"CommandID {last.command_id} {last.state}" + (f" ({last.description})" if last.description else ""))
+        return (f"command {command_id} was not acknowledged Done or Error within {seconds:g} s; last heard: {heard}"
+                if seconds is not None else f"command {command_id} was not acknowledged; last heard: {heard}")
+
+    def _poll(self) -> None:
+        """Ask for the status (a GetStatus of its own CommandID)."""
+        command_id, self.next_id = self.next_id, self.next_id + 1
+        self.polls.add(command_id)
+        self._send(write_command_instance(GetStatus(), command_id))
+
+    def _send(self, data: bytes) -> None:
+        assert self.sock is not None
+        try:
+            self.sock.settimeout(self.bounds.seconds)
+            self.sock.sendall(data)
+        except OSError as exc:
+            self.close()
+            raise CellError(f"connection to the {self.role} port lost: {getattr(exc, 'strerror', None) or exc}",
+                            self.address) from None
+
+    _received = 0  # bytes read since the command was sent
+
+    def _read(self, wait: float) -> list[CommandStatus]:
+        """The statuses that arrive within ``wait`` seconds (the first chunk that comes)."""
+        sock = self.sock
+        assert sock is not None
+        try:
+            ready, _, _ = select.select([sock], [], [], wait)
+            chunk = sock.recv(_CHUNK) if ready else None
+        except OSError as exc:
+            self.close()
+            raise CellError(f"connection to the {self.role} port lost: {getattr(exc, 'strerror', None) or exc}",
+                            self.address) from None
+        if chunk is None:
+            return []
+        if not chunk:
+            self.close()
+            raise CellError(f"the {self.role} port closed the connection", self.address)
+        self._received += len(chunk)
+        return self._statuses(chunk)
+
+    def _statuses(self, chunk: bytes) -> list[CommandStatus]:
+        try:
+            docs = self.docs.feed(chunk)
+        except DocumentError as exc:
+            self.close()
+            raise CellError(f"the {self.role} port broke the protocol: {exc}", self.address) from None
+        out = []
+        for doc in docs:
+            if doc.root != "CRCLStatus":
+                self.close()
+                raise CellError(f"the {self.role} port broke the protocol: a <{doc.root}> document, not a "
+                                "CRCLStatus", self.address)
+            try:
+                status = read_status(doc.data, f"{self.address} status")
+            except (InputError, ValueError) as exc:
+                self.close()
+                raise CellError(f"the {self.role} port broke the protocol: {exc}", self.address) from None
+            self.last = status
+            out.append(status)
+        return out
+
+    def _drain(self) -> None:
+        """Read what has come since the last command (heartbeats) without waiting; a closed
+        connection is closed here."""
+        sock = self.sock
+        while sock is not None:
+            try:
+                ready, _, _ = select.select([sock], [], [], 0)
+            except (OSError, ValueError):
+                ready = [sock]
+            if not ready:
+                return
+            try:
+                chunk = sock.recv(_CHUNK)
+            except OSError:
+                chunk = b""
+            if not chunk:
+                self.close()
+                raise CellError(f"the {self.role} port closed the connection", self.address)
+            self._statuses(chunk)
+
+
 class RemoteCell:
-    """A :class:`~kb.crcl.cell.CellInterface` over kitkb's cell protocol (:mod:`kb.crcl.wire`):
-    sensor queries on ``sensor_port``, CRCL XML programs on ``command_port`` of ``host``.
+    """A :class:`~kb.crcl.cell.CellInterface` behind sockets: sensor queries (USARTruth lines,
+    :mod:`kb.crcl.wire`) on ``sensor_port``, CRCL on ``command_port`` of ``host``.
+
+    ``protocol`` ``"crcl"`` (the default): the command port is a CRCL 1.x controller — one
+    command instance at a time, each waited for until its Done or Error (:class:`CrclClient`);
+    each session (connection) starts with InitCanon, SetLengthUnits meter and SetAngleUnits
+    radian, and a connection the cell closed between commands is replaced by a new session.
+    ``"kitkb"``: kitkb's earlier ``{Length N}`` protocol (an action's commands as one CRCL.xsd
+    program, framed), for a ``kitkb sim serve`` before CRCL 1.x.
+
     ``bounds``: how much of each answer to wait for (default: :meth:`Bounds.from_env`, the
-    named limits); ``timeout``: its ``seconds`` instead (to connect, and for each answer in
-    all). Sensor queries ask for kitkb's extra fields (``{Fields Sku}``). For one thread at a
-    time."""
+    named limits; for a CRCL command, the time from sending it to its Done or Error);
+    ``timeout``: its ``seconds`` instead. Sensor queries ask for kitkb's extra fields
+    (``{Fields Sku}``). For one thread at a time."""
 
     def __init__(self, host: str = "127.0.0.1", sensor_port: int = SENSOR_PORT,
                  command_port: int = COMMAND_PORT, timeout: float | None = None,
-                 bounds: Bounds | None = None) -> None:
+                 bounds: Bounds | None = None, protocol: Literal["crcl", "kitkb"] = "crcl") -> None:
+        if protocol not in ("crcl", "kitkb"):
+            raise ValueError(f"protocol must be 'crcl' or 'kitkb', not {protocol!r}")
         self.bounds = bounds if bounds is not None else Bounds.from_env()
         if timeout is not None:
             self.bounds = replace(self.bounds, seconds=timeout)
+        self.protocol = protocol
         self.sensor = Connection(host, sensor_port, self.bounds, "sensor")
         self.command = Connection(host, command_port, self.bounds, "command")
+        self.crcl = CrclClient(host, command_port, self.bounds)
 
     @classmethod
-    def from_address(cls, address: str, timeout: float | None = None, bounds: Bounds | None = None) -> "RemoteCell":
+    def from_address(cls, address: str, timeout: float | None = None, bounds: Bounds | None = None,
+                     protocol: Literal["crcl", "kitkb"] = "crcl") -> "RemoteCell":
         """The cell at ``HOST:PORT`` (command port PORT + 1) or ``HOST:SENSOR_PORT,COMMAND_PORT``
         (:func:`kb.crcl.wire.parse_address`)."""
         host, sensor, command = parse_address(address)
-        return cls(host, sensor, command, timeout, bounds)
+        return cls(host, sensor, command, timeout, bounds, protocol)
 
     def __repr__(self) -> str:
-        return f"RemoteCell(sensor {self.sensor.address}, command {self.command.address})"
+        return f"RemoteCell(sensor {self.sensor.address}, command {self.command.address}, {self.protocol})"
 
     # --- the sensor port --------------------------------------------------------------------
     def sense(self, query: str, *, by: Literal["class", "name"] = "class") -> list[Observation]:
@@ -267,16 +492,66 @@ class RemoteCell:
         return self.execute_program([command])[0]
 
     def execute_program(self, commands: Sequence[Command]) -> list[Status]:
-        """Carry out one action's commands in one round trip: one status per command, those
-        after a failed one not executed (as :func:`kb.crcl.cell.execute_program`).
+        """Carry out one action's commands: one status per command, those after a failed one
+        not executed (as :func:`kb.crcl.cell.execute_program`).
 
-        The commands travel as one CRCL.xsd program, framed where they are not a whole one
-        (kitkb-frame, :mod:`kb.crcl.wire`): the cell executes these commands and no other.
-        A command CRCL.xsd cannot hold (``SetCoordinateFrame``, ``StopMotion``, an
-        ``Unreadable`` line, InitCanon not first or EndCanon not last, ...) is not sent: the
-        commands before it are, and it answers ``Status.error`` saying why.
+        CRCL 1.x: each command sent and waited for in turn; a command CRCL 1.x cannot hold
+        (``SetCoordinateFrame``, an ``Unreadable`` line, ...) is not sent and answers
+        ``Status.error`` saying why. kitkb's protocol: the commands travel as one CRCL.xsd
+        program, framed where they are not a whole one (kitkb-frame, :mod:`kb.crcl.wire`), a
+        command CRCL.xsd cannot hold not sent.
         """
         commands = list(commands)
+        if self.protocol == "kitkb":
+            return self._execute_kitkb(commands)
+        statuses: list[Status] = []
+        for command in commands:
+            if statuses and not statuses[-1].done:
+                statuses.append(Status.error(NOT_EXECUTED))
+                continue
+            statuses.append(self._run(command))
+        return statuses
+
+    def _run(self, command: Command) -> Status:
+        """One command on the CRCL 1.x session (started first where there is none)."""
+        why = unwritable_1x(command)
+        if why:
+            return Status.error(f"{why}; not sent")
+        if not self.crcl.connected:
+            self._begin()
+        status = self._outcome(self.crcl.run(command))
+        return Status.ok(status.description) if status.state == DONE else Status.error(status.description)
+
+    def _begin(self) -> None:
+        """A new CRCL session: InitCanon, then the length and angle units said (metre, radian:
+        kitkb computes in SI), each waited for; a CellError when one is not done."""
+        self.crcl.connect()
+        for command in (InitCanon(), SetLengthUnits("meter"), SetAngleUnits("radian")):
+            status = self._outcome(self.crcl.run(command))
+            if status.state != DONE:
+                self.crcl.close()
+                raise CellError(f"the cell did not start a CRCL session: {type(command).__name__} "
+                                f"(CommandID {status.command_id}) ended in {status.state}: {status.description}",
+                                self.crcl.address)
+
+    def _outcome(self, outcome: Outcome) -> CommandStatus:
+        """The status that ended a command; a CellError when none came within the time bound."""
+        if outcome.why or outcome.status is None:
+            self.crcl.close()  # what the cell does with it is unknown: the next command starts a new session
+            raise CellError(f"the command port: {type(outcome.command).__name__} {outcome.why} (the bound on "
+                            f"{limits.CELL_SECONDS.name}; set {limits.CELL_SECONDS.env} to raise it)",
+                            self.crcl.address)
+        return outcome.status
+
+    def begin_action(self, index: int, action: str, args: tuple[str, ...]) -> None:
+        """Start plan action ``index`` on the cell (a ``kitkb-action`` message, :mod:`kb.crcl.wire`)."""
+        message = action_message(index, action, tuple(args))
+        [status] = self._send([message]) if self.protocol == "kitkb" else [self._run(message)]
+        if not status.done:
+            raise CellError(f"the cell refused to begin action {index} {action}: {status.message}",
+                            self.command.address)
+
+    def _execute_kitkb(self, commands: list[Command]) -> list[Status]:
         k = next((i for i, c in enumerate(commands) if _unsendable(c, i, len(commands))), len(commands))
         statuses = self._send(commands[:k]) if k else []
         if k < len(commands):
@@ -284,13 +559,6 @@ class RemoteCell:
             statuses.append(Status.error(why or "") if not statuses or statuses[-1].done
                             else Status.error(NOT_EXECUTED))
         return statuses + [Status.error(NOT_EXECUTED)] * (len(commands) - len(statuses))
-
-    def begin_action(self, index: int, action: str, args: tuple[str, ...]) -> None:
-        """Start plan action ``index`` on the cell (a ``kitkb-action`` message, :mod:`kb.crcl.wire`)."""
-        [status] = self._send([action_message(index, action, tuple(args))])
-        if not status.done:
-            raise CellError(f"the cell refused to begin action {index} {action}: {status.message}",
-                            self.command.address)
 
     def _send(self, body: list[Command]) -> list[Status]:
         wire, where = _envelope(body)
@@ -308,9 +576,10 @@ class RemoteCell:
         return [answers[i][1] for i in where]
 
     def close(self) -> None:
-        """Close both connections."""
+        """Close every connection."""
         self.sensor.close()
         self.command.close()
+        self.crcl.close()
 
     def __enter__(self) -> "RemoteCell":
         return self

@@ -69,7 +69,10 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass
+from typing import Any
+from xml.parsers import expat
 
+from kb.core import limits
 from kb.core.errors import InputError
 from kb.crcl.cell import FIELD, Status
 from kb.crcl.commands import Message
@@ -255,6 +258,142 @@ def parse_frame(text: str) -> tuple[bool, bool] | None:
     if not words or words[0] != FRAME or not set(words[1:]) <= {"init", "end"}:
         return None
     return "init" in words, "end" in words
+
+
+# --- CRCL 1.x on the command port -------------------------------------------------------------
+
+#: CRCL 1.x's command states (CRCLStatus.xsd's CommandStateEnumType).
+WORKING, DONE, ERROR, READY = "CRCL_Working", "CRCL_Done", "CRCL_Error", "CRCL_Ready"
+#: Seconds after which a CRCL 1.x connection that was sent no status is sent one (a heartbeat).
+STATUS_PERIOD = 1.0
+
+
+class DocumentError(ValueError):
+    """The stream is not a sequence of XML documents (not XML, a DOCTYPE, a document past its
+    bounds): the connection cannot be resynchronised. ``documents``: those completed before
+    the fault, in the same bytes."""
+
+    def __init__(self, message: str, documents: "list[Document] | None" = None) -> None:
+        super().__init__(message)
+        self.documents = documents or []
+
+
+@dataclass(frozen=True)
+class Document:
+    """One complete XML document of a stream: its bytes (XML declaration included) and the local
+    name of its root element."""
+
+    data: bytes
+    root: str
+
+
+_SPACE = b" \t\r\n"
+
+
+class _RootEnded(Exception):
+    """Raised from expat's handler when the root element ends (stops the parse there)."""
+
+
+class Documents:
+    """Splits a byte stream into complete XML documents, as CRCL 1.x travels on TCP: documents
+    one after another with no header or delimiter, each ended by the end of its root element
+    (:meth:`feed` bytes as they arrive, get the documents completed). White space between
+    documents (and before a document's XML declaration, which NIST's Python client sends) is
+    skipped; each document may have its own XML declaration and encoding.
+
+    Each document is parsed incrementally (expat) only to find where it ends; a
+    :class:`DocumentError` names what is wrong when the bytes are not XML, hold a DOCTYPE (no
+    entity is expanded), nest deeper than ``max_depth`` or make a document longer than
+    ``max_bytes`` before its end. After a DocumentError the stream cannot be read on."""
+
+    def __init__(self, max_bytes: int | None = MAX_PROGRAM, max_depth: int | None = None) -> None:
+        self.max_bytes, self.max_depth = max_bytes, max_depth if max_depth is not None else limits.NESTING.value()
+        self._buf = bytearray()
+        self._parser: Any = None
+        self._fed = 0  # bytes of _buf the current parser has seen
+        self._depth = 0
+        self._root = ""
+        self._end = 0  # where the root element's end tag begins (or its empty tag ends)
+
+    @property
+    def pending(self) -> int:
+        """Bytes held of a document not complete yet (white space between documents excluded)."""
+        return len(self._buf.lstrip(_SPACE))
+
+    def feed(self, data: bytes) -> list[Document]:
+        """The documents that ``data`` completes, in order; DocumentError when the stream is broken."""
+        self._buf += data
+        out: list[Document] = []
+        while True:
+            if self._parser is None:
+                start = len(self._buf) - len(self._buf.lstrip(_SPACE))
+                del self._buf[:start]
+                if not self._buf:
+                    return out
+                self._begin()
+            chunk = bytes(self._buf[self._fed:])
+            if not chunk:
+                return out
+            try:
+                self._parser.Parse(chunk, False)
+            except _RootEnded:
+                # expat gives where an end tag begins, or where an empty element's tag ends
+                end = _tag_end(self._buf, self._end) if self._buf[self._end:self._end + 2] == b"</" else self._end
+                out.append(Document(bytes(self._buf[:end]), self._root))
+                del self._buf[:end]
+                self._parser = None
+                continue
+            except expat.ExpatError as exc:
+                raise DocumentError(f"not XML: line {exc.lineno}, column {exc.offset + 1}: "
+                                    f"{expat.ErrorString(exc.code)}", out) from None
+            except DocumentError as exc:
+                exc.documents = out
+                raise
+            self._fed = len(self._buf)
+            if self.max_bytes is not None and len(self._buf) > self.max_bytes:
+                raise DocumentError(f"a document longer than {self.max_bytes:,} bytes without its end "
+                                    f"(<{self._root or '?'}> not closed)", out)
+            return out
+
+    def _begin(self) -> None:
+        p = expat.ParserCreate()
+        p.StartElementHandler = self._start
+        p.EndElementHandler = self._stop
+        p.StartDoctypeDeclHandler = _no_doctype
+        p.EntityDeclHandler = _no_doctype
+        self._parser, self._fed, self._depth, self._root = p, 0, 0, ""
+
+    def _start(self, name: str, attrs: object) -> None:
+        if not self._depth:
+            self._root = name.rpartition(":")[2]
+        self._depth += 1
+        if self.max_depth is not None and self._depth > self.max_depth:
+            raise DocumentError(f"elements nested deeper than {self.max_depth} (the bound on "
+                                f"{limits.NESTING.name}; set {limits.NESTING.env} to raise it)")
+
+    def _stop(self, name: str) -> None:
+        self._depth -= 1
+        if not self._depth:
+            self._end = self._parser.CurrentByteIndex
+            raise _RootEnded
+
+
+def _no_doctype(*args: object) -> None:
+    raise DocumentError("a DOCTYPE is not allowed in a CRCL document")
+
+
+def _tag_end(buf: bytearray, i: int) -> int:
+    """The index just after the tag that starts at ``buf[i]`` (``>`` outside quoted values)."""
+    quote = 0
+    for k in range(i, len(buf)):
+        c = buf[k]
+        if quote:
+            quote = 0 if c == quote else quote
+        elif c in (0x22, 0x27):
+            quote = c
+        elif c == 0x3E:
+            return k + 1
+    return len(buf)  # pragma: no cover  (expat has seen the whole tag)
 
 
 def parse_address(text: str) -> tuple[str, int, int]:

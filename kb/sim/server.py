@@ -21,13 +21,19 @@ import selectors
 import socket
 import socketserver
 import threading
+import time
 from typing import Any, Iterator, Sequence
 
 from kb.core.errors import CellError, InputError
+from kb.core.namespaces import local_name
 from kb.crcl.cell import Observation, Status, run_in_order, truth_line
-from kb.crcl.commands import Command, Message
-from kb.crcl.wire import (COMMAND_PORT, CRLF, END, MAX_LINE, SENSOR_PORT, Query, error_line, field, parse_action,
-                          parse_frame, parse_length, parse_query, status_line)
+from kb.crcl.commands import CloseGripper, Command, GetStatus, Message, OpenGripper, SetEndEffector
+from kb.crcl.instance import (CommandStatus, GripperStatus, read_command_instance, read_program_instance,
+                              write_status)
+from kb.crcl.pose import Pose
+from kb.crcl.wire import (COMMAND_PORT, CRLF, DONE, END, ERROR, MAX_LINE, MAX_PROGRAM, READY, SENSOR_PORT,
+                          STATUS_PERIOD, WORKING, Document, DocumentError, Documents, Query, error_line, field,
+                          parse_action, parse_frame, parse_length, parse_query, status_line)
 from kb.crcl.xml import read_xml
 from kb.sim.cell import SimulatedCell
 from kb.sim.sensor import matches, observe_where, truth_class
@@ -47,9 +53,14 @@ class CellServer:
     ``with``) until :meth:`close`."""
 
     def __init__(self, cell: SimulatedCell, host: str = "127.0.0.1", sensor_port: int = SENSOR_PORT,
-                 command_port: int = COMMAND_PORT) -> None:
+                 command_port: int = COMMAND_PORT, status_period: float = STATUS_PERIOD) -> None:
         self.cell = cell
         self.lock = threading.Lock()
+        #: seconds after which a quiet CRCL 1.x connection is sent its status again (0: never)
+        self.status_period = float(status_period)
+        self.sessions: set[_CrclSession] = set()  # the open CRCL 1.x connections
+        self.jaws_open = True  # the gripper's jaws, as the last gripper command left them
+        self._stopped = threading.Event()
         self._known: tuple[tuple[int, int] | None, frozenset[str]] = (None, frozenset())
         self.sensor = _listen(host, sensor_port, _SensorHandler, self)
         try:
@@ -75,16 +86,20 @@ class CellServer:
         return int(self.command.server_address[1])
 
     def start(self) -> "CellServer":
-        """Serve both ports, each from a background thread."""
-        for listener in (self.sensor, self.command):
-            thread = threading.Thread(target=listener.serve, name=f"kitkb-cell-{listener.role}",
-                                      daemon=True)
+        """Serve both ports, each from a background thread (and one for the CRCL heartbeats)."""
+        self._stopped.clear()
+        targets = [(listener.serve, f"kitkb-cell-{listener.role}") for listener in (self.sensor, self.command)]
+        if self.status_period > 0:
+            targets.append((self._heartbeats, "kitkb-cell-status"))
+        for target, name in targets:
+            thread = threading.Thread(target=target, name=name, daemon=True)
             thread.start()
             self.threads.append(thread)
         return self
 
     def close(self) -> None:
         """Stop serving, close every open connection and both ports."""
+        self._stopped.set()
         for listener in (self.sensor, self.command):
             listener.stop()
         for thread in self.threads:
@@ -169,6 +184,60 @@ class CellServer:
         except Exception as exc:  # a bug of ours: an error status, not a dead server
             return Status.error(f"internal error: {type(exc).__name__}: {exc}")
 
+    # --- CRCL 1.x ---------------------------------------------------------------------------
+    def execute_for(self, session: "_CrclSession", command: Command) -> Status:
+        """Execute one command of a CRCL 1.x connection, in that connection's units (each
+        connection sets its own; the robot is shared)."""
+        kind = type(command).__name__
+        if isinstance(command, _GRIPPER_COMMANDS):
+            session.channel = session.channel or "gripper"
+        elif kind not in _NEUTRAL:
+            session.channel = "robot"
+        robot = self.cell.robot
+        with self.lock:
+            if isinstance(command, _GRIPPER_COMMANDS):
+                self.jaws_open = not isinstance(command, CloseGripper) and getattr(command, "setting", 1.0) > 0
+            shared = _units(robot)
+            if session.units is not None:
+                _set_units(robot, session.units)
+            try:
+                return self._run(command)
+            finally:
+                session.units = _units(robot)
+                _set_units(robot, shared)
+
+    def pose_and_gripper(self, session: "_CrclSession") -> tuple[Pose, GripperStatus | None]:
+        """The tool tip's pose in ``session``'s length unit and the mounted effector's status."""
+        robot, world = self.cell.robot, self.cell.world
+        with self.lock:
+            tip = robot.tip().copy()
+            effector, held = robot.effector, robot.held
+            metres = float((session.units if session.units is not None else _units(robot)).get("metres", 1.0))
+            tip[:3, 3] /= metres
+            pose = Pose.from_matrix(tip)
+            if effector is None:
+                return pose, None
+            name = _nmtoken(local_name(world.names[effector]))
+            holding = held is not None
+            if world.is_a(effector, "VacuumEffector"):
+                return pose, GripperStatus(name, "vacuum", powered=holding, holding=holding)
+            # the jaws: open, the effector's width; closed, what they hold (0 when nothing)
+            target = effector if self.jaws_open else held
+            width = 0.0 if target is None else float(min((world.local_hi[target] - world.local_lo[target])[:2]))
+            width = width if width == width and width != float("inf") else 0.0  # no shape: NaN
+            return pose, GripperStatus(name, "parallel", separation=width / metres, holding=holding)
+
+    def _heartbeats(self) -> None:
+        """Send each quiet CRCL 1.x connection its status every :attr:`status_period` seconds."""
+        tick = min(self.status_period / 4, 0.25)
+        while not self._stopped.wait(tick):
+            now = time.monotonic()
+            for session in list(self.sessions):
+                try:
+                    session.heartbeat(now)
+                except Exception:  # a connection going away: its own thread ends it
+                    pass
+
     def _resolve(self, name: str) -> str:
         """The IRI of the object ``name`` (an IRI or a local name) names; ``name`` when none."""
         world = self.cell.world
@@ -178,6 +247,24 @@ class CellServer:
         if len(found) > 1:
             raise ValueError(f"{name!r} names {len(found)} objects; give its IRI")
         return found[0] if found else name
+
+
+#: The robot's attributes that hold the units of the commands it is given (saved per connection).
+_UNIT_ATTRIBUTES = ("metres", "length_unit", "radians", "angle_unit", "units")
+
+
+def _units(robot: Any) -> dict[str, Any]:
+    return {a: getattr(robot, a) for a in _UNIT_ATTRIBUTES if hasattr(robot, a)}
+
+
+def _set_units(robot: Any, units: dict[str, Any]) -> None:
+    for a, v in units.items():
+        setattr(robot, a, v)
+
+
+def _nmtoken(name: str) -> str:
+    """``name`` as an XML NMTOKEN (GripperName): characters outside it as ``_``."""
+    return re.sub(r"[^\w.:-]", "_", name) or "effector"
 
 
 def _frame(commands: Sequence[Command]) -> set[int]:
@@ -327,7 +414,24 @@ class _SensorHandler(_Handler):
 
 
 class _CommandHandler(_Handler):
+    """The command port: CRCL 1.x documents, or kitkb's ``{Length N}`` programs when the
+    connection's first byte (after white space) is ``{``."""
+
     def serve(self) -> None:
+        while True:
+            head = self.rfile.peek(1)
+            if not head:
+                return
+            if head.strip():
+                break
+            self.rfile.read(len(head))  # white space before anything: skipped by both protocols
+        if head.lstrip()[:1] == b"{":
+            self.serve_kitkb()
+        else:
+            _CrclSession(self.server.owner, self.request, self.rfile).run()
+
+    def serve_kitkb(self) -> None:
+        """kitkb's ``{Length N}`` protocol (:mod:`kb.crcl.wire`)."""
         try:
             while (header := self.read_line()) is not None:
                 if not header.strip():
@@ -343,3 +447,140 @@ class _CommandHandler(_Handler):
                 self.reply(self.server.owner.answer_program(data))
         except _TooLong as exc:
             self.reply([status_line(None, Status.error(str(exc))), END])
+
+
+# --- CRCL 1.x sessions -----------------------------------------------------------------------------
+
+#: The root elements of the documents a CRCL 1.x controller takes.
+_CRCL_ROOTS = ("CRCLCommandInstance", "CRCLProgram")
+_COMMAND_ID = re.compile(rb"<(?:\w+:)?CommandID>\s*(-?\d{1,18})\s*</")
+#: Commands of a gripper channel (its status has no pose, Reference.md VIII).
+_GRIPPER_COMMANDS = (OpenGripper, CloseGripper, SetEndEffector)
+#: Commands that say nothing of which device a connection drives.
+_NEUTRAL = frozenset({"InitCanon", "EndCanon", "Message", "Dwell", "SetLengthUnits", "SetAngleUnits",
+                      "SetForceUnits", "SetTorqueUnits", "SetEndEffectorParameters"})
+
+
+class _CrclSession:
+    """One CRCL 1.x connection to the command port: its documents executed in order on the
+    server's cell, its own status stream (CommandID echoed, StatusID increasing). Statuses go
+    out when a command ends, on ``GetStatus``, and (a heartbeat) when the connection has been
+    sent none for :attr:`CellServer.status_period` seconds; each status is one ``send``."""
+
+    def __init__(self, server: "CellServer", sock: socket.socket, reader: Any) -> None:
+        self.server, self.sock, self.reader = server, sock, reader
+        self.lock = threading.Lock()  # one writer at a time: the reader's thread, the heartbeat
+        self.command_id, self.status_id = 0, 0
+        self.state: str = READY
+        self.description = ""
+        self.sent = time.monotonic()  # when the last status went out
+        self.unsent = b""  # the rest of a heartbeat the socket took only in part
+        #: "gripper" while the connection has sent gripper commands and no motion (its statuses
+        #: have no pose, Reference.md VIII), "robot" once it moves the robot
+        self.channel: str | None = None
+        self.units: Any = None  # this connection's units on the robot (between its commands)
+
+    # --- reading ---------------------------------------------------------------------------
+    def run(self) -> None:
+        docs = Documents(max_bytes=MAX_PROGRAM)
+        self.server.sessions.add(self)
+        try:
+            while chunk := self.reader.read1(1 << 16):
+                try:
+                    batch = docs.feed(chunk)
+                except DocumentError as exc:
+                    if all(self.handle(d) for d in exc.documents):
+                        self.error(self.command_id, f"{exc}; the connection is closed")
+                    return
+                if not all(self.handle(d) for d in batch):
+                    return
+        finally:
+            self.server.sessions.discard(self)
+
+    def handle(self, doc: Document) -> bool:
+        """Execute one document and send its status; False when the connection must close."""
+        if doc.root not in _CRCL_ROOTS:
+            self.error(self.command_id, f"a <{doc.root}> document is not a CRCL command (CRCLCommandInstance); "
+                                        "the connection is closed")
+            return False
+        try:
+            items = _commands(doc)
+        except (InputError, ValueError) as exc:
+            found = _COMMAND_ID.search(doc.data)
+            self.error(int(found.group(1)) if found else self.command_id, str(exc))
+            return True
+        for command, command_id in items:
+            if isinstance(command, GetStatus):
+                self.send_status()
+                continue
+            self.command_id, self.state, self.description = command_id, WORKING, ""
+            status = self.server.execute_for(self, command)
+            self.state, self.description = (DONE, status.message) if status.done else (ERROR, status.message)
+            self.send_status()
+            if not status.done:
+                break
+        return True
+
+    # --- writing ---------------------------------------------------------------------------
+    def error(self, command_id: int, why: str) -> None:
+        self.command_id, self.state, self.description = command_id, ERROR, why
+        self.send_status()
+
+    def status(self) -> bytes:
+        """This connection's status now, as a CRCLStatus document (StatusID taken)."""
+        self.status_id += 1
+        pose, gripper = self.server.pose_and_gripper(self)
+        return write_status(CommandStatus(self.command_id, self.status_id, self.state,
+                                          pose=None if self.channel == "gripper" else pose, gripper=gripper,
+                                          description=_short(self.description)))
+
+    def send_status(self) -> None:
+        """Send the status now (blocking: the client reads it)."""
+        with self.lock:
+            data = self.unsent + self.status()
+            self.unsent = b""
+            try:
+                self.sock.sendall(data)
+            except OSError:
+                return
+            self.sent = time.monotonic()
+
+    def heartbeat(self, now: float) -> None:
+        """Send the status if the connection has been sent none for a period; never blocks (a
+        client that does not read gets no more until it does)."""
+        if now - self.sent < self.server.status_period or not self.lock.acquire(blocking=False):
+            return
+        try:
+            if self.unsent:
+                self.unsent = self.unsent[_send_some(self.sock, self.unsent):]
+                return
+            data = self.status()
+            n = _send_some(self.sock, data)
+            self.unsent = data[n:] if n else b""
+            if n:
+                self.sent = now
+        finally:
+            self.lock.release()
+
+
+def _send_some(sock: socket.socket, data: bytes) -> int:
+    """The bytes of ``data`` the socket takes now, without waiting."""
+    try:
+        return sock.send(data, socket.MSG_DONTWAIT)
+    except (BlockingIOError, InterruptedError):
+        return 0
+    except OSError:
+        return len(data)  # the connection is gone: nothing to keep
+
+
+def _commands(doc: Document) -> list[tuple[Command, int]]:
+    """The (command, CommandID) pairs of a CRCL 1.x document; InputError naming what is wrong."""
+    if doc.root == "CRCLProgram":
+        return list(read_program_instance(doc.data, "program"))
+    return [read_command_instance(doc.data, "command")]
+
+
+def _short(text: str, most: int = 200) -> str:
+    """``text`` cut to ``most`` characters (a status stays within one recv of 1,024 bytes)."""
+    text = " ".join(text.split())
+    return text if len(text) <= most else text[:most - 3] + "..."
