@@ -47,17 +47,51 @@ class PlanInputs:
     failures: FailureModel
 
 
+class DomainInputs:
+    """A domain's files (None: the shipped ``kitting-domain.ttl``) read once with their
+    imports, and what is made of them on first use: the planning domain, the predicate
+    definitions, the failure modes. One serves every loop of a process that plans in the same
+    domain (``kb.testmethod``'s trials)."""
+
+    def __init__(self, domain_files: Sequence[str | Path] | None = None) -> None:
+        self.domain_files = list(domain_files) if domain_files else None
+
+    @cached_property
+    def kb(self) -> KnowledgeBase:
+        """The domain files with their imports (the model ontologies)."""
+        return load(self.domain_files or [ontology_path("kitting-domain.ttl")])
+
+    @cached_property
+    def domain(self) -> DomainSpec:
+        """The planning domain (numeric) of the SOAP actions."""
+        return read_domain(self.kb.graph)
+
+    @cached_property
+    def definitions(self) -> Definitions:
+        return read_definitions(self.kb.graph, locator(self.kb))
+
+    @cached_property
+    def failures(self) -> FailureModel:
+        return read_failure_model(self.kb.graph, locator(self.kb))
+
+    @cached_property
+    def tree(self) -> ClassTree:
+        """The classes of the state files' individuals that the domain's types cover."""
+        return ClassTree(self.kb.graph, used_types(self.domain))
+
+
 class LoopInputs:
     """The files of one closed loop, each parsed once; the stages' inputs made from them.
 
     ``states``: the state files as loaded (by validation, with their imports; or without);
-    ``domain_files``: the domain (None: the shipped one), read on first use."""
+    ``knowledge``: the domain (read on first use; one may be shared by many loops)."""
 
     def __init__(self, init: str | Path, goal: str | Path, states: KnowledgeBase, *,
-                 domain_files: Sequence[str | Path] | None = None, match_names: bool = False) -> None:
+                 domain_files: Sequence[str | Path] | None = None, match_names: bool = False,
+                 knowledge: DomainInputs | None = None) -> None:
         self.init_path, self.goal_path = Path(init), Path(goal)
         self.states = states
-        self.domain_files = list(domain_files) if domain_files else None
+        self.knowledge = knowledge or DomainInputs(domain_files)
         self.match_names = match_names
         by_path = {s.path.resolve(): s for s in states.sources}
         self.init: Source = by_path[self.init_path.resolve()]
@@ -65,36 +99,30 @@ class LoopInputs:
 
     @classmethod
     def read(cls, init: str | Path, goal: str | Path, *, domain_files: Sequence[str | Path] | None = None,
-             match_names: bool = False, imports: bool = True) -> "LoopInputs":
+             match_names: bool = False, imports: bool = True, knowledge: DomainInputs | None = None) -> "LoopInputs":
         """Read ``init`` and ``goal`` (with the files they import, which validation reads,
         unless ``imports`` is False); the domain is read when a stage first needs it."""
         states = load([init, goal], resolve_imports=imports)
-        return cls(init, goal, states, domain_files=domain_files, match_names=match_names)
+        return cls(init, goal, states, domain_files=domain_files, match_names=match_names, knowledge=knowledge)
 
     # --- the domain -------------------------------------------------------------------------
-    @cached_property
-    def domain_kb(self) -> KnowledgeBase:
-        """The domain files with their imports (the model ontologies)."""
-        return load(self.domain_files or [ontology_path("kitting-domain.ttl")])
-
-    @cached_property
+    @property
     def domain(self) -> DomainSpec:
-        """The planning domain (numeric) of the SOAP actions."""
-        return read_domain(self.domain_kb.graph)
+        return self.knowledge.domain
 
-    @cached_property
+    @property
     def definitions(self) -> Definitions:
-        return read_definitions(self.domain_kb.graph, locator(self.domain_kb))
+        return self.knowledge.definitions
 
-    @cached_property
+    @property
     def failures(self) -> FailureModel:
-        return read_failure_model(self.domain_kb.graph, locator(self.domain_kb))
+        return self.knowledge.failures
 
     # --- the problem ------------------------------------------------------------------------
     @cached_property
     def worlds(self) -> tuple[World, World]:
         """The symbolic views of the initial and the goal state."""
-        tree = ClassTree(self.domain_kb.graph, used_types(self.domain))
+        tree = self.knowledge.tree
         start = world_of([self.init], tree)
         return start, world_of([self.goal], tree, like=start if self.match_names else None)
 
@@ -129,6 +157,6 @@ class LoopInputs:
     def loaded(self) -> dict[Path, Any]:
         """Resolved path -> Source of every file read so far (for the world-model load)."""
         out = {s.path.resolve(): s for s in self.states.sources}
-        if "domain_kb" in self.__dict__:
-            out.update({s.path.resolve(): s for s in self.domain_kb.sources})
+        if "kb" in self.knowledge.__dict__:
+            out.update({s.path.resolve(): s for s in self.knowledge.kb.sources})
         return out

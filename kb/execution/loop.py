@@ -46,7 +46,7 @@ from kb.spatial.scene import Scene
 class LoopOptions:
     """Which stages run and how.
 
-    ``validate``, ``geometry``: run those stages; ``out_dir``: where ``domain.pddl``,
+    ``validate``, ``geometry``, ``execute``: run those stages; ``out_dir``: where ``domain.pddl``,
     ``problem.pddl`` and ``plan.txt`` go (None: nowhere); ``db``: the world-model database
     (SQLite file or URL; the ``world`` stage runs only with one; a database that already
     holds a world model or run history only with ``replace``), or an open run ``store``.
@@ -65,6 +65,8 @@ class LoopOptions:
     truth: str | Path | Scene | None = None
     validate: bool = True
     geometry: bool = True
+    #: carry the plan out (False: the loop ends after the plan and the checks, the result has them)
+    execute: bool = True
     out_dir: str | Path | None = None
     db: str | Path | None = None
     replace: bool = False
@@ -170,6 +172,8 @@ class ClosedLoop:
             if plan is None:
                 return
         if o.geometry and not self._geometry():
+            return
+        if not o.execute:
             return
         store = o.store
         own_store = None

@@ -5,15 +5,18 @@ The system under test is kitkb's executor given the kit design and the *nominal*
 job's workstation as laid out); the simulated cell holds the trial's *real* placement (the same
 workstation with its trays placed and turned by :func:`kb.scenario.placement.place_trays`): the
 executor finds the trays by sensing and binds its motions late, as
-``run_plan(..., truth=FILE)`` does. A trial is :func:`run_plan`'s work without its reading of
-files: what depends only on the design — the nominal files, the plan (it names objects, never
-poses), the problem, the nominal scene, and the domain's definitions and failure modes — is made
-once per design in each worker process (:func:`prepared`) and kept; per trial only the real
-placement's scene and the run itself are made.
+``run_plan(..., truth=FILE)`` does. Both halves are the closed loop's
+(:class:`kb.execution.loop.ClosedLoop`): what depends only on the design — the nominal files
+read once, the plan (it names objects, never poses; the loop's ``pddl`` and ``plan`` stages),
+the problem, the nominal scene — is made once per design in each worker process
+(:func:`prepared`) and kept, the domain's definitions and failure modes once per process
+(:func:`knowledge`); per trial only the real placement's scene and the loop's ``execute``
+stage are run, with the plan and inputs given.
 
 ``new-variety`` trials are the exception: their design is new, so it is written as Turtle files
 ("delivered"), and from their receipt the system reads them, plans and starts; the time from
-receipt to the first CRCL command the cell gets is the trial's ``receipt_to_first_command_s``.
+receipt to the first CRCL command the cell gets is the trial's ``receipt_to_first_command_s``
+(one closed loop from reading the files to the end of the run).
 """
 
 from __future__ import annotations
@@ -29,16 +32,17 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from kb import planning
 from kb.core.errors import KitkbError
 from kb.crcl.cell import CellInterface, execute_program, sense_names
-from kb.execution import Run, RunRecord
-from kb.execution.api import PlanInputs, execute_plan, sensor_accuracy
+from kb.execution import Run
+from kb.execution.api import sensor_accuracy
+from kb.execution.events import Listener, ignore
+from kb.execution.inputs import DomainInputs, LoopInputs, PlanInputs
+from kb.execution.loop import ClosedLoop, LoopOptions
 from kb.io.loader import Source
-from kb.model.definitions import Definitions, load_definitions
-from kb.model.failures import FailureModel, load_failure_model
+from kb.model.definitions import Definitions
+from kb.model.failures import FailureModel
 from kb.model.soap import DomainSpec
-from kb.planning.model import read_specs
 from kb.planning.problem import ProblemSpec
 from kb.scenario import layout, write_spec
 from kb.scenario.blocks import state_graph
@@ -71,9 +75,15 @@ class Prepared:
 
 
 @lru_cache(maxsize=1)
+def shipped_domain() -> DomainInputs:
+    """The shipped domain: its files read once per process, its planning domain, predicate
+    definitions and failure modes made once."""
+    return DomainInputs(None)
+
+
 def knowledge() -> tuple[Definitions, FailureModel]:
-    """The shipped domain's predicate definitions and failure modes (read once per process)."""
-    return load_definitions(None), load_failure_model(None)
+    """The shipped domain's predicate definitions and failure modes (made once per process)."""
+    return shipped_domain().definitions, shipped_domain().failures
 
 
 #: this process's folder for the nominal state files it writes (removed when the process ends)
@@ -97,14 +107,18 @@ def prepare(spec: ScenarioSpec, folder: Path) -> Prepared:
 
 
 def receive(sc: Scenario, init: Path, goal: Path) -> Prepared:
-    """What the system does with a design's files: read them, plan, read the problem."""
+    """What the system does with a design's files: read them (once), plan: the closed loop up
+    to its plan (:class:`~kb.execution.loop.ClosedLoop`, no validation, geometry or execution)."""
     t = time.perf_counter()
-    model = planning.kitting_model([init], [goal], "strips")
-    plan = list(planning.run(model.up_problem, None, None).lines)
-    plan_time = time.perf_counter() - t
-    domain, problem = read_specs([init], [goal], encoding="numeric")
-    scene = Scene.from_files([init], declared=[goal])
-    return Prepared(sc, init, goal, plan, plan_time, domain, problem, scene)
+    inputs = LoopInputs.read(init, goal, imports=False, knowledge=shipped_domain())
+    result = ClosedLoop(init, goal, _options(execute=False), inputs=inputs).run()
+    plan = list(result.plan.lines)
+    return Prepared(sc, init, goal, plan, time.perf_counter() - t, inputs.domain, inputs.problem, inputs.scene)
+
+
+def _options(**kw: Any) -> LoopOptions:
+    """A trial's loop: no validation or geometry check (the design is kitkb's own), no notices."""
+    return LoopOptions(validate=False, geometry=False, notifier=_quiet, **kw)
 
 
 def file_scene(sc: Scenario, goal: Path) -> Scene:
@@ -162,14 +176,17 @@ class WatchedCell:
         return getattr(self.cell, name)
 
 
-def execute(prep: Prepared, cell: WatchedCell, name: str, seed: int, accuracy: SensorNoise | None = None) -> Run:
+def execute(prep: Prepared, cell: WatchedCell, name: str, seed: int, accuracy: SensorNoise | None = None,
+            on_event: Listener = ignore) -> Run:
     """Carry out the design's plan on ``cell`` from the nominal belief, verifying with the
-    sensor ``accuracy``: :func:`kb.execution.api.execute_plan`, as ``run_plan`` does once it
-    has read its files."""
+    sensor ``accuracy``: the closed loop's ``execute`` stage, the plan and inputs given."""
     defs, failures = knowledge()
     inputs = PlanInputs(prep.domain, prep.problem, prep.scene, defs, failures)
-    return execute_plan(prep.plan, cell, inputs, RunRecord(name, seed, plan_time=prep.plan_time), accuracy=accuracy,
-                        notifier=_quiet)
+    loop = ClosedLoop(prep.init, prep.goal, _options(cell=cell, seed=seed, sensor_noise=accuracy, name=name),
+                      plan=prep.plan, plan_inputs=inputs, plan_time=prep.plan_time, on_event=on_event)
+    run = loop.run().run
+    assert run is not None  # nothing before the execute stage can end a loop with a given plan
+    return run
 
 
 def _quiet(recipient: str, message: str) -> None:
@@ -223,8 +240,11 @@ def _delivered(job: Job, folder: Path, facts: dict[str, Any]) -> dict[str, Any]:
     init, goal = write_spec(sc, folder)
     cell, accuracy = _cell(job, sc, Scene.from_files([init], declared=[goal]), facts)
     received = time.perf_counter()
-    prep = receive(sc, init, goal)
-    run = execute(prep, cell, job.spec.name, job.seed, accuracy)
+    result = ClosedLoop(init, goal, _options(cell=cell, seed=job.seed, sensor_noise=accuracy, name=job.spec.name),
+                        inputs=LoopInputs.read(init, goal, imports=False, knowledge=shipped_domain())).run()
+    if result.run is None:  # no plan: the planner's error, the row's
+        raise result.error or KitkbError(f"not executed: {result.reason}")
+    run = result.run
     facts["receipt_to_first_command_s"] = (round(cell.first_command - received, 4)
                                            if cell.first_command is not None else None)
     return _report(run, facts)
