@@ -1,7 +1,11 @@
 """What a run leaves behind: actions, checks, commands, failures and recoveries.
 
-Plain dataclasses, written to the world-model database by :mod:`kb.execution.store` and to the
-JSON report (:meth:`RunRecord.report`); the executives' API (:mod:`kb.execution.api`) queries them.
+Dataclasses with one dict form each (:class:`~kb.execution.codec.Record`: ``to_dict`` /
+``from_dict``, derived from their fields; every field checked when it is set, see
+:mod:`kb.execution.codec` for what is legal). The world-model database's run rows
+(:mod:`kb.execution.store`) hold that dict form, which :func:`kb.execution.open_run` reads back
+equal to the run in memory; the JSON report (:meth:`RunRecord.report`) is a view of it with the
+figures computed from it. The executives' API (:mod:`kb.execution.api`) queries them.
 """
 
 from __future__ import annotations
@@ -11,6 +15,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
+from kb.execution.codec import Record, field_codec
 from kb.metrics.execution import execution_metrics
 from kb.metrics.kits import KitScore
 from kb.metrics.motion import Robot
@@ -22,7 +27,7 @@ def local(iri: str) -> str:
 
 
 @dataclass
-class AtomCheck:
+class AtomCheck(Record):
     """One predicate atom checked from geometry: expected true (or false, if negated)."""
 
     predicate: str
@@ -40,7 +45,7 @@ class AtomCheck:
 
 
 @dataclass
-class Check:
+class Check(Record):
     action_index: int
     phase: str  # "precondition" or "effect"
     atoms: list[AtomCheck]
@@ -59,7 +64,7 @@ class Check:
 
 
 @dataclass
-class Sighting:
+class Sighting(Record):
     """Where an object of a violated atom was expected (last stable state) and where it was seen."""
 
     name: str
@@ -68,7 +73,7 @@ class Sighting:
 
 
 @dataclass
-class FailureRecord:
+class FailureRecord(Record):
     """An action failure: the check that found it, its diagnosis and what was done."""
 
     action_index: int
@@ -136,7 +141,7 @@ class FailureRecord:
 
 
 @dataclass
-class ActionRecord:
+class ActionRecord(Record):
     index: int
     action: str
     args: tuple[str, ...]
@@ -149,7 +154,7 @@ class ActionRecord:
 
 
 @dataclass
-class RunRecord:
+class RunRecord(Record):
     """Everything one run did, in order."""
 
     scenario: str
@@ -218,12 +223,14 @@ class RunRecord:
     def report(self) -> dict[str, Any]:
         """The JSON report: goal_holds, injected faults, failures (diagnoses), counts, the
         execution metrics, each kit's score, and what a report page draws (scene, path,
-        timeline)."""
+        timeline). The run's own fields are as in its dict form (:meth:`to_dict`)."""
+        own = {name: field_codec(RunRecord, name)(getattr(self, name), f"RunRecord.{name}") for name in _REPORTED}
         return {
-            "scenario": self.scenario, "seed": self.seed, "goal_holds": self.goal_holds, "stopped": self.stopped,
+            "scenario": own["scenario"], "seed": own["seed"], "goal_holds": own["goal_holds"],
+            "stopped": own["stopped"],
             "actions": sum(1 for a in self.actions if a.status == "done"),
             "checks": len(self.checks), "replans": self.replans,
-            "injected": self.injected,
+            "injected": own["injected"],
             "failures": [{"mode": f.mode, "action_index": f.action_index, "action": f.action,
                           "kit": local(f.kit) if f.kit else None,
                           "objects": [local(o) for o in f.objects], "phase": f.phase,
@@ -234,11 +241,16 @@ class RunRecord:
             "time_s": round(self.ended - self.started, 3),
             "metrics": self.metrics(),
             "kits": [k.as_dict() for k in self.kits],
-            "violations": self.violations, "tip_start": list(self.tip_start) if self.tip_start else None,
-            "scene": self.scene, "path": self.path(), "timeline": self.timeline(),
-            **({"sensor": self.sensor} if self.sensor is not None else {}),
-            **({"sensor_errors": self.sensor_errors} if self.sensor_errors is not None else {}),
+            "violations": own["violations"], "tip_start": own["tip_start"] or None,
+            "scene": own["scene"], "path": self.path(), "timeline": self.timeline(),
+            **({"sensor": own["sensor"]} if own["sensor"] is not None else {}),
+            **({"sensor_errors": own["sensor_errors"]} if own["sensor_errors"] is not None else {}),
         }
+
+
+#: the run's fields its JSON report holds as they are (in their dict form)
+_REPORTED = ("scenario", "seed", "goal_holds", "stopped", "injected", "violations", "tip_start", "scene", "sensor",
+             "sensor_errors")
 
 
 #: where a report holds what the clock decides (seconds): top-level keys, metrics keys, timeline keys

@@ -12,6 +12,11 @@ the domain (actions, their predicate atoms, failure modes, remediations: loaded 
   in kitkb's run tables, everything else: the run, its actions, the failure's arguments,
   objects, expected and seen positions, consequence, severity, recovery and outcome.
 
+Each row of kitkb's run tables holds its record's dict form (:mod:`kb.execution.codec`) as
+JSON text in its ``record`` column, which :func:`read_run` reads back equal to the record in
+memory; the other columns are derived from that dict for SQL queries (``mode``, ``idx``,
+``seconds``, ...). Rows of older kitkb versions (no ``record``) are read from their columns.
+
 Objects the database does not know (a kit that appears during the run) keep their poses in
 the run records only.
 
@@ -28,12 +33,11 @@ import json
 import logging
 import tempfile
 import time
-from dataclasses import asdict
 from pathlib import Path
 from typing import Any, Mapping, Sequence
 
 import numpy as np
-from sqlalchemy import (Boolean, Column, DateTime, Float, ForeignKey, Integer, MetaData, String, Table, Text,
+from sqlalchemy import (BigInteger, Boolean, Column, DateTime, Float, ForeignKey, Integer, MetaData, String, Table, Text,
                         func, insert, inspect, select, text, update)
 
 from kb.core.errors import InputError
@@ -41,8 +45,8 @@ from kb.core.resources import ontology_path
 from kb.io import load_file
 from kb.io.turtle import Names
 from kb.core.units import SI, Units
-from kb.execution.records import ActionRecord, AtomCheck, FailureRecord, RunRecord, Sighting
-from kb.metrics.kits import KitScore, LostPoint
+from kb.execution.codec import dumps, loads
+from kb.execution.records import ActionRecord, FailureRecord, RunRecord
 from kb.world import LoadReport, load, normalize_url, open_engine
 from kb.world.database import safe_url
 from kb.world.lock import Held, acquire
@@ -58,58 +62,62 @@ META = MetaData()
 RUNS = Table(
     "kitkb_run", META,
     Column("id", Integer, primary_key=True, autoincrement=True),
-    Column("scenario", String(200), nullable=False),
-    Column("seed", Integer),
+    Column("scenario", Text, nullable=False),
+    Column("seed", BigInteger),
     Column("started_at", DateTime(timezone=True), nullable=False),
     Column("ended_at", DateTime(timezone=True)),
     Column("goal_holds", Boolean),
     Column("stopped", Text),
-    Column("replans", Integer, nullable=False, default=0),
+    Column("replans", BigInteger, nullable=False, default=0),
     Column("report", Text),
+    Column("record", Text),  # JSON: the run's dict form, without its actions and failures (their rows')
     comment="One execution of a plan: kitkb's run history (kb.execution.store).",
 )
 ACTIONS = Table(
     "kitkb_run_action", META,
     Column("run_id", Integer, ForeignKey("kitkb_run.id"), primary_key=True),
-    Column("idx", Integer, primary_key=True),
-    Column("action", String(200), nullable=False),
+    Column("idx", BigInteger, primary_key=True),
+    Column("action", Text, nullable=False),
     Column("args", Text, nullable=False),
-    Column("status", String(40), nullable=False),
+    Column("status", Text, nullable=False),
     Column("commands", Text, nullable=False),
     Column("seconds", Float),
     Column("crcl", Text),  # JSON: the CRCL programs sent, each a list of statements (CRCL text)
+    Column("record", Text),  # JSON: the action's dict form
     comment="Each action of a run as executed (arguments after late binding, CRCL commands sent).",
 )
 KITS = Table(
     "kitkb_run_kit", META,
     Column("run_id", Integer, ForeignKey("kitkb_run.id"), primary_key=True),
-    Column("kit", String(400), primary_key=True),
-    Column("design", String(400)),
-    Column("score", Integer, nullable=False),
-    Column("max_score", Integer, nullable=False),
+    Column("kit", Text, primary_key=True),
+    Column("design", Text),
+    Column("score", BigInteger, nullable=False),
+    Column("max_score", BigInteger, nullable=False),
     Column("lost", Text, nullable=False),  # JSON: [{points, reason, predicate, objects, holds}]
     comment="Each goal kit's score at the end of a run, and why every point was lost (kb.metrics.kits).",
 )
 #: columns added to kitkb's run tables since they were first made: (table, column, SQL type)
-_ADDED = (("kitkb_run_action", "crcl", "TEXT"),)
+_ADDED = (("kitkb_run_action", "crcl", "TEXT"), ("kitkb_run", "record", "TEXT"),
+          ("kitkb_run_action", "record", "TEXT"), ("kitkb_run_failure", "record", "TEXT"))
 FAILURES = Table(
     "kitkb_run_failure", META,
     Column("id", Integer, primary_key=True, autoincrement=True),
     Column("run_id", Integer, ForeignKey("kitkb_run.id"), nullable=False, index=True),
     Column("action_failure", String(400), index=True),  # IRI of the soap:ActionFailure row
-    Column("idx", Integer, nullable=False),
-    Column("action", String(200), nullable=False),
+    Column("idx", BigInteger, nullable=False),
+    Column("action", Text, nullable=False),
     Column("args", Text, nullable=False),
-    Column("phase", String(20), nullable=False),
-    Column("mode", String(200), nullable=False, index=True),
-    Column("kit", String(400)),
+    Column("phase", Text, nullable=False),
+    Column("mode", Text, nullable=False, index=True),
+    Column("kit", Text),
     Column("consequence", Text),
-    Column("severity", Integer),
-    Column("recovery", String(40)),
+    Column("severity", BigInteger),
+    Column("recovery", Text),
     Column("outcome", Text),
     Column("violated", Text, nullable=False),
     Column("sightings", Text, nullable=False),
     Column("seconds", Float),
+    Column("record", Text),  # JSON: the failure's dict form
     comment="A diagnosed action failure with what the soap:ActionFailure row does not hold.",
 )
 
@@ -195,6 +203,9 @@ class RunStore:
         self.units = _units(self.engine)  # poses are sensed in metres; the database keeps its file's units
         self.metres = self.units.metres
         self.failures = 0
+        #: what each row holds: action index -> its record's JSON; id(failure) -> (failure, row id, JSON)
+        self._actions: dict[int, str] = {}
+        self._failures: dict[int, tuple[FailureRecord, int, str]] = {}
         self._known: set[str] | None = None
         self._started = dt.datetime.now(dt.timezone.utc)
         self._t0 = time.perf_counter()
@@ -216,21 +227,25 @@ class RunStore:
     def begin_run(self, record: RunRecord, init: Any = None, goal: Any = None) -> None:
         self._t0 = time.perf_counter()
         with self.engine.begin() as conn:
-            self.run_id = conn.execute(insert(RUNS).values(
-                scenario=record.scenario, seed=record.seed, started_at=self._started, replans=0)).inserted_primary_key[0]
+            self.run_id = conn.execute(insert(RUNS).values(started_at=self._started, **_run_columns(
+                _run_dict(record)))).inserted_primary_key[0]
         record.run_id = self.run_id
+        self._actions, self._failures = {}, {}
 
     def end_run(self, record: RunRecord) -> None:
+        """The run's row, its kits' rows, and the rows of every action and failure as they are
+        now (a failure's outcome decided after it was recorded, one never recorded)."""
+        d = _run_dict(record)
         with self.engine.begin() as conn:
             conn.execute(update(RUNS).where(RUNS.c.id == self.run_id).values(
-                ended_at=dt.datetime.now(dt.timezone.utc), goal_holds=record.goal_holds, stopped=record.stopped,
-                replans=record.replans, report=json.dumps(record.report())))
+                ended_at=dt.datetime.now(dt.timezone.utc), report=json.dumps(record.report()), **_run_columns(d)))
             conn.execute(KITS.delete().where(KITS.c.run_id == self.run_id))
-            if record.kits:
-                conn.execute(insert(KITS), [
-                    {"run_id": self.run_id, "kit": k.kit, "design": k.design, "score": k.score,
-                     "max_score": k.max_score, "lost": json.dumps([dict(x.as_dict(), objects=list(x.objects)) for x in k.lost])}
-                    for k in record.kits])
+            if d["kits"]:
+                conn.execute(insert(KITS), [dict(_kit_columns(k), run_id=self.run_id) for k in d["kits"]])
+        for action in record.actions:
+            self.record_action(action)  # written again only where it changed
+        for failure in record.failures:
+            self.record_failure(failure)
 
     # --- stable states ------------------------------------------------------------------
     def poses_changed(self, poses: dict[str, np.ndarray]) -> None:
@@ -251,25 +266,42 @@ class RunStore:
 
     # --- records ------------------------------------------------------------------------
     def record_action(self, action: ActionRecord) -> None:
+        """The action's row (its index is its key in the run: recorded again, the row is
+        updated)."""
+        d = action.to_dict()
+        text_ = dumps(d)
+        if self._actions.get(action.index) == text_:
+            return
+        values = _action_columns(d, text_)
         with self.engine.begin() as conn:
-            conn.execute(insert(ACTIONS).values(
-                run_id=self.run_id, idx=action.index, action=action.action, args=json.dumps(list(action.args)),
-                status=action.status, commands=json.dumps(action.commands),
-                seconds=max(0.0, action.ended - action.started), crcl=json.dumps(action.programs)))
+            if action.index in self._actions:
+                conn.execute(update(ACTIONS).where((ACTIONS.c.run_id == self.run_id) & (ACTIONS.c.idx == action.index))
+                             .values(**values))
+            else:
+                conn.execute(insert(ACTIONS).values(run_id=self.run_id, **values))
+        self._actions[action.index] = text_
 
     def record_failure(self, failure: FailureRecord) -> None:
-        """The failure as a soap:ActionFailure row (by key) and a kitkb_run_failure row."""
+        """The failure as a soap:ActionFailure row (by key) and a kitkb_run_failure row (the
+        same failure recorded again: its row updated)."""
+        d = failure.to_dict()
+        text_ = dumps(d)
+        known = self._failures.get(id(failure))
+        if known is not None and known[0] is failure:
+            if known[2] != text_:
+                with self.engine.begin() as conn:
+                    conn.execute(update(FAILURES).where(FAILURES.c.id == known[1]).values(
+                        **_failure_columns(d, text_, self._t0)))
+                self._failures[id(failure)] = (failure, known[1], text_)
+            return
         self.failures += 1
         iri = f"urn:kitkb:run:{self.run_id}:failure:{self.failures}"
         soap_row = self._action_failure(iri, failure)
         with self.engine.begin() as conn:
-            conn.execute(insert(FAILURES).values(
-                run_id=self.run_id, action_failure=iri if soap_row else None, idx=failure.action_index,
-                action=failure.action, args=json.dumps(list(failure.args)), phase=failure.phase, mode=failure.mode,
-                kit=failure.kit, consequence=failure.consequence, severity=failure.severity,
-                recovery=failure.recovery, outcome=failure.outcome,
-                violated=json.dumps([asdict(a) for a in failure.violated]),
-                sightings=json.dumps([asdict(s) for s in failure.sightings]), seconds=failure.time - self._t0))
+            row = conn.execute(insert(FAILURES).values(
+                run_id=self.run_id, action_failure=iri if soap_row else None,
+                **_failure_columns(d, text_, self._t0))).inserted_primary_key[0]
+        self._failures[id(failure)] = (failure, row, text_)
 
     def _action_failure(self, iri: str, failure: FailureRecord) -> bool:
         """Insert the soap:ActionFailure individual; False when the domain is not in the database."""
@@ -298,60 +330,140 @@ class RunStore:
         return True
 
 
+def _run_dict(record: RunRecord) -> dict[str, Any]:
+    """The run's dict form without its actions and failures (which have rows of their own)."""
+    d = record.to_dict()
+    del d["actions"], d["failures"]
+    return d
+
+
+def _run_columns(d: dict[str, Any]) -> dict[str, Any]:
+    """The queried columns of a run's row, from its dict form."""
+    return {"scenario": d["scenario"], "seed": d["seed"], "goal_holds": d["goal_holds"], "stopped": d["stopped"],
+            "replans": d["replans"], "record": dumps(d)}
+
+
+def _action_columns(d: dict[str, Any], record: str) -> dict[str, Any]:
+    """The columns of an action's row, from its dict form (and that form's JSON text)."""
+    return {"idx": d["index"], "action": d["action"], "args": dumps(d["args"]), "status": d["status"],
+            "commands": dumps(d["commands"]), "seconds": max(0.0, d["ended"] - d["started"]),
+            "crcl": dumps(d["programs"]), "record": record}
+
+
+def _failure_columns(d: dict[str, Any], record: str, t0: float) -> dict[str, Any]:
+    """The columns of a failure's row, from its dict form (``seconds``: since ``t0``)."""
+    return {"idx": d["action_index"], "action": d["action"], "args": dumps(d["args"]), "phase": d["phase"],
+            "mode": d["mode"], "kit": d["kit"], "consequence": d["consequence"], "severity": d["severity"],
+            "recovery": d["recovery"], "outcome": d["outcome"], "violated": dumps(d["violated"]),
+            "sightings": dumps(d["sightings"]), "seconds": d["time"] - t0, "record": record}
+
+
+def _kit_columns(d: dict[str, Any]) -> dict[str, Any]:
+    """The columns of a kit's row, from its score's dict form."""
+    return {"kit": d["kit"], "design": d["design"], "score": d["score"], "max_score": d["max_score"],
+            "lost": dumps(d["lost"])}
+
+
 def read_run(url: str | Path, run_id: int | None = None) -> RunRecord:
-    """A run back from the database (the latest one by default), as a :class:`RunRecord`."""
-    engine = open_engine(normalize_url(url), must_exist=True)
+    """A run back from the database (the latest one by default), as a :class:`RunRecord`
+    equal to the one that was recorded (rows of older kitkb versions: what their columns hold)."""
+    url = normalize_url(url)
+    engine = open_engine(url, must_exist=True)
     try:
         with engine.connect() as conn:
             if not inspect(conn).has_table(RUNS.name):
-                from kb.core.errors import InputError
-                raise InputError(f"no run is recorded in {safe_url(normalize_url(url))} (it has no kitkb_run table)")
+                raise InputError(f"no run is recorded in {safe_url(url)} (it has no kitkb_run table)")
             q = select(RUNS).order_by(RUNS.c.id.desc())
             row = conn.execute(q.where(RUNS.c.id == run_id) if run_id is not None else q).first()
             if row is None:
-                from kb.core.errors import InputError
-                raise InputError(f"no run {run_id if run_id is not None else ''} in {safe_url(normalize_url(url))}"
-                                 .replace("  ", " "))
-            rec = RunRecord(row.scenario, row.seed, goal_holds=row.goal_holds, stopped=row.stopped,
-                            replans=row.replans, run_id=row.id)
-            rec.started, rec.ended = 0.0, (row.ended_at - row.started_at).total_seconds() if row.ended_at else 0.0
-            report = json.loads(row.report) if row.report else {}
-            rec.injected = report.get("injected", [])
-            metrics = report.get("metrics") or {}
-            rec.plan_time, rec.replan_time = metrics.get("plan_time_s"), metrics.get("replan_time_s") or 0.0
-            rec.violations = report.get("violations")
-            rec.tip_start = tuple(report["tip_start"]) if report.get("tip_start") else None
-            rec.scene = report.get("scene")
-            for a in conn.execute(select(ACTIONS).where(ACTIONS.c.run_id == row.id).order_by(ACTIONS.c.idx)):
-                rec.actions.append(ActionRecord(a.idx, a.action, tuple(json.loads(a.args)), a.status,
-                                                json.loads(a.commands), programs=json.loads(a.crcl or "[]")))
-            has_kits = inspect(conn).has_table(KITS.name)
-            for k in conn.execute(select(KITS).where(KITS.c.run_id == row.id).order_by(KITS.c.kit)) if has_kits else ():
-                rec.kits.append(KitScore(k.kit, k.design, k.score, k.max_score, tuple(
-                    LostPoint(int(x["points"]), x["reason"], x["predicate"], tuple(x["objects"]), bool(x.get("holds")))
-                    for x in json.loads(k.lost))))
-            for f in conn.execute(select(FAILURES).where(FAILURES.c.run_id == row.id).order_by(FAILURES.c.id)):
-                violated = [AtomCheck(d["predicate"], tuple(d["args"]), d["negated"], d["holds"])
-                            for d in json.loads(f.violated)]
-                sightings = [Sighting(d["name"], tuple(d["expected"]) if d["expected"] else None,
-                                      tuple(d["seen"]) if d["seen"] else None) for d in json.loads(f.sightings)]
-                args = {x for a in violated for x in a.args}  # the other objects sighted are its witnesses
-                rec.failures.append(FailureRecord(
-                    f.idx, f.action, tuple(json.loads(f.args)), f.phase, violated, sightings,
-                    f.mode, f.consequence or "", f.severity or 0, f.recovery or "", f.outcome or "", f.seconds or 0.0,
-                    kit=f.kit, witnesses=[s.name for s in sightings if s.name not in args]))
-            return rec
+                raise InputError(f"no run {run_id if run_id is not None else ''} in {safe_url(url)}".replace("  ", " "))
+            where = f"{safe_url(url)}: run {row.id}"
+            try:
+                return RunRecord.from_dict(_read_dict(conn, row), where)
+            except ValueError as exc:  # a row that is not what kitkb writes
+                raise InputError(f"{exc}" if str(exc).startswith(where) else f"{where}: {exc}") from None
     finally:
         engine.dispose()
 
 
+def _read_dict(conn: Any, row: Any) -> dict[str, Any]:
+    """The dict form of run ``row``, its actions and failures from their rows."""
+    cols = {c.name for c in RUNS.columns} & set(row._fields)
+    report = _json(row.report, "report") if row.report else {}
+    d = _json(row.record, "record") if "record" in cols and row.record else _legacy_run(conn, row, report)
+    d["run_id"] = row.id
+    actions = conn.execute(select(ACTIONS).where(ACTIONS.c.run_id == row.id).order_by(ACTIONS.c.idx))
+    d["actions"] = [_json(a.record, f"action {a.idx}") if getattr(a, "record", None) else _legacy_action(a)
+                    for a in actions]
+    failures = conn.execute(select(FAILURES).where(FAILURES.c.run_id == row.id).order_by(FAILURES.c.id)).all()
+    told = report.get("failures") if isinstance(report.get("failures"), list) else []
+    d["failures"] = [_json(f.record, f"failure row {f.id}") if getattr(f, "record", None) else
+                     _legacy_failure(f, told[i] if len(told) == len(failures) else {})
+                     for i, f in enumerate(failures)]
+    return d
+
+
+def _json(text_: str, what: str) -> Any:
+    try:
+        return loads(text_)
+    except ValueError as exc:
+        raise ValueError(f"{what}: not JSON ({exc})") from None
+
+
+def _legacy_run(conn: Any, row: Any, report: dict[str, Any]) -> dict[str, Any]:
+    """The dict form of a run row without a record: its columns and its JSON report (times
+    relative to its start, the report's rounded plan times; no checks)."""
+    metrics = report.get("metrics") or {}
+    d = {"scenario": row.scenario, "seed": row.seed, "goal_holds": row.goal_holds, "stopped": row.stopped,
+         "replans": row.replans, "started": 0.0,
+         "ended": (row.ended_at - row.started_at).total_seconds() if row.ended_at else 0.0,
+         "injected": report.get("injected", []), "plan_time": metrics.get("plan_time_s"),
+         "replan_time": metrics.get("replan_time_s") or 0.0}
+    d.update({k: report.get(k) for k in ("violations", "tip_start", "scene", "sensor", "sensor_errors")})
+    kits = conn.execute(select(KITS).where(KITS.c.run_id == row.id).order_by(KITS.c.kit)) \
+        if inspect(conn).has_table(KITS.name) else ()
+    d["kits"] = [{"kit": k.kit, "design": k.design, "score": k.score, "max_score": k.max_score,
+                  "lost": _json(k.lost, f"kit {k.kit}")} for k in kits]
+    return d
+
+
+def _legacy_action(a: Any) -> dict[str, Any]:
+    """The dict form of an action row without a record (no times)."""
+    return {"index": a.idx, "action": a.action, "args": _json(a.args, f"action {a.idx}"), "status": a.status,
+            "commands": _json(a.commands, f"action {a.idx}"), "programs": _json(a.crcl or "[]", f"action {a.idx}")}
+
+
+def _legacy_failure(f: Any, told: dict[str, Any]) -> dict[str, Any]:
+    """The dict form of a failure row without a record (its certainty from the run's report,
+    its witnesses the objects sighted that are not the violated atoms' arguments)."""
+    violated = _json(f.violated, f"failure row {f.id}")
+    sightings = _json(f.sightings, f"failure row {f.id}")
+    args = {x for a in violated for x in a.get("args", ())}
+    return {"action_index": f.idx, "action": f.action, "args": _json(f.args, f"failure row {f.id}"),
+            "phase": f.phase, "violated": violated, "sightings": sightings, "mode": f.mode,
+            "consequence": f.consequence or "", "severity": f.severity or 0, "recovery": f.recovery or "",
+            "outcome": f.outcome or "", "time": f.seconds or 0.0, "kit": f.kit,
+            "certainty": told.get("certainty"), "witnesses": [s["name"] for s in sightings if s["name"] not in args]}
+
+
 def _add_columns(engine: Any) -> None:
-    """Columns kitkb's run tables gained since a database's tables were made (:data:`_ADDED`)."""
+    """Columns kitkb's run tables gained since a database's tables were made (:data:`_ADDED`),
+    and, in PostgreSQL, the columns widened since (text of any length, 64-bit integers)."""
     with engine.begin() as conn:
         insp = inspect(conn)
         for table, column, kind in _ADDED:
             if insp.has_table(table) and column not in {c["name"] for c in insp.get_columns(table)}:
                 conn.execute(text(f"ALTER TABLE {table} ADD COLUMN {column} {kind}"))
+        if conn.dialect.name != "postgresql":
+            return  # SQLite: any integer column holds 64 bits, no text column has a length
+        for table in (RUNS, ACTIONS, KITS, FAILURES):
+            have = {c["name"]: c["type"] for c in insp.get_columns(table.name)}
+            for col in table.columns:
+                old = have.get(col.name)
+                if isinstance(col.type, BigInteger) and isinstance(old, Integer) and not isinstance(old, BigInteger):
+                    conn.execute(text(f"ALTER TABLE {table.name} ALTER COLUMN {col.name} TYPE BIGINT"))
+                elif type(col.type) is Text and isinstance(old, String) and not isinstance(old, Text):
+                    conn.execute(text(f"ALTER TABLE {table.name} ALTER COLUMN {col.name} TYPE TEXT"))
 
 
 def _units(engine: Any) -> Units:
