@@ -264,6 +264,11 @@ class ClosedLoop:
         t = self._stage("execute", actions=len(plan))
         accuracy = sensor_accuracy(pin.scene, o.sensor_noise)
         cell, own = self._cell(pin, accuracy)
+        if own:  # a simulated cell's own noise (its URL's noise= included) is what is verified with
+            from kb.cells import cell_accuracy
+            found = cell_accuracy(cell, accuracy)
+            if accuracy is not None or (found is not None and not found.zero):  # an exact sensor stays None
+                accuracy = found
         record = RunRecord(self.name, o.seed, plan_time=self.plan_time)
 
         def notify(recipient: str, message: str) -> None:
@@ -275,22 +280,21 @@ class ClosedLoop:
                                notifier=notify, planner=o.planner, on_event=self.on_event)
         finally:
             if own:
-                cell.close()
+                from kb.cells import close_cell
+                close_cell(cell)
         if o.clock_from_plan and self._clock is not None:
             run.record.started = min(run.record.started, self._clock)
         self.result.run = run
         self._ended("execute", t, run)
 
-    def _cell(self, pin: PlanInputs, accuracy: Any) -> tuple[CellInterface, bool]:
-        """The cell to execute on, and whether the loop opened it (and closes it)."""
+    def _cell(self, pin: PlanInputs, accuracy: Any) -> tuple[Any, bool]:
+        """The cell to execute on (a cell object as given, else opened from its URL by the
+        registry of :mod:`kb.cells`: default the in-process simulator of the initial state, or
+        of ``truth``), and whether the loop opened it (and closes it)."""
         o = self.options
         if o.cell is not None and not isinstance(o.cell, str):
             return o.cell, False
-        if isinstance(o.cell, str):
-            from kb.crcl.remote import RemoteCell
-            return RemoteCell.from_address(o.cell), True
-        from kb.sim import FaultSpec, SimulatedCell  # imported only when no cell is given
-        faults = FaultSpec.parse(o.faults, seed=o.seed) if isinstance(o.faults, str) else o.faults
+        from kb.cells import CellRequest, open_cell
         if isinstance(o.truth, Scene):
             truth = o.truth
         elif o.truth is not None:
@@ -298,8 +302,9 @@ class ClosedLoop:
             truth = Scene.from_files([o.truth], declared=[goal], match_names=o.match_names)
         else:
             truth = pin.scene  # the belief and the cell each copy it
-        noise = {"noise": accuracy} if accuracy is not None else {}
-        return SimulatedCell(truth, faults=faults, seed=o.seed, **noise), False
+        request = CellRequest(scene=truth, faults=o.faults or None, seed=o.seed or None, accuracy=accuracy,
+                              state=self.init, goal=self.goal, match_names=o.match_names)
+        return open_cell(o.cell, request), True
 
 
 def invalid_reason(errors: list[Any]) -> str:
