@@ -21,7 +21,7 @@ from kb.crcl import (CloseGripper, CloseToolChanger, Dwell, EndCanon, InitCanon,
                      SetLengthUnits, SetRelativeAcceleration, SetRelativeSpeed, StartObjectScan,
                      StopMotion, StopObjectScan, Unreadable, read_text, read_xml, schema, write_text,
                      write_xml)
-from kb.crcl.xml import hardened_parser
+from kb.crcl.xml import _decimal_text, hardened_parser
 from shared_data import NIST_DIR
 
 XSD = NIST_DIR / "CRCL.xsd"
@@ -419,6 +419,9 @@ def test_external_entities_are_never_resolved(tmp_path: Path) -> None:
 # --- round trips over random programs -----------------------------------------------------------
 
 _num = st.floats(allow_nan=False, allow_infinity=False)
+#: numbers XML keeps exactly: not sin(pi)-sized noise (written as 0) nor a decimal of more than
+#: 24 digits (rounded to 24 for libxml2); tests/test_crcl_instance.py tests those
+_num = _num.filter(lambda x: float(_decimal_text(x)) == x)
 _vec = st.tuples(_num, _num, _num)
 _pose_st = st.builds(Pose, point=_vec, x_axis=_vec, z_axis=_vec)
 _xml_text = st.text(st.characters(codec="utf-8", exclude_categories=("Cs", "Cc", "Cn")) | st.sampled_from("\t\n\r"),

@@ -1,5 +1,5 @@
-"""CRCL XML that kitkb does not read yet is refused for what it is, and a schema given with
---xsd finds the files it includes (CRCL 1.x's schemas include each other by relative paths)."""
+"""CRCL 1.x XML is read beside the 2014 form (a status is refused for what it is), and a schema
+given with --xsd finds the files it includes (CRCL 1.x's schemas include each other by relative paths)."""
 
 from __future__ import annotations
 
@@ -34,23 +34,26 @@ def test_a_schema_whose_include_is_missing_is_one_line_naming_it(tmp_path):
     assert "\n" not in err.value.message and ".xsd" in err.value.message
 
 
-@pytest.mark.parametrize("name, what", [
-    ("programExample.xml", "CRCL 1.x program"),
-    ("statusExample.xml", "<CRCLStatus> document"),
-    ("commandMoveTo.xml", "<CRCLCommandInstance> document"),
+@pytest.mark.parametrize("name, count, first", [
+    ("programExample.xml", 41, "InitCanon"),
+    ("commandMoveTo.xml", 1, "MoveTo"),
 ])
-def test_crcl_1x_documents_are_refused_for_what_they_are(name, what):
+def test_crcl_1x_documents_are_read_as_programs_in_metres_and_radians(name, count, first):
+    program = crcl_xml.read_xml(CRCL / "instances" / name)
+    assert len(program) == count and type(program[0]).__name__ == first
+    assert program.units == ("meter", "radian")
+
+
+def test_a_crcl_1x_status_is_refused_for_what_it_is():
     with pytest.raises(InputError) as err:
-        crcl_xml.read_xml(CRCL / "instances" / name)
-    assert what in err.value.message and "early CRCL.xsd" in err.value.message
-    assert err.value.line is not None
+        crcl_xml.read_xml(CRCL / "instances" / "statusExample.xml")
+    assert "CRCL 1.x status" in err.value.message and err.value.line is not None
 
 
-def test_a_big_crcl_1x_program_read_element_by_element_is_refused_alike(monkeypatch):
+def test_a_big_crcl_1x_program_is_read_alike(monkeypatch):
+    whole = crcl_xml.read_xml(CRCL / "instances" / "programExample.xml")
     monkeypatch.setattr(crcl_xml, "STREAM_FROM", 0)  # every file read as a stream
-    with pytest.raises(InputError) as err:
-        crcl_xml.read_xml(CRCL / "instances" / "programExample.xml")
-    assert "CRCL 1.x program" in err.value.message and err.value.line == 5
+    assert crcl_xml.read_xml(CRCL / "instances" / "programExample.xml") == whole
 
 
 def test_nist_early_program_still_reads_both_ways(monkeypatch):
@@ -59,9 +62,9 @@ def test_nist_early_program_still_reads_both_ways(monkeypatch):
     assert crcl_xml.read_xml(NIST / "commands1.xml").commands == whole.commands and whole.commands
 
 
-def test_kitkb_metrics_on_a_crcl_1x_program_is_exit_2():
+def test_kitkb_metrics_on_a_crcl_1x_status_is_exit_2():
     import subprocess
     import sys
-    done = subprocess.run([sys.executable, "-m", "kb.cli", "metrics", str(CRCL / "instances" / "programExample.xml")],
+    done = subprocess.run([sys.executable, "-m", "kb.cli", "metrics", str(CRCL / "instances" / "statusExample.xml")],
                           capture_output=True, text=True)
-    assert done.returncode == 2 and "CRCL 1.x program" in done.stderr and "Traceback" not in done.stderr
+    assert done.returncode == 2 and "CRCL 1.x status" in done.stderr and "Traceback" not in done.stderr

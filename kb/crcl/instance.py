@@ -25,7 +25,6 @@ under :data:`TINY` as 0, sin(pi)-sized noise; no exponent unless the number need
 
 from __future__ import annotations
 
-import io
 import os
 import re
 from dataclasses import dataclass, field
@@ -38,7 +37,8 @@ from lxml import etree
 from kb.core.errors import InputError
 from kb.crcl import commands as c
 from kb.crcl.pose import Pose
-from kb.crcl.xml import _XML_CHARS, hardened_parser, schema
+from kb.crcl.xmlbase import _XML_CHARS, schema
+from kb.crcl.xmlbase import _parse as _parse_bytes
 
 XSI = "http://www.w3.org/2001/XMLSchema-instance"
 _TYPE = f"{{{XSI}}}type"
@@ -606,15 +606,7 @@ def _read_joint(el: Any, source: str) -> JointStatus:
 def _parse(data: bytes | str, source: str) -> Any:
     if isinstance(data, str):
         data = data.encode("utf-8") if not data.lstrip().startswith("<?xml") else _recode(data)
-    try:
-        tree = etree.parse(io.BytesIO(data), hardened_parser())
-    except etree.XMLSyntaxError as exc:
-        message = ((exc.msg or str(exc)).strip().splitlines() or ["not well-formed"])[0]
-        raise InputError(f"XML syntax error: {message}", source, exc.lineno) from None
-    if tree.docinfo.internalDTD is not None or tree.docinfo.doctype:
-        line = data.count(b"\n", 0, max(data.find(b"<!DOCTYPE"), 0)) + 1
-        raise InputError("a DOCTYPE is not allowed in CRCL XML (no entity is expanded or fetched)", source, line)
-    return tree
+    return _parse_bytes(data, source)
 
 
 def _recode(text: str) -> bytes:

@@ -46,8 +46,8 @@ from typing import Any, Iterable, Iterator
 from kb.core import limits
 from kb.core.errors import InputError
 from kb.core.files import utf8_lines
-from kb.crcl.commands import (COMMANDS, Command, EndCanon, Message, MoveStraightTo, MoveThroughTo, MoveTo, Program,
-                              SetLengthUnits, Unreadable)
+from kb.crcl.commands import (COMMANDS, PAPER_UNITS, Command, EndCanon, Message, MoveStraightTo, MoveThroughTo,
+                              MoveTo, Program, SetLengthUnits, Unreadable)
 from kb.crcl.pose import Pose
 
 _START = re.compile(r"\s*[A-Za-z_]\w*\s*\(")
@@ -84,11 +84,12 @@ def read_text(source: str | os.PathLike[str], *, name: str | None = None) -> Pro
     longer than :data:`kb.core.limits.LITERAL`, is an InputError at its line."""
     if isinstance(source, str):
         lines = source.removeprefix("\ufeff").split("\n")
-        return Program(tuple(_commands(lines, name)), source=name)
+        return Program(tuple(_commands(lines, name)), source=name, units=PAPER_UNITS)
     path = Path(source)
     try:
         with open(path, "rb") as f:
-            return Program(tuple(_commands(utf8_lines(f, path), str(path))), source=name or str(path))
+            return Program(tuple(_commands(utf8_lines(f, path), str(path))), source=name or str(path),
+                           units=PAPER_UNITS)
     except OSError as exc:
         raise InputError(f"cannot read: {exc.strerror or exc}", path) from None
 
@@ -317,10 +318,27 @@ def write_text(program: Program, style: str = "nist") -> str:
     :class:`~kb.core.errors.InputError` naming the program's source and the command's line
     (:func:`nist_unwritable` says why)."""
     if style == "paper":
+        for c in program:
+            problem = paper_unwritable(c)
+            if problem:
+                raise InputError(f"{problem}; the CRCL text form cannot hold it (CRCL 1.x XML can)",
+                                 program.source, c.line)
         return "".join(f"{_line(c)}\n" for c in program)
     if style != "nist":
         raise ValueError(f"unknown CRCL text style {style!r}: {' or '.join(TEXT_STYLES)}")
     return "".join(f"{_nist_statement(c, program.source)}\n" for c in program)
+
+
+def paper_unwritable(command: Command) -> str | None:
+    """Why ``command`` has no statement in the first paper's text form (None when it has):
+    a CRCL 1.x command the paper's language lacks, a MoveThroughTo in straight lines."""
+    if isinstance(command, Unreadable):
+        return None
+    if type(command).__name__ not in COMMANDS:
+        return f"{type(command).__name__} is a CRCL 1.x command the paper's language lacks"
+    if isinstance(command, MoveThroughTo) and command.straight:
+        return "a MoveThroughTo in straight lines (CRCL 1.x's MoveStraight true)"
+    return None
 
 
 def nist_unwritable(command: Command) -> str | None:
@@ -360,6 +378,8 @@ def _nist_problem(command: Command) -> str | None:
     name = type(command).__name__
     if name not in NIST_COMMANDS:
         return f"{name} is not a command of NIST's CRCL text form (the kittingViewer's parser)"
+    if isinstance(command, MoveThroughTo) and command.straight:
+        return "a MoveThroughTo in straight lines (CRCL 1.x's MoveStraight true) has no text form"
     if isinstance(command, Message):
         text = command.message
         if not text:

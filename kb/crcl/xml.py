@@ -16,10 +16,9 @@ beside the checkout.
 
 from __future__ import annotations
 
-import io
 import os
 import re
-from decimal import Decimal
+from decimal import Decimal, localcontext
 from pathlib import Path
 from typing import Any, Callable
 
@@ -27,13 +26,14 @@ from lxml import etree
 
 from kb.core import limits
 from kb.core.errors import InputError
-from kb.crcl.commands import (CloseGripper, CloseToolChanger, Command, Dwell, EndCanon, InitCanon,
+from kb.crcl.commands import (CRCL1_UNITS, PAPER_UNITS, CloseGripper, CloseToolChanger, Command, Dwell, EndCanon, InitCanon,
                               Message, MoveStraightTo, MoveThroughTo, MoveTo, OpenGripper,
                               OpenToolChanger, Program, SetAbsoluteAcceleration, SetAbsoluteSpeed,
                               SetAngleUnits, SetEndAngleTolerance, SetEndPointTolerance,
                               SetIntermediatePointTolerance, SetLengthUnits,
                               SetRelativeAcceleration, SetRelativeSpeed, Unreadable)
 from kb.crcl.pose import Pose
+from kb.crcl.xmlbase import _XML_CHARS, _parse, _read, default_xsd, hardened_parser, schema  # noqa: F401 (kb.crcl.xml's API)
 
 #: Command class -> (field, child element, value kind) of each child CRCL.xsd gives it.
 #: ``MoveThroughTo`` (repeated ``Waypoint`` and ``NumPositions``) is read and written apart.
@@ -57,35 +57,10 @@ ELEMENTS: dict[type[Command], tuple[tuple[str, str, str], ...]] = {
 _BY_NAME = {cls.__name__: cls for cls in ELEMENTS}
 _DECIMAL = re.compile(r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)")
 _INTEGER = re.compile(r"[+-]?\d+")
-_XML_CHARS = re.compile("[^\t\n\r\x20-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
-_REPO = Path(__file__).resolve().parents[2]
+
 
 
 # --- the schema -------------------------------------------------------------------------------
-
-def default_xsd() -> Path | None:
-    """NIST's CRCL.xsd where kitkb looks for it: ``$KITKB_NIST_DIR/CRCL.xsd``, else
-    ``../shared/nist/CRCL.xsd`` beside the checkout; None when neither exists."""
-    folders = [Path(d) for d in [os.environ.get("KITKB_NIST_DIR")] if d]
-    folders.append(_REPO.parent / "shared" / "nist")
-    return next((f / "CRCL.xsd" for f in folders if (f / "CRCL.xsd").is_file()), None)
-
-
-def schema(path: str | os.PathLike[str] | None = None) -> etree.XMLSchema:
-    """The XML schema at ``path`` (default :func:`default_xsd`), for :func:`read_xml` and
-    :func:`write_xml`; a missing or broken file is an :class:`~kb.core.errors.InputError`."""
-    found = Path(path) if path is not None else default_xsd()
-    if found is None:
-        raise InputError("CRCL.xsd not found (looked in $KITKB_NIST_DIR and ../shared/nist "
-                         "beside the checkout); give its path")
-    # the schema's own folder is its base, so its relative xs:include / xs:import are found
-    # (CRCL 1.x's CRCLProgramInstance.xsd includes CRCLCommands.xsd ...); no network
-    tree = _parse(_read(found), str(found), base_url=str(found.resolve()))
-    try:
-        return etree.XMLSchema(tree)
-    except etree.XMLSchemaParseError as exc:
-        raise InputError(f"not a usable XML schema: {exc}", found) from None
-
 
 def _check_schema(tree: Any, xsd: etree.XMLSchema, name: str | None, what: str, shift: int = 0) -> None:
     """InputError at the first error of ``tree`` against ``xsd`` (its line moved by ``shift``)."""
@@ -114,15 +89,18 @@ def read_xml(source: bytes | str | os.PathLike[str], schema: etree.XMLSchema | N
         name = name or str(source)
         try:
             if path.stat().st_size >= STREAM_FROM:
+                if _head_is_crcl1(path):
+                    return _read_crcl1(_read(path), name)
                 return _read_stream(path, schema, name)
         except OSError:
             pass  # _read says why
         data = _read(path)
     tree = _parse(data, name)
+    root = tree.getroot()
+    if _is_crcl1(root):
+        return _read_crcl1(data, name)
     if schema is not None:
         _check_schema(tree, schema, name, "does not conform to")
-    root = tree.getroot()
-    _refuse_crcl1(root, name)
     if root.tag != "CRCLProgram":
         raise InputError(f"the root element is <{root.tag}>, not <CRCLProgram>", name, root.sourceline)
     children = _children(root, name)
@@ -131,7 +109,7 @@ def read_xml(source: bytes | str | os.PathLike[str], schema: etree.XMLSchema | N
         raise limits.CRCL_COMMANDS.error(None, name, children[most].sourceline, "too many commands")
     commands = tuple(_command(el, name) for el in children)
     _check_order(commands, name)
-    return Program(commands, source=name)
+    return Program(commands, source=name, units=PAPER_UNITS)
 
 
 #: Files at least this big are read by :func:`_read_stream`.
@@ -158,11 +136,8 @@ def _read_stream(path: Path, schema: etree.XMLSchema | None, name: str) -> Progr
                     if el.getroottree().docinfo.doctype:
                         raise InputError("a DOCTYPE is not allowed in CRCL XML (no entity is expanded or fetched)",
                                          name, 1)
-                    _refuse_crcl1(el, name)
                     if el.tag != "CRCLProgram":
                         raise InputError(f"the root element is <{el.tag}>, not <CRCLProgram>", name, el.sourceline)
-                elif depth == 3 and root is not None and len(root) and el.getparent() is root[0]:
-                    _refuse_crcl1(root, name)  # the first command's first child is read: CommandID?
                 continue
             depth -= 1
             if depth != 1 or not isinstance(el.tag, str):
@@ -181,7 +156,7 @@ def _read_stream(path: Path, schema: etree.XMLSchema | None, name: str) -> Progr
     _take(pending, root, schema, name, commands, first=not commands, last=True)
     result = tuple(commands)
     _check_order(result, name)
-    return Program(result, source=name)
+    return Program(result, source=name, units=PAPER_UNITS)
 
 
 def _take(elements: list[Any], root: Any, schema: etree.XMLSchema | None, name: str,
@@ -218,25 +193,55 @@ def _take(elements: list[Any], root: Any, schema: etree.XMLSchema | None, name: 
 
 
 #: the root elements of CRCL 1.x documents (NIST's CRCLProgramInstance.xsd, CRCLCommandInstance.xsd,
-#: CRCLStatus.xsd), which kitkb does not read yet
+#: CRCLStatus.xsd) that are not CRCLProgram
 _CRCL1_ROOTS = ("CRCLCommandInstance", "CRCLStatus")
 _XSI_TYPE = "{http://www.w3.org/2001/XMLSchema-instance}type"
 
 
-def _refuse_crcl1(root: Any, name: str | None) -> None:
-    """A CRCL 1.x document (a command instance, a status, or a program whose commands carry a
-    CommandID or an xsi:type) is an InputError that says so, not a puzzle about its first
-    element: kitkb reads the programs of NIST's early CRCL.xsd (the first paper's)."""
+def _is_crcl1(root: Any) -> bool:
+    """Whether ``root`` is a CRCL 1.x document: a command instance, a status, or a program
+    whose first command carries a CommandID or an xsi:type (or a Name, which 2014 has not)."""
     first = next((el for el in root if isinstance(el.tag, str)), None)
-    crcl1 = root.tag in _CRCL1_ROOTS or (root.tag == "CRCLProgram" and first is not None and (
-        first.get(_XSI_TYPE) is not None or any(c.tag == "CommandID" for c in first if isinstance(c.tag, str))))
-    if crcl1:
-        program = root.tag == "CRCLProgram"
-        what = ("program (commands with a CommandID or an xsi:type, CRCLProgramInstance.xsd)" if program else
-                f"<{root.tag}> document ({root.tag}.xsd)")
-        at = first if program and first is not None else root
-        raise InputError(f"a CRCL 1.x {what}: kitkb reads only the programs of NIST's early CRCL.xsd so far",
-                         name, at.sourceline)
+    if root.tag in _CRCL1_ROOTS:
+        return True
+    if root.tag != "CRCLProgram" or first is None:
+        return False
+    if first.tag == "Name":
+        return True
+    return first.get(_XSI_TYPE) is not None or any(c.tag == "CommandID" for c in first if isinstance(c.tag, str))
+
+
+def _head_is_crcl1(path: Path) -> bool:
+    """:func:`_is_crcl1` of a big file, from its first 64 KiB."""
+    try:
+        with open(path, "rb") as f:
+            head = f.read(1 << 16)
+    except OSError:
+        return False
+    return (b"<CRCLCommandInstance" in head or b"<CRCLStatus" in head or b"<CommandID" in head
+            or b"MiddleCommand" in head)
+
+
+def _read_crcl1(data: bytes, name: str | None) -> Program:
+    """The program of a CRCL 1.x document (:mod:`kb.crcl.instance`): a CRCLProgram, or the one
+    command of a CRCLCommandInstance; a status is no program. Checked against NIST's CRCL 1.x
+    schemas when they are found."""
+    from kb.crcl import instance  # it builds on this module
+    source = name or "<crcl>"
+    root = _parse(data, name).getroot()
+    if root.tag == "CRCLStatus":
+        raise InputError("a CRCL 1.x status (CRCLStatus), not a program or a command", name, root.sourceline)
+    kind = "command" if root.tag == "CRCLCommandInstance" else "program"
+    if instance.default_schemas() is not None:
+        instance.validate(data, kind, source)
+    if kind == "command":
+        pairs = [instance.read_command_instance(data, source)]
+    else:
+        pairs = instance.read_program_instance(data, source)
+    most = limits.CRCL_COMMANDS.value()
+    if most is not None and len(pairs) > most:
+        raise limits.CRCL_COMMANDS.error(None, name, pairs[most][0].line, "too many commands")
+    return Program(tuple(command for command, _ in pairs), source=name, units=CRCL1_UNITS)
 
 
 def _refuse_doctype(path: Path, name: str) -> None:
@@ -251,35 +256,6 @@ def _refuse_doctype(path: Path, name: str) -> None:
     if at >= 0:
         raise InputError("a DOCTYPE is not allowed in CRCL XML (no entity is expanded or fetched)",
                          name, head.count(b"\n", 0, at) + 1)
-
-
-def _read(path: Path) -> bytes:
-    try:
-        return path.read_bytes()
-    except OSError as exc:
-        raise InputError(f"cannot read: {exc.strerror or exc}", path) from None
-
-
-def hardened_parser() -> etree.XMLParser:
-    """An lxml parser that loads no DTD, resolves no entity and never uses the network."""
-    return etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False,
-                           dtd_validation=False, huge_tree=False)
-
-
-def _parse(data: bytes, name: str | None, base_url: str | None = None) -> Any:
-    """The document of ``data``, parsed by :func:`hardened_parser` (relative references from
-    ``base_url``); a DOCTYPE is refused."""
-    try:
-        tree = etree.parse(io.BytesIO(data), hardened_parser(), base_url=base_url)
-    except etree.XMLSyntaxError as exc:
-        # one line: libxml2 ends some messages with "\n, line L, column C"
-        message = ((exc.msg or str(exc)).strip().splitlines() or ["not well-formed"])[0]
-        raise InputError(f"XML syntax error: {message}", name, exc.lineno) from None
-    if tree.docinfo.internalDTD is not None or tree.docinfo.doctype:
-        line = data.count(b"\n", 0, max(data.find(b"<!DOCTYPE"), 0)) + 1
-        raise InputError("a DOCTYPE is not allowed in CRCL XML (no entity is expanded or fetched)",
-                         name, line)
-    return tree
 
 
 def _children(el: Any, name: str | None) -> list[Any]:
@@ -438,6 +414,8 @@ def _unwritable(command: Command) -> str | None:
         return f"unreadable line {first!r} ({command.reason}); cannot write it as XML"
     if type(command) not in ELEMENTS:
         return f"{type(command).__name__} has no element in CRCL.xsd (the early schema); cannot write it as XML"
+    if isinstance(command, MoveThroughTo) and command.straight:
+        return "a MoveThroughTo in straight lines (CRCL 1.x's MoveStraight true) has no CRCL.xsd form"
     if isinstance(command, EndCanon) and command.reason != 0:
         return (f"EndCanon({command.reason}): CRCL.xsd's EndCanon has no reason; "
                 "only EndCanon(0) can be written as XML")
@@ -468,6 +446,26 @@ def _write_pose(el: Any, pose: Pose) -> None:
             etree.SubElement(vec, n).text = _decimal_text(v)
 
 
+#: Magnitudes below this are written as 0 (sin(pi)-sized noise), as in :mod:`kb.crcl.instance`.
+TINY = 1e-12
+#: The most digits libxml2 (xmllint) reads in an ``xs:decimal``.
+DECIMAL_DIGITS = 24
+
+
 def _decimal_text(x: float) -> str:
-    """``x`` as an ``xs:decimal`` (no exponent) that reads back as the same float."""
-    return format(Decimal(repr(float(x))), "f")
+    """``x`` as an ``xs:decimal`` (no exponent) that reads back as the same float: 0.0 for a
+    magnitude under :data:`TINY`; rounded to :data:`DECIMAL_DIGITS` digits where it has more
+    (libxml2 refuses longer decimals), which only a number beyond 1e10 or below 1e-7 with all
+    its 17 significant digits can need."""
+    x = float(x)
+    if abs(x) < TINY:
+        return "0.0"
+    text = format(Decimal(repr(x)), "f")
+    digits = sum(ch.isdigit() for ch in text)
+    if digits > DECIMAL_DIGITS:
+        integer = len(text.lstrip("-").split(".")[0].lstrip("0"))
+        places = max(DECIMAL_DIGITS - max(integer, 1), 0)
+        with localcontext(prec=1000):
+            text = format(round(Decimal(repr(x)), places), "f")
+        text = text.rstrip("0").rstrip(".") if "." in text else text
+    return text
