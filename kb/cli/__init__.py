@@ -244,8 +244,9 @@ def _add_crcl(sub: Any) -> None:
     p = sub.add_parser("crcl", help="CRCL robot command files (text form and CRCL XML)",
                        description="CRCL robot command files: the text form (.crcl) and CRCL.xsd XML (.xml).")
     csub = p.add_subparsers(dest="crcl_command", required=True, metavar="SUBCOMMAND")
-    g = _sub(csub, "convert", "crcl convert", "convert a CRCL program between text (.crcl) and XML (.xml)")
-    g.add_argument("input", metavar="IN", help="a .crcl (text form) or .xml (CRCL XML) file")
+    g = _sub(csub, "convert", "crcl convert", "convert a CRCL program between text (.crcl) and XML (.xml: "
+             "2014 CRCL.xsd, CRCL 1.x program or command instance)")
+    g.add_argument("input", metavar="IN", help="a .crcl (text form) or .xml (CRCL XML: 2014 or 1.x) file")
     g.add_argument("-o", "--output", required=True, metavar="OUT",
                    help="output file; the extension chooses the form: .crcl text, .xml CRCL XML")
     g.add_argument("--xsd", metavar="PATH",
@@ -256,6 +257,12 @@ def _add_crcl(sub: Any) -> None:
                    help="the layout of CRCL text written (.crcl): nist, NIST's kittingViewer form, which its "
                         "parser reads (MoveThroughTo({ pose,<newline> pose }, n); the default), or paper, the "
                         "first paper's Fig. 11 form (MoveThroughTo(pose, pose, n)); both are read")
+    g.add_argument("--xml-form", choices=["2014", "1.x", "command"], metavar="2014|1.x|command",
+                   help="the CRCL XML written (.xml): 2014, NIST's early CRCL.xsd program; 1.x, a CRCL 1.x "
+                        "program (CRCLProgramInstance.xsd, CommandIDs 1, 2, ...); command, a CRCL 1.x command "
+                        "instance of the program's one command (default: 1.x for a CRCL 1.x input, else 2014). "
+                        "All are read; units are said after InitCanon where the forms' defaults differ "
+                        "(docs/crcl.md)")
 
 
 def _add_metrics(sub: Any) -> None:
