@@ -18,7 +18,7 @@ import contracts).
 
 from kb.cells.accuracy import CAPTURE_TOLERANCE, SensorAccuracy, assumed_accuracy
 from kb.cells.registry import (DEFAULT_URL, ENTRY_POINT_GROUP, CellRequest, CellURL, cell_accuracy, cell_schemes,
-                               close_cell, open_cell, parse_cell_url)
+                               check_cell, close_cell, open_cell, parse_cell_url)
 
 __all__ = ["CAPTURE_TOLERANCE", "DEFAULT_URL", "ENTRY_POINT_GROUP", "CellRequest", "CellURL", "SensorAccuracy",
-           "assumed_accuracy", "cell_accuracy", "cell_schemes", "close_cell", "open_cell", "parse_cell_url"]
+           "assumed_accuracy", "cell_accuracy", "cell_schemes", "check_cell", "close_cell", "open_cell", "parse_cell_url"]

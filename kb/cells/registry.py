@@ -31,6 +31,8 @@ schemes are registered by module name (:data:`BUILTIN`) and imported when first 
 :mod:`kb.core.generators` finds generators: this module imports no cell, so the executor,
 which sits below the simulator, never imports ``kb.sim`` through it.
 
+An opener may carry a ``check(url, request)`` function attribute that validates both without
+opening anything (:func:`check_cell`: a campaign checks its options before any trial runs).
 A URL that does not parse, an unknown scheme, a parameter the scheme does not take and a cell
 that does not answer are each an :class:`~kb.core.errors.InputError` (exit 2), one line
 naming the URL and the known schemes. What a cell can do is a set of capabilities
@@ -105,8 +107,11 @@ class CellURL:
     params: Mapping[str, str] = field(default_factory=dict)
 
     def refuse(self, why: str) -> InputError:
-        """The one-line error for this URL: ``why``, and the schemes known."""
-        return InputError(f"cell {self.text!r}: {why} (known schemes: {', '.join(cell_schemes())})")
+        """The one-line error for this URL: ``why`` (kept as the error's ``reason``), and the
+        schemes known."""
+        error = InputError(f"cell {self.text!r}: {why} (known schemes: {', '.join(cell_schemes())})")
+        error.reason = why  # type: ignore[attr-defined]
+        return error
 
     def only(self, *names: str) -> None:
         """Refuse a query parameter other than ``names``."""
@@ -190,6 +195,18 @@ def open_cell(url: str | CellURL | None = None, request: CellRequest | None = No
         except AttributeError:  # a cell with slots: named by its type in messages
             pass
     return cell
+
+
+def check_cell(url: str | CellURL | None = None, request: CellRequest | None = None) -> CellURL:
+    """Check ``url`` and ``request`` without opening the cell: the URL parses, its scheme is
+    known, and the opener's ``check`` (a function attribute of the opener, when it has one:
+    ``sim:`` checks its faults, seed and noise) accepts them. The parsed URL; an InputError
+    as :func:`open_cell` gives."""
+    parsed = url if isinstance(url, CellURL) else parse_cell_url(url or DEFAULT_URL)
+    check = getattr(_opener(parsed), "check", None)
+    if callable(check):
+        check(parsed, request or CellRequest())
+    return parsed
 
 
 def close_cell(cell: Any) -> None:

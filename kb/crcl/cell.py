@@ -196,6 +196,15 @@ def capabilities(cell: object) -> frozenset[str]:
     return frozenset(name for name, proto in CAPABILITIES.items() if isinstance(cell, proto))
 
 
+def has(cell: object, capability: str) -> bool:
+    """True when ``cell`` has ``capability`` (a :data:`CAPABILITIES` name): declared, or its
+    protocol implemented (as :func:`capabilities`, asking one protocol only)."""
+    declared = getattr(cell, "capabilities", None)
+    if isinstance(declared, (set, frozenset, tuple, list)):
+        return capability in declared
+    return isinstance(cell, CAPABILITIES[capability])
+
+
 def missing(cell: object, needs: Sequence[str]) -> list[str]:
     """The capabilities of ``needs`` that ``cell`` lacks, in the order asked."""
     have = capabilities(cell)
@@ -232,8 +241,8 @@ def sense_names(cell: Senses, names: Sequence[str]) -> list[Observation]:
     out: in one query where the cell :class:`SensesNames` (:class:`kb.sim.SimulatedCell`),
     else one ``sense(name, by="name")`` per name. The executor's focus of attention asks for an
     action's neighbourhood this way (a query's cost then follows its answer, not the cell)."""
-    if isinstance(cell, SensesNames):
-        return list(cell.sense_names(names))
+    if has(cell, "sense-names"):
+        return list(cell.sense_names(names))  # type: ignore[attr-defined]
     return [o for n in names for o in cell.sense(n, by="name")]
 
 
@@ -241,8 +250,8 @@ def execute_program(cell: Moves, commands: Sequence[Command]) -> list[Status]:
     """Run one action's commands on ``cell``: one status per command, in order, the commands
     after a failed one not executed. A cell that :class:`MovesPrograms` (one round trip to a
     remote cell) does it; any other cell command by command."""
-    if isinstance(cell, MovesPrograms):
-        return list(cell.execute_program(commands))
+    if has(cell, "move-program"):
+        return list(cell.execute_program(commands))  # type: ignore[attr-defined]
     return run_in_order(cell.execute, commands)
 
 

@@ -22,11 +22,12 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
+from kb.cells.accuracy import SensorAccuracy, assumed_accuracy
 from kb.core.errors import InputError
-from kb.crcl.cell import CellInterface
+from kb.crcl.cell import CellInterface, has, require
 from kb.execution.belief import Belief
 from kb.execution.events import Event
-from kb.execution.executor import Executor, log_notifier
+from kb.execution.executor import Executor, log_notifier, needs
 from kb.execution.inputs import PlanInputs
 from kb.execution.records import ActionRecord, FailureRecord, RunRecord, local
 from kb.metrics.kits import KitScore
@@ -121,7 +122,7 @@ class Run:
 
 
 def execute_plan(plan: Sequence[str], cell: CellInterface, inputs: PlanInputs, record: RunRecord, *,
-                 accuracy: Any = None, store: Any = None, paths: tuple[Any, Any] = (None, None),
+                 accuracy: SensorAccuracy | None = None, store: Any = None, paths: tuple[Any, Any] = (None, None),
                  notifier: Callable[[str, str], None] = log_notifier, progress: Callable[[str], None] | None = None,
                  planner: str | None = None, on_event: Callable[[Event], None] | None = None) -> Run:
     """Carry out ``plan`` on ``cell`` from ``inputs`` (the second half of :func:`run_plan`,
@@ -134,6 +135,7 @@ def execute_plan(plan: Sequence[str], cell: CellInterface, inputs: PlanInputs, r
     executor = Executor(cell, inputs.domain, inputs.problem, inputs.definitions, inputs.failures,
                         Belief(inputs.scene), store=store, notifier=notifier, progress=progress, planner=planner,
                         record=record, accuracy=accuracy, on_event=on_event)
+    require(cell, needs(executor.parse_plan(list(plan))), "the plan")  # refused before the store hears of it
     if store is not None:
         store.begin_run(record, *paths)
     try:
@@ -149,39 +151,25 @@ def execute_plan(plan: Sequence[str], cell: CellInterface, inputs: PlanInputs, r
     return Run(record)
 
 
-def note_ground_truth(record: RunRecord, cell: Any, accuracy: Any = None) -> None:
+def note_ground_truth(record: RunRecord, cell: Any, accuracy: SensorAccuracy | None = None) -> None:
     """``record`` gets what a simulated ``cell`` did that the executor was not told: the faults
     it injected, what its sensor got wrong (with a noisy ``accuracy``), the constraints the
-    robot violated. A cell without them (a real one) leaves the record as it is."""
-    injected = getattr(cell, "injected", None)
-    if injected is not None:
-        record.injected = [{"kind": x.kind, "action_index": x.action_index, "objects": [local(o) for o in x.objects],
-                            "detail": x.detail} for x in injected]
-    errors = getattr(getattr(cell, "sensor", None), "errors", None)
-    if accuracy is not None and not accuracy.zero and isinstance(errors, list):
-        record.sensor_errors = [e.as_dict() for e in errors]
-    violations = getattr(cell, "violations", None)
-    if violations is not None:
-        record.violations = [_as_data(v) for v in violations]
+    robot violated. A cell without :class:`~kb.crcl.cell.GroundTruth` (a real one) leaves the
+    record as it is."""
+    if not has(cell, "ground-truth"):
+        return
+    record.injected = [{"kind": x.kind, "action_index": x.action_index, "objects": [local(o) for o in x.objects],
+                        "detail": x.detail} for x in cell.injected]
+    if accuracy is not None and not accuracy.zero:
+        record.sensor_errors = [e.as_dict() for e in cell.sensor_errors]
+    record.violations = [_as_data(v) for v in cell.violations]
 
 
-def sensor_accuracy(scene: Scene, sensor_noise: Any) -> Any:
-    """The sensor's accuracy: ``sensor_noise`` (a SensorNoise or its text) over the sensor
-    individual of the state of ``scene``; None when neither is given (kb.sim imported only then)."""
-    from kb.sim.noise import SENSOR_OF, SensorNoise
-    if sensor_noise is None and SENSOR_OF not in scene.facts and not any(
-            "PoseSensor" in str(c) for cs in scene.classes for c in cs):
-        return None
-    try:
-        base = SensorNoise.from_scene(scene)
-    except ValueError as exc:
-        raise InputError(str(exc), scene.path) from None
-    if isinstance(sensor_noise, str):
-        try:
-            return SensorNoise.parse(sensor_noise, base)
-        except ValueError as exc:
-            raise InputError(f"sensor noise: {exc}") from None
-    return sensor_noise if sensor_noise is not None else base
+def sensor_accuracy(scene: Scene, sensor_noise: SensorAccuracy | str | None) -> SensorAccuracy | None:
+    """The sensor's accuracy: ``sensor_noise`` (a :class:`~kb.cells.accuracy.SensorAccuracy` or
+    its text) over the sensor individual of the state of ``scene``; None when neither is given
+    (:func:`kb.cells.accuracy.assumed_accuracy`)."""
+    return assumed_accuracy(scene, sensor_noise)
 
 
 def _as_data(record: Any) -> dict[str, Any]:

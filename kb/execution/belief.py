@@ -18,6 +18,7 @@ from typing import Any, Iterable
 
 import numpy as np
 
+from kb.cells.accuracy import SensorAccuracy
 from kb.core.namespaces import KTW
 from kb.crcl.cell import Observation
 from kb.spatial.scene import Scene, scene_boxes
@@ -59,7 +60,7 @@ class Belief:
         self._boxes: tuple[np.ndarray, np.ndarray] | None = None
         self._stale: set[int] = set()  # objects whose world box changed since _boxes was made
         #: the sensor's accuracy the belief filters with (None: an exact sensor, every look taken as it is)
-        self.noise: Any = None
+        self.noise: SensorAccuracy | None = None
         #: looks of each object averaged into its pose since it last moved (with noise)
         self.looks = np.zeros(len(self.names), np.int64)
         #: object -> the SKU (local name) a look reported instead of the believed one, to confirm
@@ -67,8 +68,8 @@ class Belief:
         self.last_moved: list[str] = []  # the objects the last observe found moved (outside the gate)
         self._confirm = False
 
-    def use_noise(self, noise: Any) -> None:
-        """Filter the looks of a sensor of this accuracy (a :class:`~kb.sim.noise.SensorNoise`:
+    def use_noise(self, noise: SensorAccuracy | None) -> None:
+        """Filter the looks of a sensor of this accuracy (a :class:`~kb.cells.accuracy.SensorAccuracy`:
         ``position``, ``orientation``, ``bias`` sigmas; ``misclassification`` rate); None or
         an exact one: take every look as it is."""
         self.noise = noise if noise is not None and noise.poses else None

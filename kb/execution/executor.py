@@ -26,7 +26,7 @@ goal kit is inspected through the cell (:meth:`Executor.inspect_kits`), and each
 on that (:mod:`kb.metrics.kits`): what is sensed and inspected at the end, not what was
 believed or inspected during the run.
 
-With a sensor that is not exact (``accuracy``, a :class:`~kb.sim.noise.SensorNoise`), the
+With a sensor that is not exact (``accuracy``, a :class:`~kb.cells.accuracy.SensorAccuracy`), the
 executor looks again where one look is not enough (:mod:`.looks`): the belief filters the
 looks (:mod:`.belief`), the objects a motion target is computed from get enough looks first,
 a check is decided with a tolerance derived from the accuracy and the looks, a violated check
@@ -43,14 +43,16 @@ import logging
 import time
 from collections import deque
 from dataclasses import dataclass, field
-from typing import Any, Callable
+from typing import Callable
 
 import numpy as np
 
 from kb.core.errors import CellError, KitkbError
 from kb.core.namespaces import KTW
 from kb.crcl import COMMANDS, Command, Dwell, EndCanon, InitCanon, Message, Pose
-from kb.crcl.cell import CellInterface, execute_program
+from kb.cells.accuracy import SensorAccuracy
+from kb.crcl.cell import RUN_NEEDS, CellInterface, execute_program, has, require
+from kb.crcl.units import said_units
 from kb.diagnosis import diagnose
 from kb.execution.belief import Belief
 from kb.execution.events import (ActionEnded, ActionStarted, CheckMade, Event, StableState, Stopped)
@@ -105,8 +107,8 @@ class Executor(Recovery):
     tolerance: float = DEFAULT_TOLERANCE
     max_replans: int = 10
     record: RunRecord = field(default_factory=lambda: RunRecord("run"))
-    #: the sensor's accuracy (a :class:`kb.sim.noise.SensorNoise`); None or zero: exact
-    accuracy: Any = None
+    #: the sensor's accuracy; None or zero: exact
+    accuracy: SensorAccuracy | None = None
 
     def __post_init__(self) -> None:
         self.actions: dict[str, ActionSpec] = {a.name: a for a in self.domain.actions}
@@ -141,7 +143,9 @@ class Executor(Recovery):
         """Carry out ``plan`` (PDDL action lines); the record says what happened."""
         rec = self.record
         rec.started = time.perf_counter()
-        queue = deque(self.parse_plan(plan))
+        steps = self.parse_plan(plan)
+        require(self.cell, needs(steps), "the plan")  # before anything is sent: a cell that cannot do it
+        queue = deque(steps)
         self._queue = queue
         try:
             while queue:
@@ -196,7 +200,8 @@ class Executor(Recovery):
             act = ActionRecord(i, step.action, tuple(step.args.values()), started=time.perf_counter())
             self.record.actions.append(act)
             self._emit(ActionStarted(i, step.action, act.args, step.line()))
-            self.cell.begin_action(i, step.action, tuple(step.args.values()))
+            if has(self.cell, "begin-action"):  # a cell that cannot hear it is driven without
+                self.cell.begin_action(i, step.action, tuple(step.args.values()))
             try:
                 self._sense(step)
                 outcome = self._attempt(step, act, queue)
@@ -444,7 +449,7 @@ class Executor(Recovery):
     def _inspect(self, step: Step, i: int, queue: deque) -> str | None:
         """Inspect the part to take (look-for-part): a defective one is replaced, never taken."""
         part = step.args["part"]
-        if not self.belief.placed(part):
+        if not self.belief.placed(part) or not has(self.cell, "inspect"):  # a cell that cannot: not inspected
             return None
         ok = self.cell.inspect(part)
         self.belief.passed_inspection(part, ok)
@@ -485,7 +490,7 @@ class Executor(Recovery):
         chosen = [s for s in program.steps if s.approach == approach]
         if approach and not chosen:
             return []
-        out: list[Command] = [InitCanon()]
+        out: list[Command] = [InitCanon(), *said_units()]  # the executor computes in SI: says so
         fields = Fields({k: local(v) for k, v in step.args.items()})
         for s in chosen:
             if s.command == "Message":
@@ -567,7 +572,7 @@ class Executor(Recovery):
         the run, not on what inspections during it said (a part may have changed since, and a
         run that found its kit built inspected nothing). Nothing is asked when the domain has no
         ``part-quality-ok``."""
-        if QUALITY not in self.defs.predicates:
+        if QUALITY not in self.defs.predicates or not has(self.cell, "inspect"):  # then no part is found good
             return
         ev = self.evaluator()
         for goal in goals:
@@ -584,6 +589,14 @@ class Executor(Recovery):
             self.on_event(event)
         if self.progress is not None and (text := event.text()) is not None:
             self.progress(text)
+
+
+def needs(steps: list[Step]) -> tuple[str, ...]:
+    """The capabilities (:mod:`kb.crcl.cell`) a plan needs of its cell: to move and to sense
+    always; to inspect for a ``look-for-part`` (its effect, the part's quality, is an
+    inspection's). The executor's own inspection before a grasp and of the finished kits is
+    left out on a cell that cannot inspect (no part is then found good)."""
+    return RUN_NEEDS + (("inspect",) if any(s.action == "look-for-part" for s in steps) else ())
 
 
 def _number(text: str) -> bool:

@@ -1,6 +1,6 @@
 """Looking again: how the executor senses with a sensor that is not exact.
 
-The accuracy the executor assumes (a :class:`~kb.sim.noise.SensorNoise`: the sensor individual
+The accuracy the executor assumes (a :class:`~kb.cells.accuracy.SensorAccuracy`: the sensor individual
 of the state file, or ``--sensor-noise``) decides how many looks it takes and how wide its
 checks' tolerances are. With an exact sensor none of this happens: one look, the 1 mm
 tolerance of :mod:`kb.spatial.rcc8`, as before.
@@ -10,7 +10,7 @@ tolerance of :mod:`kb.spatial.rcc8`, as before.
   ``sigma(n) = sqrt(position² / n + bias²)`` per coordinate. Before an action's motion
   targets are computed, the objects they are computed from get looks until
   :data:`K_CAPTURE` sigmas fit in what a gripper or a tool changer captures (:data:`CAPTURE`,
-  2 mm: :data:`kb.sim.robot.GRASP_TOLERANCE`): ``n >= (K_CAPTURE * position / CAPTURE)²``,
+  2 mm: :data:`kb.cells.accuracy.CAPTURE_TOLERANCE`, what a cell's gripper is assumed to capture): ``n >= (K_CAPTURE * position / CAPTURE)²``,
   7 looks at 1 mm. A check's tolerance is the exact one plus :data:`K_CHECK` sigmas of the
   difference of two objects' positions (``tol + K_CHECK * sqrt(2) * max sigma`` over the
   objects the check is decided on; an object's sigma counts its orientation's too, as the
@@ -35,8 +35,9 @@ from typing import Any, Iterable, Sequence
 
 import numpy as np
 
+from kb.cells.accuracy import CAPTURE_TOLERANCE, SensorAccuracy
 from kb.core.namespaces import KTW
-from kb.crcl.cell import CellInterface, Observation, sense_names
+from kb.crcl.cell import Observation, Senses, sense_names
 from kb.execution.belief import Belief
 from kb.model.definitions import Definitions
 from kb.spatial.frames import HEADING_MERGE, heading_groups, headings
@@ -45,8 +46,8 @@ from kb.spatial.rcc8 import DEFAULT_TOLERANCE
 from kb.spatial.scene import Scene
 
 SOLID = str(KTW.SolidObject)
-#: what a gripper or a tool changer captures (m): the simulated cell's GRASP_TOLERANCE
-CAPTURE = 2 * DEFAULT_TOLERANCE
+#: what a gripper or a tool changer captures (m): kb.cells.accuracy's, the simulated robot's too
+CAPTURE = CAPTURE_TOLERANCE
 #: sigmas of a target's error that must fit within :data:`CAPTURE`
 K_CAPTURE = 5.0
 #: sigmas of the difference of two positions a check's tolerance adds to the exact one
@@ -70,7 +71,7 @@ RECHECK = 3
 class Looks:
     """Sensing for the executor with a sensor of accuracy ``noise`` (None or exact: one look)."""
 
-    def __init__(self, cell: CellInterface, belief: Belief, noise: Any = None,
+    def __init__(self, cell: Senses, belief: Belief, noise: SensorAccuracy | None = None,
                  tolerance: float = DEFAULT_TOLERANCE) -> None:
         self.cell, self.belief, self.tolerance = cell, belief, tolerance
         self.noise = noise if noise is not None and not noise.zero else None

@@ -25,6 +25,8 @@ from collections import Counter
 from dataclasses import dataclass, field
 from typing import Any, Iterable
 
+from kb.cells.accuracy import SensorAccuracy
+
 #: Ground truth: the failure modes a fault of each kind may be diagnosed as. part-moved and
 #: kit-tray-moved need no diagnosis while late binding finds the object where it now is; a
 #: failure they cause must name one of these.
@@ -180,8 +182,7 @@ def noise_key(rep: dict) -> str:
     acc = (rep.get("sensor") or {}).get("accuracy")
     if not acc:
         return "none"
-    from kb.sim.noise import SensorNoise  # the spelling lives with the noise model
-    return SensorNoise(**acc).text()
+    return SensorAccuracy(**acc).text()
 
 
 def _attempts(rep: dict) -> int:

@@ -216,9 +216,22 @@ def open_simulated(url: CellURL, request: CellRequest) -> SimulatedCell:
     ``request.scene``, with the faults, seed and sensor accuracy of the request or of the URL's
     ``faults=``, ``seed=`` and ``noise=`` (noise over the request's accuracy); a parameter and a
     different value of the request at once are refused, as is a request without a scene."""
-    url.only("faults", "seed", "noise")
+    spec, seed, accuracy = check_simulated(url, request)
     if request.scene is None:
         raise url.refuse("a simulated cell needs the initial state it holds (no scene was given)")
+    try:
+        cell = SimulatedCell(request.scene, faults=spec, seed=seed,
+                             **({"noise": accuracy} if accuracy is not None else {}))
+    except ValueError as exc:
+        raise InputError(str(exc)) from None
+    cell.url = url.text
+    return cell
+
+
+def check_simulated(url: CellURL, request: CellRequest) -> tuple[FaultSpec | None, int, SensorAccuracy | None]:
+    """The faults, seed and accuracy a ``sim:`` cell of ``url`` and ``request`` would have
+    (the scene not needed); an InputError naming what is wrong (``reason`` without the URL)."""
+    url.only("faults", "seed", "noise")
     seed = url.number("seed", int)
     if seed is not None and request.seed not in (None, seed):
         raise url.refuse(f"seed={seed} and a seed of {request.seed} given besides")
@@ -235,10 +248,7 @@ def open_simulated(url: CellURL, request: CellRequest) -> SimulatedCell:
             accuracy = SensorAccuracy.parse(url.params["noise"], accuracy)
     except ValueError as exc:
         raise url.refuse(str(exc)) from None
-    try:
-        cell = SimulatedCell(request.scene, faults=spec if spec else None, seed=seed,
-                             **({"noise": accuracy} if accuracy is not None else {}))
-    except ValueError as exc:
-        raise InputError(str(exc)) from None
-    cell.url = url.text
-    return cell
+    return (spec if spec else None), seed, accuracy
+
+
+open_simulated.check = check_simulated  # type: ignore[attr-defined]

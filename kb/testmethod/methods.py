@@ -33,6 +33,8 @@ from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import Any
 
+from kb.cells.accuracy import KEYS, SensorAccuracy
+from kb.cells.registry import DEFAULT_URL, CellRequest, check_cell, parse_cell_url
 from kb.core.errors import InputError
 from kb.core.limits import PARTS
 from kb.scenario.spec import DesignSpec, ScenarioSpec, method_spec, mixed_design, random_types, types_for
@@ -60,6 +62,7 @@ class Options:
     faults: str | None = None  # errors: the fault mix (default DEFAULT_FAULTS)
     sensor_noise: str | None = None  # the sensor's accuracy, as --sensor-noise spells it
     noise_sweep: str | None = None  # errors: KEY=FROM:TO:N, the levels every trial runs at
+    cell: str | None = None  # the cell's URL (None: every trial's own simulated cell, sim:)
 
     def __post_init__(self) -> None:
         if self.method not in METHODS:
@@ -92,6 +95,8 @@ class Options:
         base = _base_noise(self.sensor_noise)
         if self.noise_sweep is not None:
             _check_sweep(self, base)
+        if self.cell is not None:
+            _check_cell(self)
 
     @property
     def levels(self) -> int:
@@ -128,6 +133,8 @@ class Options:
             out["sensor_noise"] = self.sensor_noise
         if self.noise_sweep is not None:
             out["noise_sweep"] = self.noise_sweep
+        if self.cell is not None:
+            out["cell"] = self.cell
         return out
 
 
@@ -139,9 +146,8 @@ def _base_noise(text: str | None) -> Any:
     """The noise of ``--sensor-noise`` (None when not given); an InputError naming its item."""
     if text is None:
         return None
-    from kb.sim.noise import SensorNoise  # the noise model's own reader says what is wrong
     try:
-        return SensorNoise.parse(text)
+        return SensorAccuracy.parse(text)
     except ValueError as e:
         raise InputError(f"--sensor-noise: {e}") from None
 
@@ -149,7 +155,6 @@ def _base_noise(text: str | None) -> Any:
 def sweep_key(text: str) -> tuple[str, str]:
     """(field, kind) of the key a sweep ``KEY=FROM:TO:N`` varies (``misclass`` is
     ``misclassification``); an InputError for an unknown key."""
-    from kb.sim.noise import KEYS
     key = text.partition("=")[0].strip().lower()
     if key not in KEYS:
         raise InputError(f"--noise-sweep {text}: {key!r} is not a noise key (keys: position, orientation, bias, "
@@ -159,11 +164,10 @@ def sweep_key(text: str) -> tuple[str, str]:
 
 @lru_cache(maxsize=16)
 def sweep_levels(text: str, base: str | None = None) -> tuple[Any, ...]:
-    """The :class:`~kb.sim.noise.SensorNoise` of each level of a sweep, over ``base`` (the
-    ``--sensor-noise`` text); an InputError for a malformed sweep."""
-    from kb.sim.noise import SensorNoise
+    """The :class:`~kb.cells.accuracy.SensorAccuracy` of each level of a sweep, over ``base``
+    (the ``--sensor-noise`` text); an InputError for a malformed sweep."""
     try:
-        return tuple(SensorNoise.sweep(text, _base_noise(base)))
+        return tuple(SensorAccuracy.sweep(text, _base_noise(base)))
     except ValueError as e:
         said = str(e)
         if repr(text) not in said:  # an end of the sweep read as its own item: say the sweep
@@ -188,19 +192,41 @@ def _check_sweep(options: Options, base: Any) -> None:
                          f"{MAX_TRIALS:,} runs")
     sweep_levels(text)
     if base is not None and options.sensor_noise is not None:
-        from kb.sim.noise import KEYS
         given = {KEYS.get(item.partition("=")[0].strip().lower(), ("",))[0] for item in options.sensor_noise.split(",")}
         if name in given:
             raise InputError(f"--noise-sweep {text} and --sensor-noise {options.sensor_noise} both set {name}: "
                              "give it in one of them")
 
 
+def simulated(url: str) -> bool:
+    """True for a URL of the in-process simulator (``sim:``): every trial then has its own."""
+    return parse_cell_url(url).scheme == "sim"
+
+
+def _check_cell(options: Options) -> None:
+    """``--cell``: ``sim:`` (no parameters: the options carry faults and noise, each trial its
+    own seed and placement) or one cell every trial runs on, the real placement the cell's own:
+    one trial (the cell keeps what the trial did), no injected faults, no noise sweep."""
+    url = check_cell(options.cell)
+    if url.scheme == "sim":
+        if url.params:
+            raise InputError(f"--cell {options.cell}: a campaign's simulated cells take no parameters (give "
+                             "--faults or --sensor-noise; each trial has its own seed)")
+        return
+    if options.method == "errors":
+        raise InputError(f"--cell {options.cell}: the errors method injects faults through its simulated cells; "
+                         "a cell at a URL has its own faults (run basic, multi or new-variety against it)")
+    if options.trials != 1:
+        raise InputError(f"--cell {options.cell}: one trial per campaign on a cell at a URL (it keeps what a trial "
+                         f"did: reset it, then run the next --seed), not {options.trials:,}")
+
+
 def _check_faults(text: str) -> None:
-    from kb.sim.faults import FaultSpec  # the cell's own reader says what is wrong
+    """The simulated cell's own check of a fault mix (through the registry: kb.sim not imported)."""
     try:
-        FaultSpec.parse(text)
-    except ValueError as e:
-        raise InputError(f"--faults: {e}") from None
+        check_cell(DEFAULT_URL, CellRequest(faults=text))
+    except InputError as e:
+        raise InputError(f"--faults: {getattr(e, 'reason', e.message)}") from None
 
 
 @dataclass(frozen=True)
@@ -217,6 +243,7 @@ class Job:
     order: tuple[str, ...] = field(default=())  # the designs of the kits, in the order asked
     noise: str | None = None  # the sensor's accuracy as --sensor-noise spells it (None: the state's sensor)
     sweep: tuple[int, int] | None = None  # in a noise sweep: (trial, level)
+    cell: str | None = None  # the URL of the one cell the trial runs on (None: its own simulated cell)
 
     def facts(self) -> dict[str, Any]:
         """The trial's facts known before it runs (its row's ``trial``): index, seed, method,
@@ -232,10 +259,9 @@ class Job:
 
 
 def noise_label(text: str) -> str:
-    """A ``--sensor-noise`` text as :meth:`SensorNoise.text <kb.sim.noise.SensorNoise.text>`
+    """A ``--sensor-noise`` text as :meth:`SensorAccuracy.text <kb.cells.accuracy.SensorAccuracy.text>`
     spells it (millimetres, degrees; "none" for an exact sensor), the label of a noise level."""
-    from kb.sim.noise import SensorNoise
-    return SensorNoise.parse(text).text()
+    return SensorAccuracy.parse(text).text()
 
 
 def not_executed(job: Job, reason: str) -> dict[str, Any]:
@@ -263,7 +289,8 @@ def jobs(options: Options, indices: list[int] | range | None = None) -> list[Job
 def job(options: Options, row: int) -> Job:
     """Row ``row`` of the campaign: its trial (``row`` itself without a sweep) at its noise."""
     trial, level = options.locate(row)
-    extra: dict[str, Any] = {"noise": options.noise_of(row), "sweep": None if level is None else (trial, level)}
+    extra: dict[str, Any] = {"noise": options.noise_of(row), "sweep": None if level is None else (trial, level),
+                             "cell": options.cell if options.cell is not None and not simulated(options.cell) else None}
     return dataclasses.replace(_job(options, trial), index=row, **extra)
 
 

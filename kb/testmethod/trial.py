@@ -28,12 +28,15 @@ import time
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any, Literal, Sequence
 
 import numpy as np
 
 from kb.core.errors import KitkbError
-from kb.crcl.cell import CellInterface, execute_program, sense_names
+from kb.cells.accuracy import SensorAccuracy
+from kb.cells.registry import CellRequest, close_cell, open_cell
+from kb.crcl.cell import Observation, Status, capabilities, execute_program, sense_names
+from kb.crcl.commands import Command
 from kb.execution import Run
 from kb.execution.api import sensor_accuracy
 from kb.execution.events import Listener, ignore
@@ -49,8 +52,6 @@ from kb.scenario.blocks import state_graph
 from kb.scenario.layout import Scenario
 from kb.scenario.placement import Placement, place_trays, placements, pose_of
 from kb.scenario.spec import ScenarioSpec
-from kb.sim import FaultSpec, SimulatedCell
-from kb.sim.noise import SensorNoise
 from kb.spatial.scene import Scene, scene_boxes
 from kb.spatial.transforms import pose_matrix
 from kb.testmethod.methods import Job, not_executed
@@ -151,32 +152,58 @@ def placed_scene(nominal: Scene, namespace: str, placed: Sequence[Placement]) ->
 
 class WatchedCell:
     """A cell that notes when it got its first CRCL command (``first_command``, perf_counter
-    seconds; None before)."""
+    seconds; None before). It has the capabilities of the cell it watches, declared
+    (:func:`kb.crcl.cell.capabilities`), and forwards each of them."""
 
-    def __init__(self, cell: CellInterface) -> None:
+    def __init__(self, cell: Any) -> None:
         self.cell = cell
         self.first_command: float | None = None
+        own = capabilities(cell)  # it moves by programs and senses by names where the cell moves and senses
+        self.capabilities = own | ({"move-program"} if "move" in own else set()) | (
+            {"sense-names"} if "sense" in own else set())
+        self.url = getattr(cell, "url", None)
 
-    def execute(self, command):  # noqa: ANN001, ANN201
+    def execute(self, command: Command) -> Status:
         self._note()
         return self.cell.execute(command)
 
-    def execute_program(self, commands: Sequence) -> list:
+    def execute_program(self, commands: Sequence[Command]) -> list[Status]:
         self._note()
         return execute_program(self.cell, commands)
 
-    def sense_names(self, names: Sequence[str]) -> list:
+    def sense(self, query: str, *, by: Literal["class", "name"] = "class") -> list[Observation]:
+        return self.cell.sense(query, by=by)
+
+    def sense_names(self, names: Sequence[str]) -> list[Observation]:
         return sense_names(self.cell, names)
+
+    def inspect(self, name: str) -> bool:
+        return self.cell.inspect(name)
+
+    def begin_action(self, index: int, action: str, args: tuple[str, ...]) -> None:
+        self.cell.begin_action(index, action, args)
+
+    @property
+    def injected(self) -> Sequence[Any]:
+        return self.cell.injected
+
+    @property
+    def violations(self) -> Sequence[Any]:
+        return self.cell.violations
+
+    @property
+    def sensor_errors(self) -> Sequence[Any]:
+        return self.cell.sensor_errors
+
+    def close(self) -> None:
+        close_cell(self.cell)
 
     def _note(self) -> None:
         if self.first_command is None:
             self.first_command = time.perf_counter()
 
-    def __getattr__(self, name: str) -> Any:  # sense, inspect, begin_action, injected, violations
-        return getattr(self.cell, name)
 
-
-def execute(prep: Prepared, cell: WatchedCell, name: str, seed: int, accuracy: SensorNoise | None = None,
+def execute(prep: Prepared, cell: WatchedCell, name: str, seed: int, accuracy: SensorAccuracy | None = None,
             on_event: Listener = ignore) -> Run:
     """Carry out the design's plan on ``cell`` from the nominal belief, verifying with the
     sensor ``accuracy``: the closed loop's ``execute`` stage, the plan and inputs given."""
@@ -215,22 +242,30 @@ def _run(job: Job, facts: dict[str, Any]) -> dict[str, Any]:
             return _delivered(job, Path(folder), facts)
     prep = prepared(job.spec)
     cell, accuracy = _cell(job, prep.scenario, prep.scene, facts)
-    return _report(execute(prep, cell, job.spec.name, job.seed, accuracy), facts)
+    try:
+        return _report(execute(prep, cell, job.spec.name, job.seed, accuracy), facts)
+    finally:
+        cell.close()
 
 
-def _cell(job: Job, nominal: Scenario, scene: Scene, facts: dict[str, Any]) -> tuple[WatchedCell, SensorNoise | None]:
-    """The simulated cell of the trial's real placement (and faults, and sensor noise), its
-    layout in ``facts``; and the sensor's accuracy (``job.noise`` over the nominal state's
-    sensor, as ``run_plan`` reads it; None: an exact sensor)."""
+def _cell(job: Job, nominal: Scenario, scene: Scene, facts: dict[str, Any]) -> tuple[WatchedCell, SensorAccuracy | None]:
+    """The trial's cell, its layout in ``facts``; and the sensor's accuracy (``job.noise`` over
+    the nominal state's sensor, as ``run_plan`` reads it; None: an exact sensor). By default
+    the simulated cell (``sim:``, :func:`kb.cells.open_cell`) of the trial's real placement,
+    faults and sensor noise; with ``job.cell`` the one cell at that URL, whose placement is its
+    own (``layout.placed`` None)."""
+    accuracy = sensor_accuracy(scene, job.noise)
+    nominal_layout = [p.as_dict() for p in placements(nominal)]
+    if job.cell is not None:
+        facts["layout"] = {"nominal": nominal_layout, "placed": None, "cell": job.cell}
+        return WatchedCell(open_cell(job.cell, CellRequest(accuracy=accuracy, seed=job.seed))), accuracy
     _real, placed = place_trays(nominal, job.seed)
-    facts["layout"] = {"nominal": [p.as_dict() for p in placements(nominal)], "placed": [p.as_dict() for p in placed]}
-    faults = FaultSpec.parse(job.faults, seed=job.seed) if job.faults else None
+    facts["layout"] = {"nominal": nominal_layout, "placed": [p.as_dict() for p in placed]}
     if job.faults:
         facts["faults"] = job.faults
-    accuracy = sensor_accuracy(scene, job.noise)
-    noise = {"noise": accuracy} if accuracy is not None else {}
-    cell = SimulatedCell(placed_scene(scene, nominal.namespace, placed), faults=faults, seed=job.seed, **noise)
-    return WatchedCell(cell), accuracy
+    request = CellRequest(scene=placed_scene(scene, nominal.namespace, placed), faults=job.faults or None,
+                          seed=job.seed, accuracy=accuracy)
+    return WatchedCell(open_cell("sim:", request)), accuracy
 
 
 def _delivered(job: Job, folder: Path, facts: dict[str, Any]) -> dict[str, Any]:
@@ -240,8 +275,11 @@ def _delivered(job: Job, folder: Path, facts: dict[str, Any]) -> dict[str, Any]:
     init, goal = write_spec(sc, folder)
     cell, accuracy = _cell(job, sc, Scene.from_files([init], declared=[goal]), facts)
     received = time.perf_counter()
-    result = ClosedLoop(init, goal, _options(cell=cell, seed=job.seed, sensor_noise=accuracy, name=job.spec.name),
-                        inputs=LoopInputs.read(init, goal, imports=False, knowledge=shipped_domain())).run()
+    try:
+        result = ClosedLoop(init, goal, _options(cell=cell, seed=job.seed, sensor_noise=accuracy, name=job.spec.name),
+                            inputs=LoopInputs.read(init, goal, imports=False, knowledge=shipped_domain())).run()
+    finally:
+        cell.close()
     if result.run is None:  # no plan: the planner's error, the row's
         raise result.error or KitkbError(f"not executed: {result.reason}")
     run = result.run
