@@ -165,7 +165,7 @@ def test_a_peer_streaming_slowly_without_end_fails_at_the_time_bound_not_per_rec
 def test_a_command_port_streaming_status_fails_at_the_time_bound() -> None:
     with peer(status_stream) as p, cell(p) as remote:
         message, _ = fails_within(lambda: remote.execute(crcl.Dwell(1)), 1.0)
-    assert message.startswith(f"127.0.0.1:{p.port}: error: the command port: InitCanon command 1 was not "
+    assert message.startswith(f"127.0.0.1:{p.port}: error: the cell's command port: InitCanon command 1 was not "
                               "acknowledged Done or Error within 1 s; last heard: CommandID 1 CRCL_Working")
     assert "KITKB_MAX_CELL_SECONDS" in message
 

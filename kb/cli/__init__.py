@@ -48,6 +48,7 @@ HANDLERS = {
     "db dump": "kb.cli.world:dump",
     "run": "kb.cli.pipeline:run",
     "crcl convert": "kb.cli.crcl:convert",
+    "crcl send": "kb.cli.crcl:send",
     "metrics": "kb.cli.metrics:metrics",
     "predicates": "kb.cli.predicates:predicates",
     "sim serve": "kb.cli.sim:serve",
@@ -263,6 +264,25 @@ def _add_crcl(sub: Any) -> None:
                         "instance of the program's one command (default: 1.x for a CRCL 1.x input, else 2014). "
                         "All are read; units are said after InitCanon where the forms' defaults differ "
                         "(docs/crcl.md)")
+    _add_crcl_send(csub)
+
+
+def _add_crcl_send(csub: Any) -> None:
+    g = _sub(csub, "send", "crcl send", "stream a CRCL program to a CRCL 1.x controller, one command at a time",
+             format_help="text: one line (all done, or the command that was not); json: one object with each "
+                         "command's outcome (id, command, state, seconds) and the last status (pose, gripper) "
+                         "(default text)",
+             description="Send the commands of FILE (a CRCL 1.x program or command instance, a 2014 CRCL.xsd "
+                         "program, or the text form, with its units said) to the CRCL 1.x controller at "
+                         "HOST:PORT as CRCLCommandInstance documents on one TCP connection, CommandIDs 1, 2, ..., "
+                         "each waited for until a CRCLStatus names it CRCL_Done or CRCL_Error (GetStatus sent "
+                         "while the controller is silent). Exit 0 when every command is done, 1 when one ends in "
+                         "CRCL_Error or is not acknowledged within --timeout (named), 2 for bad input, a "
+                         "controller that cannot be reached or breaks the protocol.")
+    g.add_argument("file", metavar="FILE", help="a .xml (CRCL 1.x or 2014 CRCL.xsd) or .crcl (text) file")
+    g.add_argument("--to", required=True, metavar="HOST:PORT", help="the CRCL 1.x controller")
+    g.add_argument("--timeout", type=float, default=30.0, metavar="S",
+                   help="seconds to wait for each command's Done or Error (default 30)")
 
 
 def _add_metrics(sub: Any) -> None:
@@ -332,7 +352,9 @@ def _add_sim(sub: Any) -> None:
                          "command_port and cell (the --cell address) (default text)",
              description="Serve a simulated workcell of a state file on 127.0.0.1: a sensor port speaking "
                          "USARTruth key-value lines ({Class C}, {Name N}, {Inspect N}) and a command port "
-                         "taking CRCL XML programs ({Length N} and N bytes), as kb.crcl.wire documents. "
+                         "that is a CRCL 1.x controller (CRCLCommandInstance documents in, CRCLStatus documents "
+                         "out; several clients at once, e.g. a robot and a gripper, drive the same robot), which "
+                         "also takes kitkb's earlier {Length N} programs, as kb.crcl.wire documents. "
                          "Prints one line with the bound ports; runs until SIGINT or SIGTERM (exit 0).")
     g.add_argument("init", metavar="INIT", help="initial state file of the cell")
     g.add_argument("--goal", metavar="GOAL",
@@ -349,7 +371,10 @@ def _add_sim(sub: Any) -> None:
     g.add_argument("--sensor-port", type=int, default=3989, metavar="P",
                    help="sensor port (default 3989, USARTruth's; 0: any free port)")
     g.add_argument("--command-port", type=int, default=3990, metavar="P",
-                   help="command port (default 3990; 0: any free port)")
+                   help="command port, the CRCL 1.x controller (default 3990; 0: any free port)")
+    g.add_argument("--status-period", type=float, default=1.0, metavar="S",
+                   help="a CRCL 1.x connection sent no status for S seconds is sent one (a heartbeat; "
+                        "default 1; 0: statuses only when a command ends and on GetStatus)")
 
 
 def _add_testmethod(sub: Any) -> None:

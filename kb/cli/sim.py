@@ -11,6 +11,7 @@ from typing import Callable
 
 from kb.cli.output import Output
 from kb.core.errors import InputError
+from kb.crcl.wire import STATUS_PERIOD
 from kb.sim import CellServer, FaultSpec, SimulatedCell
 from kb.sim.noise import SensorNoise
 from kb.spatial.scene import Scene
@@ -21,12 +22,17 @@ class _Stop(Exception):
 
 
 def serve(init: str, goal: str | None, faults: str | None, seed: int, noise: str | None,
-          sensor_port: int, command_port: int, out: Output, sensor_noise: str | None = None) -> int:
+          sensor_port: int, command_port: int, out: Output, sensor_noise: str | None = None,
+          status_period: float = STATUS_PERIOD) -> int:
     """Serve a :class:`SimulatedCell` of ``init`` (with the individuals only ``goal`` names)
-    on 127.0.0.1; print one line with the bound ports; 0 when stopped by SIGINT or SIGTERM."""
+    on 127.0.0.1, its command port a CRCL 1.x controller (a heartbeat status every
+    ``status_period`` seconds on a quiet connection, 0: none); print one line with the bound
+    ports; 0 when stopped by SIGINT or SIGTERM."""
+    if not (status_period >= 0 and status_period != float("inf")):
+        raise InputError(f"--status-period {status_period:g}: seconds, 0 or more")
     with out.progress(f"building the simulated cell of {Path(init).name}"):
         cell = _cell(init, goal, faults, seed, noise, sensor_noise)
-    with CellServer(cell, sensor_port=sensor_port, command_port=command_port) as server:
+    with CellServer(cell, sensor_port=sensor_port, command_port=command_port, status_period=status_period) as server:
         address = f"{server.host}:{server.sensor_port},{server.command_port}"
         line = (f"kitkb: serving {init}: sensor port {server.sensor_port}, command port {server.command_port} on "
                 f"{server.host} (--cell {address})")

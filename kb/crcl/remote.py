@@ -21,23 +21,28 @@ as soon as it is, the error naming the bound and the variable that raises it.
 
 from __future__ import annotations
 
+import copy
 import select
 import socket
 import time
 from dataclasses import dataclass, replace
-from typing import Literal, Sequence
+from pathlib import Path
+from typing import Any, Callable, Literal, Sequence
+
+from lxml import etree
 
 from kb.core import limits
+from kb.core.limits import check_file_size
 from kb.core.errors import CellError, InputError
 from kb.crcl.cell import NOT_EXECUTED, Observation, Status, parse_truth_line
 from kb.crcl.commands import (Command, EndCanon, GetStatus, InitCanon, Program, SetAngleUnits,
                               SetLengthUnits)
-from kb.crcl.instance import CommandStatus, read_status, write_command_instance
+from kb.crcl.instance import XSI, CommandStatus, default_schemas, read_status, validate, write_command_instance
 from kb.crcl.instance import unwritable as unwritable_1x
 from kb.crcl.wire import (COMMAND_PORT, DONE, END, ERROR, EXTRA_FIELDS, MAX_LINE, SENSOR_PORT, DocumentError,
                           Documents, action_message, fields, frame_message, length_line, parse_address,
                           parse_status_line, query_line)
-from kb.crcl.xml import unwritable, write_xml
+from kb.crcl.xml import hardened_parser, unwritable, write_xml
 
 #: bytes asked of the socket at a time
 _CHUNK = 1 << 16
@@ -226,16 +231,22 @@ class Outcome:
     naming it Done or Error (None when none came), ``seconds`` from sending it to that status,
     and why it is not done (``why``: "" when done)."""
 
-    command: Command
+    command: "Command | Forwarded"
     command_id: int
     status: "CommandStatus | None"
     seconds: float
     why: str = ""
 
     @property
+    def name(self) -> str:
+        """The command's name (``MoveTo``, ``MoveScrew``, ...)."""
+        return self.command.name if isinstance(self.command, Forwarded) else type(self.command).__name__
+
+    @property
     def done(self) -> bool:
-        """True when the controller reported the command CRCL_Done."""
-        return self.status is not None and self.status.state == DONE and not self.why
+        """True when the controller reported the command CRCL_Done (a GetStatus: when it
+        answered with a status)."""
+        return self.status is not None and not self.why and (self.status.state == DONE or self.name == "GetStatus")
 
 
 class CrclClient:
@@ -249,8 +260,8 @@ class CrclClient:
     the connection, or writes what is not a CRCLStatus document is a
     :class:`~kb.core.errors.CellError` naming ``host:port`` (exit code 2)."""
 
-    def __init__(self, host: str, port: int, bounds: Bounds, role: str = "command", poll: float = POLL) -> None:
-        self.host, self.port, self.bounds, self.role, self.poll = host, port, bounds, role, poll
+    def __init__(self, host: str, port: int, bounds: Bounds, who: str = "the controller", poll: float = POLL) -> None:
+        self.host, self.port, self.bounds, self.who, self.poll = host, port, bounds, who, poll
         self.sock: socket.socket | None = None
         self.docs = Documents(MAX_STATUS)
         self.next_id = 1
@@ -280,7 +291,7 @@ class CrclClient:
             self.sock = socket.create_connection((self.host, self.port), timeout=self.bounds.seconds)
         except OSError as exc:
             why = "timed out" if isinstance(exc, TimeoutError) else (exc.strerror or str(exc))
-            raise CellError(f"cannot reach the cell's {self.role} port: {why}", self.address) from None
+            raise CellError(f"cannot reach {self.who}: {why}", self.address) from None
         self.sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
         self.docs, self.next_id, self.last, self.polls = Documents(MAX_STATUS), 1, None, set()
 
@@ -293,10 +304,11 @@ class CrclClient:
                 pass
         self.sock = None
 
-    def run(self, command: Command, timeout: float | None = None) -> Outcome:
+    def run(self, command: "Command | Forwarded", timeout: float | None = None) -> Outcome:
         """Send ``command`` (an InputError, before anything is sent, for one CRCL 1.x cannot
         hold) and wait for its end, at most ``timeout`` seconds (default: the time bound)."""
-        data = write_command_instance(command, self.next_id)
+        data = command.instance(self.next_id) if isinstance(command, Forwarded) else \
+            write_command_instance(command, self.next_id)
         if self.sock is None:
             self.connect()
         command_id, self.next_id = self.next_id, self.next_id + 1
@@ -305,11 +317,14 @@ class CrclClient:
         self._drain()
         self._received = 0
         self._send(data)
-        status, why = self._wait(command_id, start + seconds if seconds is not None else None, seconds)
+        asks = isinstance(command, GetStatus) or (isinstance(command, Forwarded) and command.name == "GetStatus")
+        status, why = self._wait(command_id, start + seconds if seconds is not None else None, seconds, asks)
         return Outcome(command, command_id, status, time.monotonic() - start, why)
 
-    def _wait(self, command_id: int, deadline: float | None, seconds: float | None) -> tuple[CommandStatus | None, str]:
-        """The status that ends ``command_id``, or (None or the last status, why) at the deadline."""
+    def _wait(self, command_id: int, deadline: float | None, seconds: float | None,
+              asks: bool = False) -> tuple[CommandStatus | None, str]:
+        """The status that ends ``command_id`` (``asks``, a GetStatus: the next status, of any
+        CommandID), or (None or the last status, why) at the deadline."""
         heard = time.monotonic()
         mine: CommandStatus | None = None
         while True:
@@ -325,9 +340,11 @@ class CrclClient:
             for status in self._read(max(wait, 0.0)):
                 heard = time.monotonic()
                 if self.bounds.bytes is not None and self._received > self.bounds.bytes:
-                    raise CellError(f"the {self.role} port sent more than {limits.CELL_BYTES.show(self.bounds.bytes)} "
+                    raise CellError(f"{self.who} sent more than {limits.CELL_BYTES.show(self.bounds.bytes)} "
                                     f"of status while command {command_id} ran (the bound on {limits.CELL_BYTES.name}; "
                                     f"set {limits.CELL_BYTES.env} to raise it)", self.address)
+                if asks:
+                    return status, ""
                 if status.command_id == command_id:
                     mine = status
                     if status.state in (DONE, ERROR):
@@ -353,7 +370,7 @@ class CrclClient:
             self.sock.sendall(data)
         except OSError as exc:
             self.close()
-            raise CellError(f"connection to the {self.role} port lost: {getattr(exc, 'strerror', None) or exc}",
+            raise CellError(f"connection to {self.who} lost: {getattr(exc, 'strerror', None) or exc}",
                             self.address) from None
 
     _received = 0  # bytes read since the command was sent
@@ -367,13 +384,13 @@ class CrclClient:
             chunk = sock.recv(_CHUNK) if ready else None
         except OSError as exc:
             self.close()
-            raise CellError(f"connection to the {self.role} port lost: {getattr(exc, 'strerror', None) or exc}",
+            raise CellError(f"connection to {self.who} lost: {getattr(exc, 'strerror', None) or exc}",
                             self.address) from None
         if chunk is None:
             return []
         if not chunk:
             self.close()
-            raise CellError(f"the {self.role} port closed the connection", self.address)
+            raise CellError(f"{self.who} closed the connection", self.address)
         self._received += len(chunk)
         return self._statuses(chunk)
 
@@ -382,18 +399,18 @@ class CrclClient:
             docs = self.docs.feed(chunk)
         except DocumentError as exc:
             self.close()
-            raise CellError(f"the {self.role} port broke the protocol: {exc}", self.address) from None
+            raise CellError(f"{self.who} broke the protocol: {exc}", self.address) from None
         out = []
         for doc in docs:
             if doc.root != "CRCLStatus":
                 self.close()
-                raise CellError(f"the {self.role} port broke the protocol: a <{doc.root}> document, not a "
+                raise CellError(f"{self.who} broke the protocol: a <{doc.root}> document, not a "
                                 "CRCLStatus", self.address)
             try:
                 status = read_status(doc.data, f"{self.address} status")
             except (InputError, ValueError) as exc:
                 self.close()
-                raise CellError(f"the {self.role} port broke the protocol: {exc}", self.address) from None
+                raise CellError(f"{self.who} broke the protocol: {exc}", self.address) from None
             self.last = status
             out.append(status)
         return out
@@ -415,8 +432,90 @@ class CrclClient:
                 chunk = b""
             if not chunk:
                 self.close()
-                raise CellError(f"the {self.role} port closed the connection", self.address)
+                raise CellError(f"{self.who} closed the connection", self.address)
             self._statuses(chunk)
+
+
+@dataclass(frozen=True)
+class Forwarded:
+    """A command of a CRCL 1.x document sent as it is written (kitkb need not read it: a
+    ``MoveScrew``, guards, ...): its ``name`` and its element, which :meth:`instance` puts in
+    a ``CRCLCommandInstance`` with a CommandID of the session."""
+
+    name: str
+    element: Any
+    line: int | None = None
+
+    def instance(self, command_id: int) -> bytes:
+        """The command instance document of this command with ``command_id``."""
+        el = copy.deepcopy(self.element)
+        el.tag = "CRCLCommand"
+        if el.get(_XSI_TYPE) is None:
+            el.set(_XSI_TYPE, self.name + "Type")
+        ids = [ch for ch in el if ch.tag == "CommandID"]
+        ids[0].text = str(int(command_id))
+        root = etree.Element("CRCLCommandInstance", nsmap={"xsi": XSI})
+        root.append(el)
+        return etree.tostring(root, encoding="UTF-8", xml_declaration=True)
+
+
+_XSI_TYPE = f"{{{XSI}}}type"
+
+
+def forwarded(path: str | Path) -> list[Forwarded] | None:
+    """The commands of a CRCL 1.x program or command instance file, each to be sent as it is
+    written (checked against NIST's CRCL 1.x schemas when they are found); None for a file
+    that is not CRCL 1.x (a 2014 CRCL.xsd program, the text form). An InputError at its line
+    for a 1.x file that is broken."""
+    if Path(path).suffix.lower() != ".xml":
+        return None
+    check_file_size(path)
+    data = Path(path).read_bytes()
+    try:
+        root = etree.fromstring(data, hardened_parser())
+    except etree.XMLSyntaxError as exc:
+        raise InputError(f"XML syntax error: {exc.msg}", path, exc.lineno) from None
+    kids = [ch for ch in root if isinstance(ch.tag, str) and ch.tag != "Name"]
+    if root.tag == "CRCLCommandInstance":
+        kind, elements = "command", [ch for ch in kids if ch.tag == "CRCLCommand"]
+    elif root.tag == "CRCLProgram" and any(ch.tag == "MiddleCommand" or ch.find("CommandID") is not None
+                                           for ch in kids):
+        kind, elements = "program", kids
+    else:
+        return None
+    if default_schemas() is not None:
+        validate(data, kind, str(path))
+    out = []
+    for el in elements:
+        if el.find("CommandID") is None:
+            raise InputError(f"<{el.tag}> has no <CommandID>", path, el.sourceline)
+        name = (el.get(_XSI_TYPE) or el.tag).rpartition(":")[2]
+        out.append(Forwarded(name[:-4] if name.endswith("Type") else name, el, el.sourceline))
+    if not out:
+        raise InputError("no command in this CRCL 1.x document", path, root.sourceline)
+    return out
+
+
+def stream(commands: "Sequence[Command | Forwarded]", host: str, port: int, timeout: float | None,
+           on_outcome: Callable[[Outcome], None] | None = None) -> tuple[list[Outcome], CommandStatus | None]:
+    """Send ``commands`` to the CRCL 1.x controller at ``host:port`` one at a time on one
+    connection (CommandIDs 1, 2, ...), each waited for at most ``timeout`` seconds, stopping
+    after the first that is not done; the outcomes and the last status heard. A controller
+    that cannot be reached or breaks the protocol is a :class:`~kb.core.errors.CellError`."""
+    client = CrclClient(host, port, Bounds(timeout, None, limits.CELL_BYTES.value()))
+    outcomes: list[Outcome] = []
+    client.connect()
+    try:
+        for command in commands:
+            outcome = client.run(command, timeout)
+            outcomes.append(outcome)
+            if on_outcome is not None:
+                on_outcome(outcome)
+            if not outcome.done:
+                break
+    finally:
+        client.close()
+    return outcomes, client.last
 
 
 class RemoteCell:
@@ -446,7 +545,7 @@ class RemoteCell:
         self.protocol = protocol
         self.sensor = Connection(host, sensor_port, self.bounds, "sensor")
         self.command = Connection(host, command_port, self.bounds, "command")
-        self.crcl = CrclClient(host, command_port, self.bounds)
+        self.crcl = CrclClient(host, command_port, self.bounds, "the cell's command port")
 
     @classmethod
     def from_address(cls, address: str, timeout: float | None = None, bounds: Bounds | None = None,
@@ -538,7 +637,7 @@ class RemoteCell:
         """The status that ended a command; a CellError when none came within the time bound."""
         if outcome.why or outcome.status is None:
             self.crcl.close()  # what the cell does with it is unknown: the next command starts a new session
-            raise CellError(f"the command port: {type(outcome.command).__name__} {outcome.why} (the bound on "
+            raise CellError(f"the cell's command port: {type(outcome.command).__name__} {outcome.why} (the bound on "
                             f"{limits.CELL_SECONDS.name}; set {limits.CELL_SECONDS.env} to raise it)",
                             self.crcl.address)
         return outcome.status

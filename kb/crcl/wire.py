@@ -288,6 +288,8 @@ class Document:
 
 
 _SPACE = b" \t\r\n"
+#: The bytes a document may start with: '<', or a byte order mark (UTF-8, UTF-16).
+_FIRST = frozenset(b"<\xef\xfe\xff")
 
 
 class _RootEnded(Exception):
@@ -330,6 +332,8 @@ class Documents:
                 del self._buf[:start]
                 if not self._buf:
                     return out
+                if self._buf[0] not in _FIRST:  # expat would wait for more before it says so
+                    raise DocumentError(f"not XML: a document starts with '<', not {bytes(self._buf[:20])!r}", out)
                 self._begin()
             chunk = bytes(self._buf[self._fed:])
             if not chunk:
@@ -408,3 +412,12 @@ def parse_address(text: str) -> tuple[str, int, int]:
     if not all(0 < n < 65536 for n in numbers):
         raise InputError(f"cell address {text!r}: ports are 1 to 65535")
     return host.strip("[]"), numbers[0], numbers[1]
+
+
+def parse_peer(text: str) -> tuple[str, int]:
+    """(host, port) of ``HOST:PORT`` (a CRCL 1.x controller; ``[::1]:PORT`` for IPv6); an
+    :class:`~kb.core.errors.InputError` otherwise."""
+    host, _, port = text.strip().rpartition(":")
+    if not host or not port.isdigit() or not 0 < int(port) < 65536:
+        raise InputError(f"controller address {text!r}: expected HOST:PORT (a port from 1 to 65535)")
+    return host.strip("[]"), int(port)
