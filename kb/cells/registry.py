@@ -186,7 +186,7 @@ def open_cell(url: str | CellURL | None = None, request: CellRequest | None = No
 
     An InputError (exit 2), one line naming the URL and the known schemes, for a URL that does
     not parse, an unknown scheme or parameter, and a cell that does not answer."""
-    parsed = url if isinstance(url, CellURL) else parse_cell_url(url or DEFAULT_URL)
+    parsed = url if isinstance(url, CellURL) else parse_cell_url(DEFAULT_URL if url is None else url)
     opener = _opener(parsed)
     cell = opener(parsed, request or CellRequest())
     if getattr(cell, "url", None) is None:
@@ -202,7 +202,7 @@ def check_cell(url: str | CellURL | None = None, request: CellRequest | None = N
     known, and the opener's ``check`` (a function attribute of the opener, when it has one:
     ``sim:`` checks its faults, seed and noise) accepts them. The parsed URL; an InputError
     as :func:`open_cell` gives."""
-    parsed = url if isinstance(url, CellURL) else parse_cell_url(url or DEFAULT_URL)
+    parsed = url if isinstance(url, CellURL) else parse_cell_url(DEFAULT_URL if url is None else url)
     check = getattr(_opener(parsed), "check", None)
     if callable(check):
         check(parsed, request or CellRequest())

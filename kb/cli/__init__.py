@@ -232,8 +232,12 @@ def _add_run(sub: Any) -> None:
     p.add_argument("--report-html", metavar="FILE",
                    help="write the report as one self-contained HTML page (3-D view of the cell, the tool's path, "
                         "failures, metrics, kit scores, timeline; docs/report.md)")
-    p.add_argument("--cell", metavar="HOST:PORT", help="drive a cell server (kitkb sim serve) instead of the "
-                                                        "in-process simulator")
+    p.add_argument("--cell", metavar="URL", help="the cell to drive: sim: (the in-process simulator, the default; "
+                                                  "sim:?faults=...&seed=N&noise=... as the options), "
+                                                  "kitkb://HOST:PORT (a cell server: kitkb sim serve; the old "
+                                                  "HOST:PORT[,PORT] too), crcl://HOST:PORT?sensor=HOST:PORT (a CRCL "
+                                                  "1.x controller and a USARTruth-style sensor: no inspection), or a "
+                                                  "scheme another package registers (docs/execution.md, 'Cells by URL')")
     p.add_argument("--sensor-noise", metavar="KEY=VALUE,...", help=SENSOR_NOISE_HELP + "; the simulated cell's "
                    "sensor has it and the checks allow for it (with --cell: what the executor assumes of the cell's "
                    "sensor)")
@@ -404,6 +408,10 @@ def _add_testmethod(sub: Any) -> None:
                    help="errors: run every trial at N levels of one noise key from FROM to TO (e.g. "
                         "position=0mm:5mm:6 or orientation=0deg:1deg:5; over --sensor-noise for the other keys), "
                         "with the same seed, and score detection quality per level")
+    p.add_argument("--cell", metavar="URL",
+                   help="sim: (default: every trial its own simulated cell of its real placement), or one cell at a "
+                        "URL as kitkb run --cell takes it that the trial runs on, its placement the cell's own: "
+                        "one trial, not the errors method")
     where = p.add_mutually_exclusive_group()
     where.add_argument("--workers", type=int, metavar="N",
                        help="Dask worker processes of a local cluster on this machine (default: one per core)")
