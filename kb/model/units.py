@@ -37,12 +37,13 @@ def read_units(views: Sequence[TripleView], path: str | None = None, locate: Cal
         for view in views:
             for ws, name in view.subject_objects(prop):
                 text = str(name).strip().lower()
-                where = locate(ws, prop, name) if locate is not None else None
+                # the line only for an error: finding it indexes the whole file (a second of a big one)
+                where = (lambda: locate(ws, prop, name) if locate is not None else None)  # noqa: E731
                 if unit_factor(kind, text) is None:
                     known = ", ".join(KINDS[kind])
                     raise InputError(f"{local_name(ws)}: {kind} unit {str(name)!r} cannot be converted "
-                                     f"(kitkb knows {known})", path, where)
+                                     f"(kitkb knows {known})", path, where())
                 if found.setdefault(kind, text) != text:
                     raise InputError(f"{local_name(ws)}: {kind} unit {text!r} differs from {found[kind]!r} "
-                                     "declared by another workstation of the same state", path, where)
+                                     "declared by another workstation of the same state", path, where())
     return Units(**{k: found.get(k, getattr(SI, k)) for k in UNIT_PROPS})
