@@ -457,8 +457,8 @@ def test_history_is_every_action_check_and_failure_in_order(two_kits: Run) -> No
         ("action", 9, "take-part", "done"), ("check", 9, "precondition", True), ("check", 9, "effect", True)]
     take = next(e for e in events if e["kind"] == "action" and e["index"] == 8)
     assert take["args"] == ["robot_1", "part_a_2", "part_a_tray", "part_gripper"]
-    assert take["commands"] == ["InitCanon", "Message", "MoveTo", "Dwell", "MoveTo", "CloseGripper", "MoveTo",
-                                "Dwell", "EndCanon"]
+    assert take["commands"] == ["InitCanon", "SetLengthUnits", "SetAngleUnits", "Message", "MoveTo", "Dwell",
+                                "MoveTo", "CloseGripper", "MoveTo", "Dwell", "EndCanon"]  # units said (issue 27)
     effect = next(e for e in events if e["kind"] == "check" and e["index"] == 8 and e["phase"] == "effect")
     assert effect["violated"] == ["not part-location-partstray(part_a_2, part_a_tray)", "not robot-empty(robot_1)",
                                   "part-location-robot(part_a_2, robot_1)", "robot-holds-part(robot_1, part_a_2)"]

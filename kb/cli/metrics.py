@@ -87,9 +87,9 @@ def _robot(max_speed: float | None, max_acceleration: float | None, length_unit:
                  max_acceleration=DEFAULT_MAX_ACCELERATION if max_acceleration is None else max_acceleration, **kw)
 
 
-def robot_unit(robot: Robot) -> str:
-    """The unit the metrics read a program's lengths in before it sets one."""
-    return str(getattr(robot, "length_unit", "millimeter"))
+def robot_unit(robot: Robot) -> str | None:
+    """The unit the metrics read a program's lengths in before it sets one (None: its form's)."""
+    return getattr(robot, "length_unit", None)
 
 
 def _number(metric: str, value: float) -> str:

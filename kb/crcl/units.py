@@ -70,6 +70,12 @@ def _said(commands: tuple[Command, ...], start: int, own: tuple[str, str], units
     return added
 
 
+def said_units(units: tuple[str, str] = CRCL1_UNITS) -> list[Command]:
+    """The commands that say ``units`` (default SI: metre and radian, in which kitkb's executor
+    computes), for right after an InitCanon: every program kitkb sends says its units."""
+    return [SetLengthUnits(units[0]), SetAngleUnits(units[1])]
+
+
 def units_after(commands: tuple[Command, ...] | list[Command], defaults: tuple[str, str]) -> tuple[str, str]:
     """The (length, angle) units in force after ``commands`` on a controller with ``defaults``."""
     length, angle = defaults

@@ -35,6 +35,7 @@ from kb.core.errors import KitkbError, NotSolvableError
 from kb.core.namespaces import KTW
 from kb.crcl import COMMANDS, EndCanon, InitCanon, Message, MoveTo, Pose
 from kb.crcl.cell import CellInterface
+from kb.crcl.units import said_units
 from kb.diagnosis import diagnose
 from kb.execution.belief import SKU_OF, Belief
 from kb.execution.events import Event, FailureFound, Recovered, Replanned
@@ -277,7 +278,7 @@ class Recovery:
         grasp = self.taken_from.get(part)
         if grasp is None:
             return
-        commands = [InitCanon(), Message(f"reject {local(part)}"), MoveTo(Pose.from_matrix(raised(grasp, 0.1))),
+        commands = [InitCanon(), *said_units(), Message(f"reject {local(part)}"), MoveTo(Pose.from_matrix(raised(grasp, 0.1))),
                     MoveTo(Pose.from_matrix(grasp)), COMMANDS["OpenGripper"](),
                     MoveTo(Pose.from_matrix(raised(grasp, 0.1))), EndCanon()]
         self._send(commands)

@@ -66,7 +66,8 @@ def crcl_metrics(actions: Iterable[ActionLike], robot: Robot | None = None) -> d
     """The static metrics of the CRCL programs the actions sent, in order (distances and times
     to the micrometre and microsecond)."""
     programs = (list(text_steps(program)) for a in actions for program in a.programs)
-    totals = session_metrics(programs, robot or Robot(length_unit="meter")).totals
+    # the executor computes in SI and says so after each InitCanon (older runs' programs did not)
+    totals = session_metrics(programs, robot or Robot(length_unit="meter", angle_unit="radian")).totals
     return {k: round(v, 6) if isinstance(v, float) else v for k, v in totals.items()}
 
 

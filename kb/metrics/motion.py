@@ -20,18 +20,23 @@ class Robot:
     """The robot a program's metrics are computed for, in SI: ``max_speed`` (m/s) and
     ``max_acceleration`` (m/s²) of the controlled point, ``effector_seconds`` the time of a
     gripper or tool changer command, ``start`` where the controlled point is at first (m), with
-    its Z axis down and X axis along the workstation's X; ``length_unit`` the unit InitCanon
-    sets (the paper's millimetres; kitkb's own cell and executor speak metres)."""
+    its Z axis down and X axis along the workstation's X; ``length_unit`` and ``angle_unit``
+    the units InitCanon sets (None: those of the program's form, docs/crcl.md: the paper's
+    millimetre and degree for text and 2014 XML, CRCL 1.x's metre and radian; kitkb's own cell
+    and executor speak metres and radians)."""
 
     max_speed: float = DEFAULT_MAX_SPEED
     max_acceleration: float = DEFAULT_MAX_ACCELERATION
     effector_seconds: float = DEFAULT_EFFECTOR_SECONDS
     start: tuple[float, float, float] = (0.0, 0.0, 0.0)
-    length_unit: str = "millimeter"
+    length_unit: str | None = None
+    angle_unit: str | None = None
 
     def __post_init__(self) -> None:
-        if self.length_unit not in ("meter", "millimeter", "inch"):
+        if self.length_unit not in (None, "meter", "millimeter", "inch"):
             raise ValueError(f"length_unit must be meter, millimeter or inch, not {self.length_unit!r}")
+        if self.angle_unit not in (None, "degree", "radian"):
+            raise ValueError(f"angle_unit must be degree or radian, not {self.angle_unit!r}")
         for name in ("max_speed", "max_acceleration"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):

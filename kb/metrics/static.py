@@ -45,6 +45,8 @@ UNITS = {"TDM": "m", "CCE": "s", "TET": "s"}
 _LENGTH = {"meter": 1.0, "millimeter": 0.001, "inch": 0.0254}
 _SHORT = {"meter": "m", "millimeter": "mm", "inch": "in"}
 _ANGLE = {"degree": math.pi / 180.0, "radian": 1.0}
+#: The units InitCanon sets in the first paper's forms (kb.crcl.PAPER_UNITS).
+_PAPER_UNITS = ("millimeter", "degree")
 #: Speed and acceleration before a program sets them, in % of the robot's maxima (the
 #: kittingViewer's ``robotRelSpeed`` and ``robotRelAccel`` at the start).
 INITIAL_PERCENT = 10.0
@@ -103,9 +105,10 @@ def static_metrics(steps: Iterable[Step], robot: Robot | None = None, *, rows: b
     """The static metrics of a program's steps (:func:`kb.metrics.read_steps`,
     :func:`kb.metrics.steps_of`) on ``robot`` (default :class:`Robot()`); ``rows``: keep the
     metrics after every command too."""
+    units = getattr(steps, "units", None)
     steps = list(steps)
     robot = robot or Robot()
-    run = _Run(robot)
+    run = _Run(robot, units)
     readable = [i for i, s in enumerate(steps) if s[0] != "Unreadable"]
     first, last = (readable[0], readable[-1]) if readable else (-1, -1)
     kept: list[Row] | None = [] if rows else None
@@ -117,13 +120,14 @@ def static_metrics(steps: Iterable[Step], robot: Robot | None = None, *, rows: b
 
 
 def session_metrics(programs: Iterable[Iterable[Step]], robot: Robot | None = None, *,
-                    source: str | None = None) -> StaticMetrics:
+                    source: str | None = None, units: tuple[str, str] | None = None) -> StaticMetrics:
     """The static metrics of programs sent one after another to one robot — a run's CRCL, one
     program per action: each program's InitCanon and EndCanon are judged by their place in
     that program, the robot's state (where it stands, gripper, settings) carries over, and the
-    counts add up."""
+    counts add up. ``units``: those of the programs' form (default the paper's) where
+    ``robot`` names none."""
     robot = robot or Robot()
-    run = _Run(robot)
+    run = _Run(robot, units)
     count = 0
     for program in programs:
         steps = list(program)
@@ -138,8 +142,10 @@ def session_metrics(programs: Iterable[Iterable[Step]], robot: Robot | None = No
 class _Run:
     """The robot's state and the counters while a program runs."""
 
-    def __init__(self, robot: Robot) -> None:
+    def __init__(self, robot: Robot, units: tuple[str, str] | None = None) -> None:
         self.robot = robot
+        self.form_units = units or _PAPER_UNITS
+        self.stating_units = False  # in the unit commands right after an InitCanon
         self.ace = self.oce = self.re = self.pe = self.cse = self.uce = 0
         self.tdm = self.tet = self.cce = 0.0
         self.ready = False
@@ -167,9 +173,10 @@ class _Run:
             **dict.fromkeys(("MoveTo", "MoveStraightTo", "MoveThroughTo"), self._check_move)}
 
     def _defaults(self) -> None:
-        """The units InitCanon sets (the paper: millimeters and degrees; the robot's
-        ``length_unit``)."""
-        self.length_unit, self.angle_unit = self.robot.length_unit, "degree"
+        """The units InitCanon sets: the robot's, else those of the program's form (the paper:
+        millimetres and degrees; CRCL 1.x: metres and radians)."""
+        self.length_unit = self.robot.length_unit or self.form_units[0]
+        self.angle_unit = self.robot.angle_unit or self.form_units[1]
 
     def values(self) -> tuple[float, ...]:
         """The metrics now, in :data:`METRICS` order."""
@@ -220,7 +227,10 @@ class _Run:
             if errors:
                 self.re += len(errors)
                 return notes + [f"range error: {e}" for e in errors] + ["not executed"]
-        action, seconds, distance, useless = self._execute[kind](value)
+        action, seconds, distance, useless = self._execute.get(kind, self._other)(value)
+        if kind in ("SetLengthUnits", "SetAngleUnits") and self.stating_units:
+            useless = None  # units said right after InitCanon, as every program should (issue 27)
+        self.stating_units = kind in ("InitCanon", "SetLengthUnits", "SetAngleUnits")
         if action:
             self.ace += 1
             self.cce = seconds
@@ -369,6 +379,13 @@ class _Run:
         useless = not self.scanning
         self.scanning.clear()
         return False, 0.0, 0.0, "the object sensor is not active" if useless else None
+
+    def _SetEndEffector(self, setting: float) -> _Done:
+        return self._effector("gripper_open", setting > 0, "gripper")
+
+    def _other(self, _: Any) -> _Done:
+        """A CRCL 1.x command the paper's language lacks: executed, changes nothing measured."""
+        return False, 0.0, 0.0, None
 
     def _StopMotion(self, _: Any) -> _Done:
         return False, 0.0, 0.0, "nothing is moving (every move stops at its end)"

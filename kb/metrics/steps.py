@@ -34,6 +34,8 @@ if TYPE_CHECKING:
 #: CRCL.xsd's angle units (kb.crcl.ANGLE_UNITS) and the paper's frames (kb.crcl.COORDINATE_FRAMES).
 ANGLE_UNITS = ("degree", "radian")
 COORDINATE_FRAMES = ("Workstation", "RobotBase", "ToolTip")
+#: The units InitCanon sets in the text form (kb.crcl.PAPER_UNITS: the first paper's).
+_PAPER_UNITS = ("millimeter", "degree")
 #: Length unit names the text form reads (kb.crcl.LENGTH_UNITS and the paper's "mm").
 TEXT_LENGTH_UNITS = frozenset({"meter", "millimeter", "inch", "mm"})
 
@@ -82,7 +84,21 @@ def step_of(command: Command, line_offset: int = 0) -> Step:
         return kind, line, c.reason if kind == "EndCanon" else c.is_emergency
     if kind in NUMBER or kind in NAMED:
         return kind, line, getattr(command, _FIELD[kind])
-    return kind, line, None
+    if kind == "SetEndEffector":
+        return kind, line, c.setting
+    if kind in BARE:
+        return kind, line, None
+    return kind, line, command  # a CRCL 1.x command the paper's language lacks, kept whole
+
+
+class Steps(list):  # type: ignore[type-arg]
+    """A program's steps and ``units``: the (length, angle) units its form's InitCanon sets
+    (:data:`kb.crcl.commands.PAPER_UNITS` for text and 2014 XML, CRCL 1.x's metre and radian;
+    None: not known)."""
+
+    def __init__(self, steps: Iterable[Step] = (), units: tuple[str, str] | None = None) -> None:
+        super().__init__(steps)
+        self.units = units
 
 
 _FIELD = {**{k: "percent" for k in ("SetRelativeSpeed", "SetRelativeAcceleration")},
@@ -94,15 +110,17 @@ _FIELD = {**{k: "percent" for k in ("SetRelativeSpeed", "SetRelativeAcceleration
 
 
 def steps_of(commands: Iterable[Command], line_offset: int = 0) -> list[Step]:
-    """The steps of :mod:`kb.crcl` commands (a :class:`~kb.crcl.commands.Program`)."""
-    return [step_of(c, line_offset) for c in commands]
+    """The steps of :mod:`kb.crcl` commands (a :class:`~kb.crcl.commands.Program`, whose
+    ``units`` they keep)."""
+    return Steps((step_of(c, line_offset) for c in commands), getattr(commands, "units", None))
 
 
 # --- reading files ----------------------------------------------------------------------------------
 
-def read_steps(path: str | Path) -> list[Step]:
-    """The steps of the CRCL program in ``path`` (``.crcl`` text, ``.xml`` CRCL.xsd XML); an
-    unreadable file or an unknown suffix is an :class:`~kb.core.errors.InputError`."""
+def read_steps(path: str | Path) -> Steps:
+    """The steps of the CRCL program in ``path`` (``.crcl`` text, ``.xml`` CRCL.xsd or CRCL 1.x
+    XML) with its form's units (:class:`Steps`); an unreadable file or an unknown suffix is an
+    :class:`~kb.core.errors.InputError`."""
     if Path(path).suffix.lower() != ".crcl":
         from kb.crcl import read_xml
         from kb.crcl.files import form_of
@@ -113,10 +131,10 @@ def read_steps(path: str | Path) -> list[Step]:
     try:
         try:  # decoded by the io layer, line by line ("\n" ends a line, as in kb.crcl)
             with open(path, encoding="utf-8", newline="\n") as f:
-                return list(text_steps(_text_lines(f), str(path)))
+                return Steps(text_steps(_text_lines(f), str(path)), _PAPER_UNITS)
         except UnicodeDecodeError:  # find the line that is not UTF-8
             with open(path, "rb") as f:
-                return list(text_steps(_lines(f, Path(path)), str(path)))
+                return Steps(text_steps(_lines(f, Path(path)), str(path)), _PAPER_UNITS)
     except OSError as exc:
         raise InputError(f"cannot read: {exc.strerror or exc}", path) from None
 

@@ -8,8 +8,10 @@ executing a program, so they are decided here (:mod:`kb.metrics` sits below :mod
 :func:`play` executes a program (a :class:`kb.crcl.Program`, commands, or :mod:`kb.metrics`
 steps) command by command on a :class:`~kb.sim.SimulatedCell` of the initial state, with no
 faults: every command the cell executes (``executed``: only those a static evaluation did not
-refuse), ``kitkb-action`` messages beginning plan actions as on a cell server. Lengths are in
-``length_unit`` until the program sets one, and ``InitCanon`` sets it back (CRCL: "units ...
+refuse), ``kitkb-action`` messages beginning plan actions as on a cell server. Lengths and
+angles are in the units of the program's form (its ``units``: the paper's millimetre and
+degree for text and 2014 XML, CRCL 1.x's metre and radian; ``length_unit`` overrides the
+length) until the program sets others, and ``InitCanon`` sets them back (CRCL: "units ...
 back to their defaults"), as :mod:`kb.metrics` reads them. The result (:class:`Playback`)
 holds each command's status, the cell's constraint violations (:class:`~kb.sim.Violation`)
 and, with a goal state, the object metrics (:class:`ObjectMetrics`).
@@ -148,12 +150,13 @@ class Playback:
 
 
 def play(program: Iterable[Any], init: str | Path | Scene, goal: str | Path | None = None, *,
-         executed: Sequence[bool] | None = None, length_unit: str = "millimeter", match_names: bool = False,
+         executed: Sequence[bool] | None = None, length_unit: str | None = None, match_names: bool = False,
          domain_files: Sequence[str | Path] | None = None, tolerance: float = DEFAULT_TOLERANCE) -> Playback:
     """Play ``program`` (commands or :mod:`kb.metrics` steps) on a simulated cell of ``init``
     (a state file, or its scene) and judge it against ``goal`` (a state file; None: the object
     metrics that need one are None). ``executed``: per command, whether to play it (default
     all). A state file that cannot be read is an :class:`~kb.core.errors.InputError`."""
+    units = getattr(program, "units", None) or crcl.PAPER_UNITS
     commands = commands_of(program)
     if executed is not None and len(executed) != len(commands):
         raise ValueError(f"executed has {len(executed)} entries for {len(commands)} commands")
@@ -164,10 +167,11 @@ def play(program: Iterable[Any], init: str | Path | Scene, goal: str | Path | No
     except ValueError as exc:  # no robot to play the program
         raise InputError(f"cannot play a program on it: {exc}", initial.path) from None
     robot = cell.robot
+    length_unit = length_unit or units[0]
     if length_unit not in crcl.LENGTH_UNITS:
         raise ValueError(f"length_unit must be one of {', '.join(crcl.LENGTH_UNITS)}, not {length_unit!r}")
-    robot.length_unit = length_unit
-    robot.set_length_units(length_unit)
+    robot.length_unit, robot.angle_unit = length_unit, units[1]
+    robot.init_canon()
     statuses: list[Status | None] = []
     for i, command in enumerate(commands):
         if executed is not None and not executed[i]:
@@ -235,7 +239,11 @@ def _command_of_step(step: tuple[str, int | None, Any]) -> crcl.Command:
     if kind == "Unreadable":
         text, reason = value if isinstance(value, tuple) else (str(value), "")
         return crcl.Unreadable(text, reason, line=line)
-    cls = crcl.COMMANDS[kind]
+    cls = crcl.COMMANDS.get(kind) or crcl.CRCL1_COMMANDS[kind]
+    if kind == "SetEndEffector":
+        return crcl.SetEndEffector(value, line=line)
+    if kind in crcl.CRCL1_COMMANDS:  # kept whole by kb.metrics.steps (its value is the command)
+        return value
     if kind in _MOVES:
         poses = tuple(crcl.Pose(p[0:3], p[6:9], p[3:6]) for p in value)
         return crcl.MoveThroughTo(poses, line=line) if kind == "MoveThroughTo" else cls(poses[0], line=line)

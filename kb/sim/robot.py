@@ -34,12 +34,18 @@ Conventions (those of the state files):
   (within :data:`GRASP_TOLERANCE`); the effector keeps its orientation (its z axis is taken to
   be along the flange's, as in a holder that presents it tool-down). ``OpenToolChanger``
   leaves it where it is: in the holder it sits in, else it falls;
-* lengths are in metres (``length_unit``, which ``InitCanon`` sets again) until a
-  ``SetLengthUnits`` (meter, millimeter, inch) says otherwise:
-  the positions and speeds of the commands after it are in that unit (the ground truth stays
-  in metres); ``SetAngleUnits`` takes degree or radian (no command the simulator executes has
-  an angle); another unit, a coordinate frame other than ``Workstation`` and an ``Unreadable``
-  line are error statuses. Other commands are accepted;
+* units: ``InitCanon`` sets the length and angle units back to the defaults of the form the
+  robot is driven in (``length_unit``, ``angle_unit``: CRCL 1.x's metre and radian in process
+  and on the CRCL 1.x wire; a paper-form program played by :mod:`kb.sim.playback`,
+  millimetre and degree; docs/crcl.md) until a ``SetLengthUnits`` (meter, millimeter, inch)
+  or ``SetAngleUnits`` (degree, radian) says otherwise: the positions, speeds and point
+  tolerances of the commands after it are in that length unit, rotational speeds
+  (``SetRotSpeed``: a move takes at least its turn / that speed) and angle tolerances in that
+  angle unit (the ground truth stays in metres and radians); another unit, a coordinate frame
+  other than ``Workstation``, ``ActuateJoints`` (the robot has no joint model), ``RunProgram``
+  and an ``Unreadable`` line are error statuses. ``SetEndEffector`` opens the gripper for
+  a setting above 0 and closes it at 0 (a two-state gripper, as Reference.md says). Other
+  commands are accepted;
 * a move whose waypoint is no rigid pose (axes so large their norm overflows) or lies farther
   than :data:`REACH` (1 km) from the origin on an axis, a move or dwell that would overflow the
   clock, and a speed that is not a positive number are error statuses: the robot does not move,
@@ -80,7 +86,7 @@ gives no numbers for (no weight, no load, no work volume) is not made:
 
 from __future__ import annotations
 
-from typing import Callable
+from typing import Any, Callable
 
 import numpy as np
 
@@ -120,7 +126,11 @@ class Robot:
         self.time = 0.0
         self.speed = 1.0  # m/s
         self.metres = 1.0  # metres per length unit of the commands (CRCL SetLengthUnits; metre by default)
-        self.length_unit = "meter"  # the unit InitCanon sets (CRCL: "units ... back to their defaults")
+        self.radians = 1.0  # radians per angle unit of the commands (CRCL SetAngleUnits)
+        # the units InitCanon sets (CRCL: "units ... back to their defaults"): the form driven in
+        self.length_unit, self.angle_unit = crcl.CRCL1_UNITS
+        self.rot_speed: float | None = None  # rad/s (SetRotSpeed); None: turns take no longer than moves
+        self.tolerances: dict[str, float] = {}  # end / intermediate point (m) and angle (rad) tolerances
         self.on_fault = on_fault or (lambda kind, objects, detail: None)
         self.on_violation = on_violation or (lambda kind, objects, detail: None)
         self._holes: dict | None = None  # open containers recessed in closed objects (on the first move)
@@ -224,7 +234,10 @@ class Robot:
             where = self.world.names[support] if support >= 0 else "the floor"
             self.on_fault("dropped-part", (name,), f"fell at {_xyz(mid[:3, 3])} onto {where}")
         self._go(target)
-        self.time += float(np.linalg.norm(step)) / self.speed
+        seconds = float(np.linalg.norm(step)) / self.speed
+        if self.rot_speed is not None:
+            seconds = max(seconds, _turn(start, target) / self.rot_speed)
+        self.time += seconds
 
     def _go(self, tip: np.ndarray) -> None:
         if self._contacts is not None:
@@ -450,6 +463,50 @@ class Robot:
         self.metres = metres
         return Status.ok()
 
+    def set_angle_units(self, unit: str) -> Status:
+        """Angles of the following commands are in ``unit`` (degree, radian)."""
+        radians = ANGLE.get(str(unit))
+        if radians is None:
+            return Status.error(f"SetAngleUnits {unit}: not one of {', '.join(ANGLE)}")
+        self.radians = radians
+        return Status.ok()
+
+    def init_canon(self) -> Status:
+        """InitCanon: the length and angle units back to the defaults (``length_unit``, ``angle_unit``)."""
+        status = self.set_length_units(self.length_unit)
+        return status if not status.done else self.set_angle_units(self.angle_unit)
+
+    def set_rot_speed(self, c: crcl.RotSetting) -> Status:
+        """SetRotSpeed: an absolute setting in angle units per second (positive); a relative one
+        is a fraction of a maximum the simulated robot does not have, so turns stay untimed."""
+        if isinstance(c, crcl.SetRotAccel):
+            return Status.ok()  # moves are timed without acceleration
+        if c.relative:
+            self.rot_speed = None
+            return Status.ok("a relative rotational speed: the simulated robot has no maximum; turns untimed")
+        if not (c.setting > 0 and np.isfinite(c.setting * self.radians)):
+            return Status.error(f"rotational speed must be a positive number, not {c.setting}")
+        self.rot_speed = c.setting * self.radians
+        return Status.ok()
+
+    def set_tolerance(self, c: crcl.Command) -> Status:
+        """The end and intermediate tolerances, kept in metres and radians."""
+        t: Any = c
+        if isinstance(c, crcl.SetEndAngleTolerance):
+            self.tolerances["end angle"] = t.tolerance * self.radians
+        elif isinstance(c, crcl.SetEndPointTolerance):
+            self.tolerances["end point"] = t.tolerance * self.metres
+        elif isinstance(c, crcl.SetIntermediatePointTolerance):
+            self.tolerances["intermediate point"] = t.tolerance * self.metres
+        else:
+            where = "end" if isinstance(c, crcl.SetEndPoseTolerance) else "intermediate"
+            for attr, scale in (("x_point", self.metres), ("y_point", self.metres), ("z_point", self.metres),
+                                ("x_axis", self.radians), ("z_axis", self.radians)):
+                value = getattr(t.tolerance, attr)
+                if value is not None:
+                    self.tolerances[f"{where} {attr.replace('_', ' ')}"] = value * scale
+        return Status.ok()
+
 
 def _target(pose: crcl.Pose, metres: float = 1.0) -> np.ndarray:
     """The 4x4 tip pose of a CRCL pose: a finite rigid transform within :data:`REACH` of the
@@ -464,6 +521,16 @@ def _target(pose: crcl.Pose, metres: float = 1.0) -> np.ndarray:
     if np.abs(m[:3, 3]).max() > REACH:
         raise ValueError(f"point {pose.point} is out of reach (more than {REACH:g} m from the origin)")
     return m
+
+
+def _turn(start: np.ndarray, end: np.ndarray) -> float:
+    """The angle (radians) of the rotation from ``start``'s orientation to ``end``'s."""
+    cos = (float(np.trace(start[:3, :3].T @ end[:3, :3])) - 1.0) / 2.0
+    return float(np.arccos(min(1.0, max(-1.0, cos))))
+
+
+def _refuse(why: str) -> Callable[[Robot, crcl.Command], Status]:
+    return lambda r, c: Status.error(f"{type(c).__name__}: {why}")
 
 
 def _unit(expected: str) -> Callable[[Robot, crcl.Command], Status]:
@@ -483,7 +550,7 @@ def _xyz(p: np.ndarray) -> str:
 
 
 _HANDLERS: dict[type, Callable[[Robot, crcl.Command], Status]] = {
-    crcl.InitCanon: lambda r, c: r.set_length_units(r.length_unit),
+    crcl.InitCanon: lambda r, c: r.init_canon(),
     crcl.MoveTo: lambda r, c: r.move((c.end_position,), straight=False),  # type: ignore[attr-defined]
     crcl.MoveStraightTo: lambda r, c: r.move((c.end_position,)),  # type: ignore[attr-defined]
     crcl.MoveThroughTo: lambda r, c: r.move(tuple(c.waypoints)),  # type: ignore[attr-defined]
@@ -494,7 +561,14 @@ _HANDLERS: dict[type, Callable[[Robot, crcl.Command], Status]] = {
     crcl.Dwell: lambda r, c: r.dwell(c.dwell_time),  # type: ignore[attr-defined]
     crcl.SetAbsoluteSpeed: lambda r, c: r.set_speed(c.speed),  # type: ignore[attr-defined]
     crcl.SetLengthUnits: lambda r, c: r.set_length_units(c.unit_name),  # type: ignore[attr-defined]
-    crcl.SetAngleUnits: lambda r, c: (Status.ok() if c.unit_name in ANGLE  # type: ignore[attr-defined]
-                                      else Status.error(f"SetAngleUnits {c.unit_name}: not one of {', '.join(ANGLE)}")),
+    crcl.SetAngleUnits: lambda r, c: r.set_angle_units(c.unit_name),  # type: ignore[attr-defined]
     crcl.SetCoordinateFrame: _unit("Workstation"),
+    crcl.SetEndEffector: lambda r, c: r.open_gripper() if c.setting > 0 else r.close_gripper(),  # type: ignore[attr-defined]
+    crcl.SetRotSpeed: lambda r, c: r.set_rot_speed(c),  # type: ignore[arg-type]
+    crcl.SetRotAccel: lambda r, c: r.set_rot_speed(c),  # type: ignore[arg-type]
+    **dict.fromkeys((crcl.SetEndAngleTolerance, crcl.SetEndPointTolerance, crcl.SetIntermediatePointTolerance,
+                     crcl.SetEndPoseTolerance, crcl.SetIntermediatePoseTolerance), lambda r, c: r.set_tolerance(c)),
+    crcl.ActuateJoints: _refuse("the simulated robot has no joint model (its joint positions would be in the "
+                                "angle or length units in force)"),
+    crcl.RunProgram: _refuse("the simulated robot has no program language of its own"),
 }
