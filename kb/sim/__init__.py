@@ -9,6 +9,11 @@ noise and USARTruth's text form (:mod:`.sensor`), and seeded fault injection (:m
 :class:`FaultSpec`, :class:`Injected`, :data:`FAULT_KINDS`). :class:`CellServer`
 (:mod:`.server`) serves a cell on loopback in kitkb's cell protocol (:mod:`kb.crcl.wire`:
 USARTruth-style sensor lines, CRCL XML programs), for :class:`kb.crcl.RemoteCell`.
+A run opens it by URL (``sim:``, the default; :func:`kb.cells.open_cell` finds
+:func:`kb.sim.cell.open_simulated` by module name, so the executor never imports this package);
+its sensor's noise is the accuracy model of :mod:`kb.cells.accuracy` (:mod:`.noise` keeps the
+name ``SensorNoise``), and it has every capability of :mod:`kb.crcl.cell`, ground truth
+(``injected``, ``violations``, ``sensor_errors``) included.
 The robot notices constraint violations (overweight grasps, moves out of its work volume,
 wrong effectors, contacts along every move: :class:`Violation`, ``SimulatedCell.violations``),
 and :mod:`kb.sim.playback` (imported on use) plays a CRCL program on a cell of a state and

@@ -21,6 +21,12 @@ its executor verifies with that accuracy). errors also sweeps a noise (``--noise
 position=0mm:5mm:6``): every trial runs at every level, with the same seed, so the levels
 differ only by the noise; row ``k`` of a sweep of ``L`` levels is trial ``k // L`` at level
 ``k % L`` (:meth:`Options.locate`).
+
+Every trial's cell is opened by URL (:mod:`kb.cells`): by default ``sim:``, its own simulated
+cell of its real placement; ``--cell URL`` (``Options.cell``) names one cell the campaign's
+single trial runs on instead, its placement the cell's own (not the errors method: a real
+cell's faults are its own). Fault mixes are checked by the simulated cell's opener, so this
+package never imports ``kb.sim``.
 """
 
 from __future__ import annotations
