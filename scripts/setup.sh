@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Idempotent set-up on a fresh clone: Java (HermiT, ENHSP), Chromium (headless, for the report's
-# browser tests), a venv with kitkb and its
+# browser tests), xmllint (the CRCL XML tests), a venv with kitkb and its
 # dependencies at the versions of constraints.txt. With --postgres also the PostgreSQL server
 # package (started by test.sh).
 set -euo pipefail
@@ -25,6 +25,10 @@ fi
 if ! command -v chromium >/dev/null 2>&1; then
     echo "setup: installing Chromium (the report's browser tests, headless)"
     apt_install chromium
+fi
+if ! command -v xmllint >/dev/null 2>&1; then
+    echo "setup: installing libxml2-utils (xmllint: the CRCL XML tests check kitkb's documents with it)"
+    apt_install libxml2-utils
 fi
 if [ "$want_pg" = 1 ] && ! ls /usr/lib/postgresql/*/bin/initdb >/dev/null 2>&1; then
     echo "setup: installing PostgreSQL"
