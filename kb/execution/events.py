@@ -90,7 +90,7 @@ class ActionEnded(Event):
 
 @dataclass(frozen=True)
 class CheckMade(Event):
-    """Action ``index``'s preconditions (``phase`` "pre") or effects ("eff") were decided from
+    """Action ``index``'s preconditions (``phase`` "precondition") or effects ("effect") were decided from
     geometry; ``violated`` and ``undecidable`` are the atoms' texts."""
 
     index: int
