@@ -1,24 +1,30 @@
 """A cell behind sockets: :class:`RemoteCell` implements the cell contract
-(:class:`kb.crcl.cell.CellInterface`) over kitkb's cell protocol (:mod:`kb.crcl.wire`), so
-``kitkb sim serve`` — or another simulator, or a real cell speaking the protocol — stands in
-for an in-process cell.
+(:class:`kb.crcl.cell.CellInterface`) over kitkb's cell protocol (:mod:`kb.crcl.wire`: USARTruth
+lines on the sensor port, CRCL 1.x on the command port), so ``kitkb sim serve`` — or another
+simulator, or a real cell speaking the protocol — stands in for an in-process cell;
+:class:`CrclClient` is a CRCL 1.x session with any controller (``kitkb crcl send``:
+:func:`stream`, :func:`forwarded`).
 
-One persistent connection per port, made on first use. Before each request a connection the
-cell has closed (or that holds unread bytes) is replaced by a new one; a sensor query that
-fails on a reused connection because the cell closed it is sent once more on a new one. A
-program is never sent twice: a connection lost after sending it is a
+One persistent connection per port, made on first use. Sensor port: before each query a
+connection the cell has closed (or that holds unread bytes) is replaced by a new one; a query
+that fails on a reused connection because the cell closed it is sent once more on a new one.
+Command port: a CRCL session per connection (InitCanon, SetLengthUnits meter, SetAngleUnits
+radian, then the commands one at a time, each waited for until a status names its CommandID
+Done or Error); a connection the cell closed between commands is replaced by a new session. A
+command is never sent twice: a connection lost after sending it is a
 :class:`~kb.core.errors.CellError` (what the cell did is then unknown). Every failure to reach
 the cell, an answer outside the protocol or past its bounds is a
 :class:`~kb.core.errors.CellError` naming ``host:port`` (exit code 2).
 
-Every answer is bounded (:class:`Bounds`): in total time from the request to its ``{End}``
-(not per ``recv``: a peer that keeps sending lines without ``{End}`` is stopped at the bound
-too), in lines, in bytes, and each line at :data:`~kb.crcl.wire.MAX_LINE` bytes. The defaults
-are the named limits ``KITKB_MAX_CELL_SECONDS``, ``KITKB_MAX_CELL_LINES`` and
-``KITKB_MAX_CELL_BYTES`` (:mod:`kb.core.limits`, docs/limits.md); a peer past one is given up
-as soon as it is, the error naming the bound and the variable that raises it.
+Every answer is bounded (:class:`Bounds`): in total time from the request to its ``{End}``, or
+from a CRCL command to its Done or Error (not per ``recv``: a peer that keeps sending lines
+without ``{End}``, or ``CRCL_Working`` statuses, is stopped at the bound too), in lines, in
+bytes, and each line at :data:`~kb.crcl.wire.MAX_LINE` bytes (a status document at
+:data:`MAX_STATUS`). The defaults are the named limits ``KITKB_MAX_CELL_SECONDS``,
+``KITKB_MAX_CELL_LINES`` and ``KITKB_MAX_CELL_BYTES`` (:mod:`kb.core.limits`, docs/limits.md);
+a peer past one is given up as soon as it is, the error naming the bound and the variable that
+raises it.
 """
-
 from __future__ import annotations
 
 import copy

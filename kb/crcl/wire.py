@@ -1,5 +1,5 @@
-"""kitkb's cell protocol on the wire: two TCP ports, UTF-8 lines of ``{Key value}`` fields
-(USARTruth's key-value style, seed 004 §3.2).
+"""kitkb's cell protocol on the wire: two TCP ports, the sensor's UTF-8 lines of ``{Key value}``
+fields (USARTruth's key-value style, seed 004 §3.2) and the robot's CRCL 1.x documents.
 
 Sensor port (default :data:`SENSOR_PORT` 3989, USARTruth's): USARSim's USARTruth protocol, so
 the USARTruth clients of NIST and GTRI (el-robotics-core) read it. The client sends one query a
@@ -33,11 +33,41 @@ key given twice, Inspect beside another key) is answered ``{Error <message>}``, 
 ``{End}``; no USARTruth client sends one. docs/execution.md says what still differs from
 USARSim (IRIs for Unreal names, kitkb's frame and units).
 
-Command port (default :data:`COMMAND_PORT` 3990). The client sends a header line
-``{Length N}`` and then exactly N bytes: one CRCL.xsd instance (a ``CRCLProgram`` document,
-:func:`kb.crcl.xml.write_xml`; at most :data:`MAX_PROGRAM` bytes). The cell executes every
-command of the program in order (InitCanon and EndCanon included), stops at the first that
-fails, and answers one line per command (ending in ``\n``), then ``{End}``::
+Command port (default :data:`COMMAND_PORT` 3990): a CRCL 1.x controller, as NIST's tools speak
+CRCL (../shared/crcl/README.md, doc/Reference.md). One TCP connection per client; the client
+writes complete ``CRCLCommandInstance`` documents one after another, with no header or
+delimiter (white space between them, an XML declaration in each, allowed); :class:`Documents`
+splits the stream at the end of each root element. A ``CRCLProgram`` of
+CRCLProgramInstance.xsd is taken too and run command by command. The controller writes
+``CRCLStatus`` documents back (:func:`kb.crcl.instance.write_status`), each with its own
+``send`` and under 1,024 bytes with a pose and a gripper (a simple client reads one per
+``recv(1024)``):
+
+* when a command ends: its CommandID with ``CRCL_Done`` or ``CRCL_Error`` (``StateDescription``
+  says why, or what the cell did: ``grasped ...``, ``mounted ...``);
+* on ``GetStatus``: the status now, of the command executing or last executed (GetStatus does
+  not become that command); before any command CommandID 0, ``CRCL_Ready``;
+* every :data:`STATUS_PERIOD` seconds (a heartbeat) on a connection that was sent none in that
+  time, ``CRCL_Working`` while its command waits for the cell.
+
+StatusIDs count up from 1 on each connection. The pose is the tool tip's (the mounted
+gripper's, Reference.md VIII) in the connection's length unit; the gripper status is the
+mounted effector's (``ParallelGripperStatusType``: the jaws' opening, ``VacuumGripperStatusType``).
+Several clients may connect at once (a robot and a gripper): each connection is its own session
+with its own CommandIDs, status stream and units, all driving the one robot; a connection that
+has only sent gripper commands is a gripper channel, whose statuses carry no pose. A document
+that is well-formed CRCL but wrong (an unknown command, a bad number) gets ``CRCL_Error``
+naming the problem, with its CommandID where one can be read, and the connection goes on; a
+document that is not CRCL (another root element), a stream that is not XML, a DOCTYPE, or a
+document past the bounds (:data:`MAX_PROGRAM` bytes, ``KITKB_MAX_NESTING`` levels) gets a
+``CRCL_Error`` status saying so, and that connection is closed (it cannot be resynchronised).
+
+kitkb's earlier protocol stays on the same port for the clients of 472f1d7: a connection whose
+first byte (after white space) is ``{`` sends a header line ``{Length N}`` and then exactly N
+bytes: one CRCL.xsd instance (a ``CRCLProgram`` document, :func:`kb.crcl.xml.write_xml`; at most
+:data:`MAX_PROGRAM` bytes). The cell executes every command of the program in order (InitCanon
+and EndCanon included), stops at the first that fails, and answers one line per command
+(ending in ``\n``), then ``{End}``::
 
     {Line n} {Status done|error} {Message text}
 
@@ -47,12 +77,13 @@ one is not executed and answers ``{Status error} {Message`` :data:`kb.crcl.cell.
 error: ...}`` line (no ``{Line}``), then ``{End}``; a header that is not ``{Length N}`` gets
 the same and the connection is closed (the stream cannot be resynchronised).
 
-kitkb's two conventions, CRCL ``Message`` commands a cell of this protocol does not display:
+kitkb's two conventions, CRCL ``Message`` commands a cell of this port does not display:
 
 * ``kitkb-action <index> <action> <arg1> <arg2> ...`` (:func:`action_message`): the cell
   starts plan action ``index`` (``begin_action``) and answers ``done``, or ``error`` when the
   text is malformed;
-* ``kitkb-frame [init] [end]`` as the program's *second* command (:func:`frame_message`): the
+* ``kitkb-frame [init] [end]`` as the program's *second* command (:func:`frame_message`; the
+  ``{Length N}`` protocol only: a CRCL 1.x client sends the commands it means, one by one): the
   program's first command (its InitCanon) with ``init``, its last (its EndCanon) with ``end``,
   and the message itself are only CRCL.xsd's frame around the commands a client means: they
   are not executed and answer ``{Status done} {Message frame}``. This is how a client sends
@@ -62,7 +93,7 @@ kitkb's two conventions, CRCL ``Message`` commands a cell of this protocol does 
 Text put into a field has ``{`` and ``}`` replaced by ``(`` and ``)`` and line breaks and tabs
 by spaces (:func:`clean`): a value never holds a brace. Either side reads lines of at most
 :data:`MAX_LINE` bytes; how much of an answer a client waits for is bounded too
-(:class:`kb.crcl.remote.RemoteCell`).
+(:class:`kb.crcl.remote.RemoteCell`, :class:`kb.crcl.remote.CrclClient`).
 """
 
 from __future__ import annotations

@@ -1,19 +1,24 @@
 """The simulated workcell as a server on loopback: kitkb's cell protocol (:mod:`kb.crcl.wire`)
 around one :class:`~kb.sim.cell.SimulatedCell`, so :class:`kb.crcl.remote.RemoteCell` — or any
-client speaking the protocol — drives it as it would a real cell.
+client speaking USARTruth and CRCL 1.x, NIST's own among them — drives it as it would a real cell.
 
 Two threaded TCP servers (stdlib ``socketserver``, a thread per connection, connections kept
 open): the sensor port answers USARTruth queries as USARSim did (NIST's and GTRI's USARTruth
 clients read it: combined ``{class C} {name N}`` queries, an empty line for every object,
-CR LF line ends, USARTruth's five fields unless kitkb's are asked for), the command port
-executes CRCL XML programs. One lock serialises every access to the cell, so a program runs whole between two
-queries. Nothing a client sends stops the server: a malformed query or program gets an error
-answer, a dropped connection ends only its own thread.
+CR LF line ends, USARTruth's five fields unless kitkb's are asked for); the command port is a
+CRCL 1.x controller: each connection a session of its own (``_CrclSession``: its documents
+split from the stream by :class:`kb.crcl.wire.Documents`, executed in order on the one cell,
+its own status stream and units), or, when a connection's first byte is ``{``, kitkb's earlier
+``{Length N}`` programs. One lock serialises every access to the cell, so a command (or an old
+program) runs whole between two queries, whichever connection sent it; a heartbeat thread
+sends each quiet CRCL connection its status every :attr:`CellServer.status_period` seconds,
+never waiting on a client that does not read. Nothing a client sends stops the server: a
+malformed query, document or program gets an error answer, a dropped connection ends only its
+own thread.
 
-:meth:`CellServer.answer_query` and :meth:`CellServer.answer_program` are the protocol without
-sockets (the answer lines, ``{End}`` last).
+:meth:`CellServer.answer_query` and :meth:`CellServer.answer_program` are the line protocols
+without sockets (the answer lines, ``{End}`` last).
 """
-
 from __future__ import annotations
 
 import re
@@ -505,9 +510,11 @@ class _CrclSession:
             return False
         try:
             items = _commands(doc)
-        except (InputError, ValueError) as exc:
+        except Exception as exc:  # InputError, ValueError; anything else is a bug of ours: answered too
+            why = str(exc) if isinstance(exc, (InputError, ValueError)) else \
+                f"internal error: {type(exc).__name__}: {exc}"
             found = _COMMAND_ID.search(doc.data)
-            self.error(int(found.group(1)) if found else self.command_id, str(exc))
+            self.error(int(found.group(1)) if found else self.command_id, why)
             return True
         for command, command_id in items:
             if isinstance(command, GetStatus):
