@@ -31,6 +31,7 @@ import datetime as dt
 import itertools
 import json
 import logging
+import math
 import tempfile
 import time
 from pathlib import Path
@@ -240,8 +241,9 @@ class RunStore:
             conn.execute(update(RUNS).where(RUNS.c.id == self.run_id).values(
                 ended_at=dt.datetime.now(dt.timezone.utc), report=json.dumps(record.report()), **_run_columns(d)))
             conn.execute(KITS.delete().where(KITS.c.run_id == self.run_id))
-            if d["kits"]:
-                conn.execute(insert(KITS), [dict(_kit_columns(k), run_id=self.run_id) for k in d["kits"]])
+            kits = {k["kit"]: k for k in reversed(d["kits"])}  # a row per kit name (the record holds them all)
+            if kits:
+                conn.execute(insert(KITS), [dict(_kit_columns(k), run_id=self.run_id) for k in reversed(kits.values())])
         for action in record.actions:
             self.record_action(action)  # written again only where it changed
         for failure in record.failures:
@@ -346,7 +348,7 @@ def _run_columns(d: dict[str, Any]) -> dict[str, Any]:
 def _action_columns(d: dict[str, Any], record: str) -> dict[str, Any]:
     """The columns of an action's row, from its dict form (and that form's JSON text)."""
     return {"idx": d["index"], "action": d["action"], "args": dumps(d["args"]), "status": d["status"],
-            "commands": dumps(d["commands"]), "seconds": max(0.0, d["ended"] - d["started"]),
+            "commands": dumps(d["commands"]), "seconds": _finite(max(0.0, d["ended"] - d["started"])),
             "crcl": dumps(d["programs"]), "record": record}
 
 
@@ -355,7 +357,12 @@ def _failure_columns(d: dict[str, Any], record: str, t0: float) -> dict[str, Any
     return {"idx": d["action_index"], "action": d["action"], "args": dumps(d["args"]), "phase": d["phase"],
             "mode": d["mode"], "kit": d["kit"], "consequence": d["consequence"], "severity": d["severity"],
             "recovery": d["recovery"], "outcome": d["outcome"], "violated": dumps(d["violated"]),
-            "sightings": dumps(d["sightings"]), "seconds": d["time"] - t0, "record": record}
+            "sightings": dumps(d["sightings"]), "seconds": _finite(d["time"] - t0), "record": record}
+
+
+def _finite(seconds: float) -> float | None:
+    """A duration for a Float column (None where a difference of extreme times overflows)."""
+    return seconds if math.isfinite(seconds) else None
 
 
 def _kit_columns(d: dict[str, Any]) -> dict[str, Any]:
@@ -373,44 +380,54 @@ def read_run(url: str | Path, run_id: int | None = None) -> RunRecord:
         with engine.connect() as conn:
             if not inspect(conn).has_table(RUNS.name):
                 raise InputError(f"no run is recorded in {safe_url(url)} (it has no kitkb_run table)")
-            q = select(RUNS).order_by(RUNS.c.id.desc())
+            q = select(*_columns(conn, RUNS)).order_by(RUNS.c.id.desc())
             row = conn.execute(q.where(RUNS.c.id == run_id) if run_id is not None else q).first()
             if row is None:
                 raise InputError(f"no run {run_id if run_id is not None else ''} in {safe_url(url)}".replace("  ", " "))
-            where = f"{safe_url(url)}: run {row.id}"
             try:
-                return RunRecord.from_dict(_read_dict(conn, row), where)
-            except ValueError as exc:  # a row that is not what kitkb writes
-                raise InputError(f"{exc}" if str(exc).startswith(where) else f"{where}: {exc}") from None
+                return _read(conn, row, f"{safe_url(url)}: run {row.id}")
+            except ValueError as exc:  # a row that is not what kitkb writes: the message names it
+                raise InputError(str(exc)) from None
     finally:
         engine.dispose()
 
 
-def _read_dict(conn: Any, row: Any) -> dict[str, Any]:
-    """The dict form of run ``row``, its actions and failures from their rows."""
-    cols = {c.name for c in RUNS.columns} & set(row._fields)
-    report = _json(row.report, "report") if row.report else {}
-    d = _json(row.record, "record") if "record" in cols and row.record else _legacy_run(conn, row, report)
+def _read(conn: Any, row: Any, where: str) -> RunRecord:
+    """Run ``row`` and its actions' and failures' rows, each from its dict form (``where``: how
+    an error names the run)."""
+    report = _json(row.report, f"{where}: report") if row.report else {}
+    record = getattr(row, "record", None)
+    d = _json(record, f"{where}: record") if record else _legacy_run(conn, row, report, where)
     d["run_id"] = row.id
-    actions = conn.execute(select(ACTIONS).where(ACTIONS.c.run_id == row.id).order_by(ACTIONS.c.idx))
-    d["actions"] = [_json(a.record, f"action {a.idx}") if getattr(a, "record", None) else _legacy_action(a)
-                    for a in actions]
-    failures = conn.execute(select(FAILURES).where(FAILURES.c.run_id == row.id).order_by(FAILURES.c.id)).all()
+    run: RunRecord = RunRecord.from_dict(d, where)
+    for a in conn.execute(select(*_columns(conn, ACTIONS)).where(ACTIONS.c.run_id == row.id).order_by(ACTIONS.c.idx)):
+        at = f"{where}: action {a.idx}"
+        run.actions.append(ActionRecord.from_dict(_json(a.record, at) if getattr(a, "record", None)
+                                                  else _legacy_action(a, at), at))
+    failures = conn.execute(select(*_columns(conn, FAILURES)).where(FAILURES.c.run_id == row.id).order_by(FAILURES.c.id)).all()
     told = report.get("failures") if isinstance(report.get("failures"), list) else []
-    d["failures"] = [_json(f.record, f"failure row {f.id}") if getattr(f, "record", None) else
-                     _legacy_failure(f, told[i] if len(told) == len(failures) else {})
-                     for i, f in enumerate(failures)]
-    return d
+    for i, f in enumerate(failures):
+        at = f"{where}: failure row {f.id}"
+        run.failures.append(FailureRecord.from_dict(_json(f.record, at) if getattr(f, "record", None) else
+                                                    _legacy_failure(f, told[i] if len(told) == len(failures)
+                                                                    and isinstance(told[i], dict) else {}, at), at))
+    return run
 
 
-def _json(text_: str, what: str) -> Any:
+def _columns(conn: Any, table: Table) -> list[Column]:
+    """The columns of ``table`` that the database's table has (an older version's lacks some)."""
+    have = {c["name"] for c in inspect(conn).get_columns(table.name)}
+    return [c for c in table.columns if c.name in have]
+
+
+def _json(text_: str, where: str) -> Any:
     try:
         return loads(text_)
     except ValueError as exc:
-        raise ValueError(f"{what}: not JSON ({exc})") from None
+        raise ValueError(f"{where}: not JSON ({exc})") from None
 
 
-def _legacy_run(conn: Any, row: Any, report: dict[str, Any]) -> dict[str, Any]:
+def _legacy_run(conn: Any, row: Any, report: dict[str, Any], where: str) -> dict[str, Any]:
     """The dict form of a run row without a record: its columns and its JSON report (times
     relative to its start, the report's rounded plan times; no checks)."""
     metrics = report.get("metrics") or {}
@@ -423,27 +440,27 @@ def _legacy_run(conn: Any, row: Any, report: dict[str, Any]) -> dict[str, Any]:
     kits = conn.execute(select(KITS).where(KITS.c.run_id == row.id).order_by(KITS.c.kit)) \
         if inspect(conn).has_table(KITS.name) else ()
     d["kits"] = [{"kit": k.kit, "design": k.design, "score": k.score, "max_score": k.max_score,
-                  "lost": _json(k.lost, f"kit {k.kit}")} for k in kits]
+                  "lost": _json(k.lost, f"{where}: kit {k.kit}")} for k in kits]
     return d
 
 
-def _legacy_action(a: Any) -> dict[str, Any]:
+def _legacy_action(a: Any, where: str) -> dict[str, Any]:
     """The dict form of an action row without a record (no times)."""
-    return {"index": a.idx, "action": a.action, "args": _json(a.args, f"action {a.idx}"), "status": a.status,
-            "commands": _json(a.commands, f"action {a.idx}"), "programs": _json(a.crcl or "[]", f"action {a.idx}")}
+    return {"index": a.idx, "action": a.action, "args": _json(a.args, where), "status": a.status,
+            "commands": _json(a.commands, where), "programs": _json(a.crcl or "[]", where)}
 
 
-def _legacy_failure(f: Any, told: dict[str, Any]) -> dict[str, Any]:
+def _legacy_failure(f: Any, told: dict[str, Any], where: str) -> dict[str, Any]:
     """The dict form of a failure row without a record (its certainty from the run's report,
     its witnesses the objects sighted that are not the violated atoms' arguments)."""
-    violated = _json(f.violated, f"failure row {f.id}")
-    sightings = _json(f.sightings, f"failure row {f.id}")
-    args = {x for a in violated for x in a.get("args", ())}
-    return {"action_index": f.idx, "action": f.action, "args": _json(f.args, f"failure row {f.id}"),
+    violated = _json(f.violated, where)
+    sightings = _json(f.sightings, where)
+    args = {x for a in violated if isinstance(a, dict) for x in a.get("args", ())}
+    return {"action_index": f.idx, "action": f.action, "args": _json(f.args, where),
             "phase": f.phase, "violated": violated, "sightings": sightings, "mode": f.mode,
             "consequence": f.consequence or "", "severity": f.severity or 0, "recovery": f.recovery or "",
             "outcome": f.outcome or "", "time": f.seconds or 0.0, "kit": f.kit,
-            "certainty": told.get("certainty"), "witnesses": [s["name"] for s in sightings if s["name"] not in args]}
+            "certainty": told.get("certainty"), "witnesses": [s["name"] for s in sightings if isinstance(s, dict) and s.get("name") not in args]}
 
 
 def _add_columns(engine: Any) -> None:
