@@ -395,8 +395,8 @@ class SetEndEffectorParameters(Command):
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "settings", tuple(self.settings))
-        if not all(isinstance(p, Parameter) for p in self.settings):
-            raise ValueError(f"{type(self).__name__}.settings must be Parameters, not {self.settings!r}")
+        if not self.settings or not all(isinstance(p, Parameter) for p in self.settings):
+            raise ValueError(f"{type(self).__name__}.settings must be one or more Parameters, not {self.settings!r}")
 
 
 @dataclass(frozen=True)
@@ -427,8 +427,8 @@ class ActuateJoints(Command):
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "joints", tuple(self.joints))
-        if not all(isinstance(j, JointActuation) for j in self.joints):
-            raise ValueError(f"ActuateJoints.joints must be JointActuations, not {self.joints!r}")
+        if not self.joints or not all(isinstance(j, JointActuation) for j in self.joints):
+            raise ValueError(f"ActuateJoints.joints must be one or more JointActuations, not {self.joints!r}")
 
 
 @dataclass(frozen=True)

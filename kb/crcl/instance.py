@@ -369,6 +369,8 @@ def _w_move(straight: bool) -> Callable[[Any, Any], None]:
 
 
 def _w_through(el: Any, command: c.MoveThroughTo) -> None:
+    if command.num_positions < 2:
+        raise _Unwritable("a MoveThroughTo of one waypoint: CRCL 1.x's has two or more (a MoveTo goes to one pose)")
     _sub(el, "MoveStraight", _bool(command.straight))
     for pose in command.waypoints:
         _write_pose(_sub(el, "Waypoint"), pose)
@@ -830,7 +832,7 @@ def _r_parameters(cls: type[c.SetEndEffectorParameters]) -> Callable[..., Any]:
                 raise InputError(f"<{ps.tag}> where {cls.__name__} holds ParameterSettings", source, ps.sourceline)
             name, value = _expect(ps, ["ParameterName", "ParameterValue"], source)
             settings.append(c.Parameter(_text(name, source).strip(), _text(value, source).strip()))
-        return cls(tuple(settings), line=el.sourceline)
+        return _made(cls, el, source, tuple(settings), line=el.sourceline)
     return build
 
 
@@ -853,7 +855,7 @@ def _r_actuate(rest: list[Any], el: Any, source: str) -> c.Command:
                              "JointSpeedAccelType (JointSpeed, JointAccel) or JointForceTorqueType (Setting, ChangeRate)",
                              source, details.sourceline)
         joints.append(c.JointActuation(_int(number, source), _double(position, source), **extra))
-    return c.ActuateJoints(tuple(joints), line=el.sourceline)
+    return _made(c.ActuateJoints, el, source, tuple(joints), line=el.sourceline)
 
 
 def _r_reports(rest: list[Any], el: Any, source: str) -> c.Command:

@@ -1,0 +1,345 @@
+"""CRCL 1.x documents (kb.crcl.instance): NIST's example files read or refused for a stated
+reason, everything kitkb writes valid against NIST's schemas by two validators (lxml's libxml2
+and xmlschema) and by libxml2's xmllint, round trips between the forms, errors at file:line."""
+
+from __future__ import annotations
+
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from kb.core.errors import InputError
+from kb.crcl import commands as c
+from kb.crcl import instance as inst
+from kb.crcl.files import read_file, write_file
+from kb.crcl.pose import Pose
+from kb.crcl.text import read_text, write_text
+from kb.crcl.units import restate
+from kb.crcl.xml import _decimal_text, read_xml, write_xml
+
+from shared_data import NIST_DIR
+
+CRCL = NIST_DIR.parent / "crcl"
+SCHEMAS = CRCL / "schemas"
+INSTANCES = CRCL / "instances"
+pytestmark = pytest.mark.skipif(not (SCHEMAS / "CRCLCommandInstance.xsd").exists(),
+                                reason="NIST's CRCL 1.x schemas are not beside the checkout")
+XMLLINT = shutil.which("xmllint")
+DOWN = Pose((0.5, -0.25, 0.125), (1, 0, 0), (0, 0, -1))
+
+#: every NIST example file: what kitkb makes of it (root kind, or the reason it refuses it)
+EXPECTED = {
+    "commandEndCanon.xml": "command", "commandEndCanonWithNames.xml": "command",
+    "commandInitCanon.xml": "command", "commandInitCanonWithNames.xml": "command",
+    "commandMoveThroughTo.xml": "command", "commandMoveThroughToWithNames.xml": "command",
+    "commandMoveTo.xml": "command", "commandSetTransSpeed1.xml": "command",
+    "commandSetTransSpeed1WithNames.xml": "command", "commandSetTransSpeed2.xml": "command",
+    "commandSetTransSpeed2WithNames.xml": "command",
+    "programAll.xml": "MoveScrew", "programAllWithNames.xml": "MoveScrew",
+    "programExample.xml": "program", "programExampleWithNames.xml": "program",
+    "requiredTriggerErrorStatus.xml": "status", "statusExample.xml": "status", "statusExampleGen.xml": "status",
+    "statusExampleStr.xml": "status", "statusExampleWithNames.xml": "status", "triggeredStatusExample.xml": "status",
+    **{f"testForceSensorProgram{n}.xml": "ConfigureStatusReport" for n in ("", 2, 3, 4, 5, 6, 7)},
+}
+
+
+def _xmllint(data: bytes, kind: str, tmp_path: Path) -> subprocess.CompletedProcess:
+    path = tmp_path / f"{kind}.xml"
+    path.write_bytes(data)
+    return subprocess.run([XMLLINT, "--noout", "--nonet", "--schema", str(SCHEMAS / inst.SCHEMA_FILES[kind]),
+                           str(path)], capture_output=True, text=True)
+
+
+def _valid(data: bytes, kind: str, tmp_path: Path | None = None) -> None:
+    """``data`` conforms to the ``kind`` schema by lxml (libxml2), xmlschema and, with a
+    ``tmp_path``, xmllint."""
+    import xmlschema
+    inst.validate(data, kind)
+    xmlschema.XMLSchema(str(SCHEMAS / inst.SCHEMA_FILES[kind])).validate(data.decode())
+    if tmp_path is not None and XMLLINT:
+        done = _xmllint(data, kind, tmp_path)
+        assert done.returncode == 0, done.stderr
+
+
+def _read(path: Path) -> tuple[str, object]:
+    data = path.read_bytes()
+    if b"<CRCLCommandInstance" in data:
+        return "command", inst.read_command_instance(data, path.name)
+    if b"<CRCLStatus" in data:
+        return "status", inst.read_status(data, path.name)
+    return "program", inst.read_program_instance(data, path.name)
+
+
+def test_every_nist_example_is_read_or_refused_for_its_stated_reason(tmp_path):
+    files = sorted(p.name for p in INSTANCES.glob("*.xml"))
+    assert files == sorted(EXPECTED) and len(files) == 28  # the suite does not silently shrink
+    for name in files:
+        expected = EXPECTED[name]
+        if expected in ("command", "program", "status"):
+            kind, value = _read(INSTANCES / name)
+            assert kind == expected, name
+            data = {"command": lambda v: inst.write_command_instance(*v),
+                    "program": inst.write_program_instance, "status": inst.write_status}[kind](value)
+            _valid(data, kind, tmp_path)  # what kitkb writes back conforms
+            assert _read_bytes(data, kind) == _read_bytes(data, kind)
+        else:
+            with pytest.raises(InputError) as err:
+                _read(INSTANCES / name)
+            assert expected in err.value.message and "kitkb does not read" in err.value.message
+            assert err.value.file == name and err.value.line is not None
+
+
+def _read_bytes(data: bytes, kind: str) -> object:
+    return {"command": inst.read_command_instance, "program": inst.read_program_instance,
+            "status": inst.read_status}[kind](data)
+
+
+def test_nist_examples_read_as_kitkb_commands():
+    cmd, cid = inst.read_command_instance((INSTANCES / "commandSetTransSpeed2.xml").read_bytes())
+    assert isinstance(cmd, c.SetRelativeSpeed) and cid == 123
+    cmd, _ = inst.read_command_instance((INSTANCES / "commandMoveThroughTo.xml").read_bytes())
+    assert isinstance(cmd, c.MoveThroughTo) and cmd.num_positions >= 2
+    status = inst.read_status((INSTANCES / "statusExample.xml").read_bytes())
+    assert (status.command_id, status.status_id, status.state) == (1, 1, "CRCL_Working")
+    assert status.pose.point == (1.5, 1.0, 1.0) and status.pose.z_axis == (0.0, 0.0, -1.0)
+    assert status.gripper == inst.GripperStatus("jaws", "parallel", separation=0.44)
+    pairs = inst.read_program_instance((INSTANCES / "programExample.xml").read_bytes())
+    assert [i for _, i in pairs] == list(range(1, len(pairs) + 1))
+    assert isinstance(pairs[0][0], c.InitCanon) and isinstance(pairs[-1][0], c.EndCanon)
+
+
+def test_a_command_instance_is_one_small_document_with_its_id():
+    data = inst.write_command_instance(c.MoveStraightTo(DOWN), 7)
+    assert data.startswith(b'<?xml version="1.0" encoding="UTF-8"?>\n<CRCLCommandInstance')
+    assert data.endswith(b"</CRCLCommandInstance>") and data.count(b"\n") == 1 and len(data) < 1024
+    assert b'xsi:type="MoveToType"' in data and b"<MoveStraight>true</MoveStraight>" in data
+    assert inst.read_command_instance(data) == (c.MoveStraightTo(DOWN), 7)
+    _valid(data, "command")
+
+
+def test_a_status_with_pose_and_gripper_fits_one_read_of_1024_bytes():
+    pose = Pose((1.2345678901234567, -2.345678901234567, 0.1 + 0.2), (0.7071067811865476, 0.7071067811865475, 0),
+                (1.2246467991473532e-16, 0, -1))
+    status = inst.CommandStatus(2 ** 40, 2 ** 41, "CRCL_Done", pose, inst.GripperStatus("part_gripper", separation=0.05),
+                                description="moved")
+    data = inst.write_status(status)
+    assert len(data) < 1024 and data.count(b"\n") == 1
+    back = inst.read_status(data)
+    assert back.pose.z_axis == (0.0, 0.0, -1.0)  # sin(pi)-sized noise written as 0
+    assert back.command_id == 2 ** 40 and back.gripper == status.gripper and back.description == "moved"
+    _valid(data, "status")
+
+
+@pytest.mark.parametrize("command, type_name", [
+    (c.OpenGripper(), "SetEndEffectorType"), (c.CloseGripper(), "SetEndEffectorType"),
+    (c.SetEndEffector(0.5), "SetEndEffectorType"), (c.SetAbsoluteSpeed(0.25), "SetTransSpeedType"),
+    (c.SetRelativeSpeed(50), "SetTransSpeedType"), (c.SetAbsoluteAcceleration(2), "SetTransAccelType"),
+    (c.SetRelativeAcceleration(80), "SetTransAccelType"), (c.SetEndPointTolerance(0.002), "SetEndPoseToleranceType"),
+    (c.SetEndAngleTolerance(0.01), "SetEndPoseToleranceType"),
+    (c.SetIntermediatePointTolerance(0.01), "SetIntermediatePoseToleranceType"),
+    (c.SetEndPoseTolerance(c.PoseTolerance(0.1, 0.2, 0.3, 0.4)), "SetEndPoseToleranceType"),
+    (c.SetIntermediatePoseTolerance(c.PoseTolerance(z_axis=0.5)), "SetIntermediatePoseToleranceType"),
+    (c.StopMotion(1), "StopMotionType"), (c.StopMotion(0), "StopMotionType"), (c.GetStatus(), "GetStatusType"),
+    (c.SetForceUnits("pound"), "SetForceUnitsType"), (c.SetTorqueUnits("footPound"), "SetTorqueUnitsType"),
+    (c.SetMotionCoordination(True), "SetMotionCoordinationType"), (c.SetRotSpeed(1.5), "SetRotSpeedType"),
+    (c.SetRotAccel(0.25, relative=True), "SetRotAccelType"), (c.RunProgram("G0 X1"), "RunProgramType"),
+    (c.SetEndEffectorParameters([c.Parameter("force", "12")]), "SetEndEffectorParametersType"),
+    (c.SetRobotParameters([c.Parameter("speedOverride", "0.5")]), "SetRobotParametersType"),
+    (c.ActuateJoints([c.JointActuation(1, 0.5, speed=1.0), c.JointActuation(3, -0.2, force_control=True, force=2.0)]),
+     "ActuateJointsType"),
+    (c.ConfigureJointReports(True, [c.JointReport(1, True, False, True)]), "ConfigureJointReportsType"),
+    (c.MoveThroughTo([DOWN, DOWN], straight=True), "MoveThroughToType"), (c.Dwell(1.5), "DwellType"),
+    (c.Message("<&> ok"), "MessageType"), (c.SetLengthUnits("inch"), "SetLengthUnitsType"),
+    (c.SetAngleUnits("degree"), "SetAngleUnitsType"), (c.OpenToolChanger(), "OpenToolChangerType"),
+])
+def test_every_command_is_written_valid_and_read_back(command, type_name, tmp_path):
+    data = inst.write_command_instance(command, 5)
+    assert f'xsi:type="{type_name}"'.encode() in data
+    _valid(data, "command", tmp_path)
+    assert inst.read_command_instance(data) == (command, 5)
+
+
+@pytest.mark.parametrize("command, why", [
+    (c.SetCoordinateFrame("RobotBase"), "SetCoordinateFrame has no CRCL 1.x command"),
+    (c.StartObjectScan("part_a_1"), "StartObjectScan has no CRCL 1.x command"),
+    (c.MoveThroughTo([DOWN]), "two or more"),
+    (c.SetRelativeSpeed(150), "from 0 to 1"),
+    (c.Unreadable("Foo(1)", reason="unknown command Foo"), "unreadable line"),
+])
+def test_what_crcl_1x_cannot_hold_is_refused_at_its_line(command, why):
+    program = c.Program([c.InitCanon(), command, c.EndCanon()], source="prog.crcl")
+    object.__setattr__(program.commands[1], "line", 2)
+    with pytest.raises(InputError) as err:
+        inst.write_program_instance(program)
+    assert why in err.value.message and err.value.line == 2 and err.value.file == "prog.crcl"
+    with pytest.raises(InputError, match="cannot write it as CRCL 1.x"):
+        inst.write_command_instance(command, 1)
+
+
+def test_an_end_canon_with_a_reason_is_refused():
+    with pytest.raises(InputError, match=r"EndCanon\(2\): CRCL 1.x's EndCanon has no reason"):
+        inst.write_command_instance(c.EndCanon(2), 9)
+
+
+@pytest.mark.parametrize("document, message, line", [
+    (b"<CRCLCommandInstance>\n<CRCLCommand>\n</CRCLCommand></CRCLCommandInstance>", "starts with its <CommandID>", 2),
+    (b'<CRCLCommandInstance xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance">\n'
+     b'<CRCLCommand xsi:type="FlyType"><CommandID>1</CommandID></CRCLCommand></CRCLCommandInstance>',
+     "FlyType is not a command of CRCLCommands.xsd", 2),
+    (b'<CRCLCommandInstance xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance">\n<CRCLCommand '
+     b'xsi:type="DwellType">\n<CommandID>x</CommandID><DwellTime>1</DwellTime></CRCLCommand></CRCLCommandInstance>',
+     "<CommandID> must be an integer", 3),
+    (b"<CRCLStatus><CommandStatus><CommandID>1</CommandID></CommandStatus></CRCLStatus>", "lacks <StatusID>", 1),
+    (b"<CRCLCommandInstance>", "XML syntax error", 1),
+    (b'<!DOCTYPE x [<!ENTITY e "e">]>\n<CRCLCommandInstance/>', "DOCTYPE is not allowed", 1),
+])
+def test_bad_documents_are_one_line_errors_at_their_line(document, message, line):
+    reader = inst.read_status if b"<CRCLStatus" in document else inst.read_command_instance
+    with pytest.raises(InputError) as err:
+        reader(document, "wire")
+    assert message in err.value.message and err.value.line == line and err.value.file == "wire"
+    assert "\n" not in str(err.value)
+
+
+def test_a_program_keeps_its_ids_and_refuses_a_repeated_one():
+    pairs = [(c.InitCanon(), 10), (c.Dwell(1), 20), (c.EndCanon(), 30)]
+    data = inst.write_program_instance(pairs)
+    assert inst.read_program_instance(data) == pairs
+    repeated = data.replace(b"<CommandID>20</CommandID>", b"<CommandID>10</CommandID>")
+    with pytest.raises(InputError, match="CommandID 10 again"):
+        inst.read_program_instance(repeated)
+    with pytest.raises(InputError, match="ids of a program increase"):
+        inst.write_program_instance([(c.InitCanon(), 3), (c.EndCanon(), 2)])
+
+
+def test_numbers_are_short_without_noise_and_xmllint_accepts_them(tmp_path):
+    assert [inst.number_text(x) for x in (5.0, -0.0, 1e-13, 0.1 + 0.2, 1e-7, 1e30)] == [
+        "5", "0", "0", "0.30000000000000004", "0.0000001", "1e+30"]
+    poses = [Pose((x, -x, 1e16), (1, 1e-17, 0), (0, 0, -1)) for x in (1.2345678901234567e-11, 123456789.12345679)]
+    data = inst.write_program_instance([c.InitCanon(), c.MoveThroughTo(poses), c.EndCanon()])
+    _valid(data, "program", tmp_path)
+    xml2014 = write_xml(c.Program([c.InitCanon(), c.MoveThroughTo(poses), c.EndCanon()]))
+    assert not re.search(rb">[-+0-9.]*[eE]", xml2014)  # no exponent in an xs:decimal
+    if XMLLINT:
+        path = tmp_path / "p2014.xml"
+        path.write_bytes(xml2014)
+        done = subprocess.run([XMLLINT, "--noout", "--nonet", "--schema", str(NIST_DIR / "CRCL.xsd"), str(path)],
+                              capture_output=True, text=True)
+        assert done.returncode == 0, done.stderr
+
+
+def test_xmllint_is_present():
+    if XMLLINT is None:
+        pytest.skip("xmllint is absent: scripts/setup.sh installs libxml2-utils (CI has it)")
+    assert subprocess.run([XMLLINT, "--version"], capture_output=True).returncode == 0
+
+
+# --- forms and files ------------------------------------------------------------------------------
+
+def test_nist_2014_program_as_1x_and_back_keeps_its_commands(tmp_path):
+    early = read_file(NIST_DIR / "commands1.xml")
+    write_file(early, tmp_path / "p1x.xml", xml_form="1.x")
+    data = (tmp_path / "p1x.xml").read_bytes()
+    _valid(data, "program", tmp_path)
+    back = read_file(tmp_path / "p1x.xml")
+    assert back.units == c.CRCL1_UNITS
+    # the 2014 program is in the paper's units: its angle unit (degree) said after InitCanon
+    assert back.commands == restate(early, c.CRCL1_UNITS).commands
+    assert back[1] == c.SetAngleUnits("degree")
+    write_file(back, tmp_path / "again.xml", xml_form="2014")
+    again = read_file(tmp_path / "again.xml")
+    assert [x for x in again.commands if not isinstance(x, (c.SetLengthUnits, c.SetAngleUnits))] == \
+        [x for x in early.commands if not isinstance(x, (c.SetLengthUnits, c.SetAngleUnits))]
+
+
+def test_cli_converts_to_a_command_instance_and_refuses_several_commands(tmp_path):
+    one = tmp_path / "one.xml"
+    one.write_bytes(inst.write_command_instance(c.Dwell(2), 4))
+    out = tmp_path / "one.crcl"
+    done = subprocess.run([sys.executable, "-m", "kb.cli", "crcl", "convert", str(one), "-o", str(out)],
+                          capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert out.read_text() == "Dwell(2)\n"
+    back = tmp_path / "back.xml"
+    done = subprocess.run([sys.executable, "-m", "kb.cli", "crcl", "convert", str(out), "-o", str(back),
+                           "--xml-form", "command"], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert inst.read_command_instance(back.read_bytes()) == (c.Dwell(2), 1)
+    done = subprocess.run([sys.executable, "-m", "kb.cli", "crcl", "convert", str(NIST_DIR / "commands1.xml"), "-o",
+                           str(tmp_path / "x.xml"), "--xml-form", "command"], capture_output=True, text=True)
+    assert done.returncode == 2 and "holds one command" in done.stderr and "Traceback" not in done.stderr
+    assert not (tmp_path / "x.xml").exists()
+
+
+# --- round trips over random programs -------------------------------------------------------------
+
+_num = st.floats(allow_nan=False, allow_infinity=False, min_value=-1e9, max_value=1e9).filter(
+    lambda x: x == 0 or abs(x) >= inst.TINY)
+_vec = st.tuples(_num, _num, _num)
+_pose = st.builds(Pose, point=_vec, x_axis=_vec, z_axis=_vec)
+_fraction = st.floats(0, 1)
+_text = st.text(st.characters(codec="utf-8", exclude_categories=("Cs", "Cc", "Cn")), max_size=12)
+_token = st.from_regex(r"[A-Za-z][A-Za-z0-9_]{0,8}", fullmatch=True)
+_MIDDLE = st.one_of(
+    st.builds(c.Message, _text), st.builds(c.Dwell, _num), st.builds(c.MoveTo, _pose),
+    st.builds(c.MoveStraightTo, _pose),
+    st.builds(c.MoveThroughTo, st.lists(_pose, min_size=2, max_size=3), straight=st.booleans()),
+    st.sampled_from([c.OpenGripper(), c.CloseGripper(), c.OpenToolChanger(), c.CloseToolChanger(), c.GetStatus(),
+                     c.StopMotion(1), c.StopMotion(0)]),
+    st.builds(c.SetEndEffector, _fraction.filter(lambda x: inst.TINY <= x < 1)),
+    st.builds(c.SetLengthUnits, st.sampled_from(c.LENGTH_UNITS)), st.builds(c.SetAngleUnits, st.sampled_from(c.ANGLE_UNITS)),
+    st.builds(c.SetForceUnits, st.sampled_from(c.FORCE_UNITS)), st.builds(c.SetTorqueUnits, st.sampled_from(c.TORQUE_UNITS)),
+    *(st.builds(cls, _num) for cls in (c.SetAbsoluteSpeed, c.SetAbsoluteAcceleration, c.SetEndAngleTolerance,
+                                       c.SetEndPointTolerance, c.SetIntermediatePointTolerance)),
+    st.builds(c.SetRotSpeed, _num), st.builds(c.SetRotAccel, _fraction, relative=st.just(True)),
+    st.builds(c.SetMotionCoordination, st.booleans()), st.builds(c.RunProgram, _text),
+    st.builds(c.SetRobotParameters, st.lists(st.builds(c.Parameter, _token, _token), min_size=1, max_size=2)),
+)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(_MIDDLE, max_size=6), st.integers(1, 2 ** 40))
+def test_any_program_round_trips_through_crcl_1x_and_validates(middle, first_id):
+    commands = [c.InitCanon(), *middle, c.EndCanon()]
+    pairs = [(x, first_id + i) for i, x in enumerate(commands)]
+    data = inst.write_program_instance(pairs)
+    inst.validate(data, "program")
+    assert inst.read_program_instance(data) == pairs
+    for command, command_id in pairs:
+        one = inst.write_command_instance(command, command_id)
+        assert inst.read_command_instance(one) == (command, command_id)
+
+
+_num = _num.filter(lambda x: float(_decimal_text(x)) == x)  # what 2014's xs:decimal keeps exactly (24 digits)
+_vec = st.tuples(_num, _num, _num)
+_pose = st.builds(Pose, point=_vec, x_axis=_vec, z_axis=_vec)
+_PAPER_MIDDLE = st.one_of(
+    st.builds(c.Dwell, _num), st.builds(c.MoveTo, _pose), st.builds(c.MoveStraightTo, _pose),
+    st.builds(c.MoveThroughTo, st.lists(_pose, min_size=2, max_size=3)),
+    st.sampled_from([c.OpenGripper(), c.CloseGripper(), c.OpenToolChanger(), c.CloseToolChanger()]),
+    st.builds(c.SetLengthUnits, st.sampled_from(c.LENGTH_UNITS)), st.builds(c.SetAngleUnits, st.sampled_from(c.ANGLE_UNITS)),
+    st.builds(c.SetAbsoluteSpeed, _num), st.builds(c.SetEndPointTolerance, _num),
+    st.builds(c.SetRelativeSpeed, st.sampled_from([0.0, 10.0, 50.0, 75.5, 100.0])),
+)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(_PAPER_MIDDLE, min_size=1, max_size=6))
+def test_paper_text_through_1x_and_2014_means_the_same(middle):
+    text = write_text(c.Program([c.InitCanon(), *middle, c.EndCanon()]), style="paper")
+    paper = read_text(text)
+    crcl1 = read_xml(inst.write_program_instance(restate(paper, c.CRCL1_UNITS)))
+    # the units the paper's program meant, said after InitCanon where CRCL 1.x resets to others
+    assert crcl1.commands == restate(paper, c.CRCL1_UNITS).commands
+    again = read_text(write_text(restate(crcl1, c.PAPER_UNITS), style="paper"))
+    assert [x for x in again if not isinstance(x, (c.SetLengthUnits, c.SetAngleUnits))] == \
+        [x for x in paper if not isinstance(x, (c.SetLengthUnits, c.SetAngleUnits))]
+    assert restate(again, c.CRCL1_UNITS).commands == crcl1.commands  # a fixed point after one trip
+    early = read_xml(write_xml(restate(crcl1, c.PAPER_UNITS)))
+    assert early.commands == again.commands
