@@ -226,8 +226,9 @@ class Connection:
 
 #: Largest status document a client takes (bytes).
 MAX_STATUS = 1 << 20
-#: Seconds without any status after which a client asks with GetStatus (controllers that report
-#: only when asked), and again as long as none comes.
+#: Seconds without any status after which a client first asks with GetStatus (controllers that
+#: report only when asked); the wait doubles while none comes, up to :data:`POLL`.
+FIRST_POLL = 0.1
 POLL = 0.25
 
 
@@ -260,7 +261,8 @@ class CrclClient:
     instances written one at a time (CommandIDs 1, 2, 3, ... of this session), each waited for
     until a status names its CommandID with CRCL_Done or CRCL_Error, statuses of other
     CommandIDs and CRCL_Working read and waited through, GetStatus sent when the controller
-    has said nothing for :data:`POLL` seconds. ``bounds``: per command, the time from sending
+    has said nothing for :data:`FIRST_POLL` seconds, then at growing intervals up to
+    :data:`POLL` while it stays silent. ``bounds``: per command, the time from sending
     it to its end (a command not acknowledged within it is an :class:`Outcome` with ``why``),
     and the bytes of statuses read meanwhile. A controller that cannot be reached, closes
     the connection, or writes what is not a CRCLStatus document is a
@@ -332,23 +334,21 @@ class CrclClient:
         """The status that ends ``command_id`` (``asks``, a GetStatus: the next status, of any
         CommandID), or (None or the last status, why) at the deadline."""
         heard = time.monotonic()
+        silence = min(FIRST_POLL, self.poll)  # grows to self.poll while the controller says nothing
         mine: CommandStatus | None = None
         while True:
             now = time.monotonic()
             if deadline is not None and now >= deadline:
                 return mine, self._unanswered(command_id, seconds)
-            wait = self.poll - (now - heard)
+            wait = silence - (now - heard)
             if wait <= 0:
                 self._poll()
-                heard, wait = now, self.poll
+                heard, silence = now, min(2 * silence, self.poll)
+                wait = silence
             if deadline is not None:
                 wait = min(wait, deadline - now)
             for status in self._read(max(wait, 0.0)):
-                heard = time.monotonic()
-                if self.bounds.bytes is not None and self._received > self.bounds.bytes:
-                    raise CellError(f"{self.who} sent more than {limits.CELL_BYTES.show(self.bounds.bytes)} "
-                                    f"of status while command {command_id} ran (the bound on {limits.CELL_BYTES.name}; "
-                                    f"set {limits.CELL_BYTES.env} to raise it)", self.address)
+                heard, silence = time.monotonic(), min(FIRST_POLL, self.poll)
                 if asks:
                     return status, ""
                 if status.command_id == command_id:
@@ -398,6 +398,11 @@ class CrclClient:
             self.close()
             raise CellError(f"{self.who} closed the connection", self.address)
         self._received += len(chunk)
+        if self.bounds.bytes is not None and self._received > self.bounds.bytes:
+            self.close()
+            raise CellError(f"{self.who} sent more than {limits.CELL_BYTES.show(self.bounds.bytes)} while one command "
+                            f"ran (the bound on {limits.CELL_BYTES.name}; set {limits.CELL_BYTES.env} to raise it)",
+                            self.address)
         return self._statuses(chunk)
 
     def _statuses(self, chunk: bytes) -> list[CommandStatus]:
