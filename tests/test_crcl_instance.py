@@ -283,7 +283,7 @@ _num = st.floats(allow_nan=False, allow_infinity=False, min_value=-1e9, max_valu
     lambda x: x == 0 or abs(x) >= inst.TINY)
 _vec = st.tuples(_num, _num, _num)
 _pose = st.builds(Pose, point=_vec, x_axis=_vec, z_axis=_vec)
-_fraction = st.floats(0, 1)
+_fraction = st.floats(0, 1).filter(lambda x: x == 0 or x >= inst.TINY)
 _text = st.text(st.characters(codec="utf-8", exclude_categories=("Cs", "Cc", "Cn")), max_size=12)
 _token = st.from_regex(r"[A-Za-z][A-Za-z0-9_]{0,8}", fullmatch=True)
 _MIDDLE = st.one_of(
