@@ -410,7 +410,9 @@ class CrclClient:
             docs = self.docs.feed(chunk)
         except DocumentError as exc:
             self.close()
-            raise CellError(f"{self.who} broke the protocol: {exc}", self.address) from None
+            hint = (" (it answers in kitkb's earlier {Length N} protocol: a kitkb sim serve from before CRCL 1.x, "
+                    "which RemoteCell(..., protocol='kitkb') speaks)") if chunk.lstrip().startswith(b"{") else ""
+            raise CellError(f"{self.who} broke the protocol: {exc}{hint}", self.address) from None
         out = []
         for doc in docs:
             if doc.root != "CRCLStatus":
