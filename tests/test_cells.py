@@ -263,12 +263,12 @@ def test_capabilities_of_the_built_in_cells() -> None:
     remote = RemoteCell("127.0.0.1", 1, 2)  # connects on first use: nothing reached here
     assert capabilities(remote) == {"move", "move-program", "sense", "inspect", "begin-action"}
     crcl = CrclCell(RemoteCell("127.0.0.1", 1, 2), RemoteCell("127.0.0.1", 1, 2))
-    assert capabilities(crcl) == {"move", "move-program", "sense"}
+    assert capabilities(crcl) == {"move", "move-program", "sense", "begin-action"}
     assert missing(crcl, ["move", "inspect", "ground-truth"]) == ["inspect", "ground-truth"]
     with pytest.raises(InputError, match="cannot inspect parts, tell its ground truth, which the run needs"):
         require(crcl, ["move", "inspect", "ground-truth"])
     # a wrapper declares what it forwards: the watched cell's own, programs and names on top
-    assert capabilities(WatchedCell(crcl)) == {"move", "move-program", "sense", "sense-names"}
+    assert capabilities(WatchedCell(crcl)) == {"move", "move-program", "sense", "sense-names", "begin-action"}
     assert capabilities(WatchedCell(sim)) == set(CAPABILITIES)
     assert not has(WatchedCell(crcl), "inspect") and has(WatchedCell(sim), "ground-truth")
 
@@ -314,13 +314,25 @@ def test_crcl_url_pairs_a_controller_with_a_sensor() -> None:
         cell = open_cell(url, CellRequest())
         try:
             assert isinstance(cell, CrclCell) and repr(cell) == f"CrclCell({url})"
-            assert capabilities(cell) == {"move", "move-program", "sense"}
+            assert capabilities(cell) == {"move", "move-program", "sense", "begin-action"}
             robot = cell.sense("Robot", by="class")
             assert [o.cls for o in robot] == ["Robot"]
             assert [s.done for s in cell.execute_program([InitCanon()])] == [True]
             assert served.commands >= 1
         finally:
             cell.close()
+
+
+def test_a_run_on_a_crcl_controller_and_a_sensor_builds_the_kit_uninspected() -> None:
+    served = SimulatedCell(scene(), seed=0)
+    with CellServer(served, sensor_port=0, command_port=0) as server:
+        url = f"crcl://127.0.0.1:{server.command_port}?sensor=127.0.0.1:{server.sensor_port}&timeout=20"
+        run = run_plan(list(plan()), INIT, GOAL, cell=url, notifier=_quiet)
+    assert run.goal_holds and run.stopped is None and run.failures() == []
+    assert served.world.passed == set()  # nothing was inspected
+    [kit] = run.kit_scores
+    assert kit.score == kit.max_score - len(kit.lost) and {x.predicate for x in kit.lost} == {"part-quality-ok"}
+    assert run.report()["injected"] == [] and served.action is not None  # the actions were announced
 
 
 # --- the accuracy model and the capture tolerance, outside kb.sim --------------------------------

@@ -21,8 +21,8 @@ initial state's scene, faults, seed, the sensor's accuracy). Schemes (:func:`cel
     is this scheme.
 ``crcl://HOST[:PORT]?sensor=HOST[:PORT][&timeout=S]``
     a CRCL 1.x controller (PORT default 64444, NIST's) paired with a USARTruth-style pose
-    sensor (default port 3989): it moves and senses; no inspection, no action announcements,
-    no ground truth (:class:`kb.cells.remote.CrclCell`).
+    sensor (default port 3989): it moves, senses and announces each action as a CRCL Message;
+    no inspection, no ground truth (:class:`kb.cells.remote.CrclCell`).
 
 Other distributions add schemes through the entry-point group :data:`ENTRY_POINT_GROUP`
 (``kitkb.cells``): ``scheme = "module:function"``, the function taking ``(url: CellURL,

@@ -18,6 +18,7 @@ from kb.cells.registry import CellRequest, CellURL, reach
 from kb.crcl.cell import Observation, Status
 from kb.crcl.commands import Command
 from kb.crcl.remote import RemoteCell
+from kb.crcl.wire import action_message
 
 #: kitkb's sensor port (USARTruth's) and NIST's CRCL port, where a URL names none
 SENSOR_PORT = 3989
@@ -62,8 +63,11 @@ def open_crcl(url: CellURL, request: CellRequest) -> "CrclCell":
 
 class CrclCell:
     """A CRCL controller and a pose sensor as one cell: it moves (``execute``,
-    ``execute_program``: the controller) and senses (``sense``: the sensor); it cannot inspect,
-    hear which action starts, or tell ground truth."""
+    ``execute_program``: the controller), senses (``sense``: the sensor) and announces each
+    plan action to the controller as a CRCL ``Message`` command (``kitkb-action ...``,
+    :func:`kb.crcl.wire.action_message`: kitkb's cell server makes a kit there; any other
+    controller may ignore it, and one that refuses it is driven on without); it cannot inspect
+    or tell ground truth."""
 
     def __init__(self, controller: RemoteCell, sensor: RemoteCell, url: str = "crcl:") -> None:
         self.controller = controller
@@ -84,6 +88,11 @@ class CrclCell:
     def sense(self, query: str, *, by: Literal["class", "name"] = "class") -> list[Observation]:
         """Objects of a class or of a name, as the sensor reports them."""
         return self.sensor.sense(query, by=by)
+
+    def begin_action(self, index: int, action: str, args: tuple[str, ...]) -> None:
+        """Announce plan action ``index`` as a CRCL Message; a refusal is no error (a lost
+        connection is: :class:`~kb.core.errors.CellError`)."""
+        self.controller.execute(action_message(index, action, tuple(args)))
 
     def close(self) -> None:
         """Close both peers' connections."""
