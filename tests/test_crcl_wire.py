@@ -626,3 +626,26 @@ def test_a_remote_cell_refuses_a_peer_that_never_starts_a_session() -> None:
                 remote.execute(crcl.Dwell(1))
     finally:
         controller.close()
+
+
+@needs_crcl
+def test_every_status_the_server_writes_validates_against_crcl_status_xsd() -> None:
+    schema = etree.XMLSchema(etree.parse(str(CRCL_DIR / "schemas" / "CRCLStatus.xsd")))
+    x, y, z = GRIPPER_MOUNT
+    commands = [crcl.GetStatus(), crcl.InitCanon(), crcl.SetLengthUnits("inch"), crcl.SetLengthUnits("meter"),
+                crcl.MoveTo(crcl.Pose((x, y, z + 0.2), (1, 0, 0), (0, 0, -1))),
+                crcl.MoveTo(crcl.Pose((x, y, z), (1, 0, 0), (0, 0, -1))), crcl.CloseToolChanger(),
+                crcl.CloseGripper(), crcl.OpenGripper(), crcl.Dwell(-1), crcl.Message("a <b> & 'c'"), crcl.EndCanon()]
+    with served(period=0.1) as server, socket.create_connection(("127.0.0.1", server.command_port), timeout=10) as s:
+        for i, command in enumerate(commands, 1):
+            s.sendall(write_command_instance(command, i))
+        s.sendall(nist_command("NoSuchType", 99))
+        docs = statuses(s, lambda d: sum(b"<CommandID>99<" in x for x in d) >= 1, seconds=10)
+        time.sleep(0.3)
+        docs += statuses(s, lambda d: len(d) >= 1, seconds=2)  # a heartbeat
+    assert len(docs) >= len(commands) + 2
+    for doc in docs:
+        assert schema.validate(etree.fromstring(doc)), (schema.error_log, doc)
+    states = [read_status(d) for d in docs]
+    assert (states[0].command_id, states[0].state) == (0, "CRCL_Ready")  # GetStatus before any command
+    assert any(st.state == "CRCL_Error" and st.command_id == 10 for st in states)  # the negative Dwell
