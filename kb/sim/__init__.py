@@ -8,7 +8,8 @@ too; ``scene`` is ground truth, for simulation only) on a ground truth built fro
 noise and USARTruth's text form (:mod:`.sensor`), and seeded fault injection (:mod:`.faults`:
 :class:`FaultSpec`, :class:`Injected`, :data:`FAULT_KINDS`). :class:`CellServer`
 (:mod:`.server`) serves a cell on loopback in kitkb's cell protocol (:mod:`kb.crcl.wire`:
-USARTruth-style sensor lines, CRCL XML programs), for :class:`kb.crcl.RemoteCell`.
+USARTruth-style sensor lines, a CRCL 1.x controller on the command port), for
+:class:`kb.crcl.RemoteCell` and any CRCL 1.x client.
 A run opens it by URL (``sim:``, the default; :func:`kb.cells.open_cell` finds
 :func:`kb.sim.cell.open_simulated` by module name, so the executor never imports this package);
 its sensor's noise is the accuracy model of :mod:`kb.cells.accuracy` (:mod:`.noise` keeps the
