@@ -401,3 +401,11 @@ def test_a_trial_on_one_cell_at_a_url_runs_there_with_the_cells_own_placement() 
     assert row["trial"]["layout"]["placed"] is None and row["trial"]["layout"]["cell"] == url
     assert row["trial"]["built"] == list(job.order) and served.commands > 0
     assert row["injected"] == []  # the cell's own faults are its secret
+
+
+def test_testmethod_refuses_a_cell_that_does_not_answer_before_any_trial() -> None:
+    port = _free_port()
+    options = Options("basic", trials=1, cell=f"kitkb://127.0.0.1:{port}?command={port}&timeout=2")
+    with pytest.raises(InputError, match=f"nothing answers at 127.0.0.1:{port}"):
+        options.reach()
+    Options("basic", cell="sim:").reach()  # the simulator needs nothing

@@ -19,6 +19,7 @@ def testmethod(method: str, trials: int, seed: int, parts: str | None, kits: int
                       noise_sweep, cell)
     if kits is not None and method != "multi":
         raise InputError(f"--kits is for the multi method, not {method}")
+    options.reach()
     folder = Path(output or f"out/testmethod-{method}")
     campaign = run_campaign(options, folder, workers=workers, scheduler=scheduler, progress=out.tracker)
     s = campaign.summary

@@ -40,7 +40,7 @@ from functools import lru_cache
 from typing import Any
 
 from kb.cells.accuracy import KEYS, SensorAccuracy
-from kb.cells.registry import DEFAULT_URL, CellRequest, check_cell, parse_cell_url
+from kb.cells.registry import DEFAULT_URL, CellRequest, check_cell, close_cell, open_cell, parse_cell_url
 from kb.core.errors import InputError
 from kb.core.limits import PARTS
 from kb.scenario.spec import DesignSpec, ScenarioSpec, method_spec, mixed_design, random_types, types_for
@@ -103,6 +103,12 @@ class Options:
             _check_sweep(self, base)
         if self.cell is not None:
             _check_cell(self)
+
+    def reach(self) -> None:
+        """Refuse a ``--cell`` that does not answer before any trial runs (an InputError, exit
+        2): the cell at its URL is opened once and closed (``sim:`` needs nothing)."""
+        if self.cell is not None and not simulated(self.cell):
+            close_cell(open_cell(self.cell, CellRequest()))
 
     @property
     def levels(self) -> int:
