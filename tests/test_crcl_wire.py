@@ -274,6 +274,17 @@ def test_a_status_with_a_pose_and_a_gripper_fits_one_recv_of_1024_bytes() -> Non
         assert read_status(doc).state == "CRCL_Error" and read_status(doc).description.endswith("...")
 
 
+def test_a_long_description_of_escaped_and_multibyte_text_is_cut_to_fit_1024_bytes() -> None:
+    cell = SimulatedCell(INIT)
+    cell.execute = lambda c: Status.error("<&é>" * 400)  # type: ignore[method-assign]
+    with served(cell) as server, socket.create_connection(("127.0.0.1", server.command_port), timeout=10) as s:
+        s.sendall(write_command_instance(crcl.Dwell(1.0), 1))
+        [doc] = statuses(s, lambda d: len(d) >= 1)
+    status = read_status(doc)
+    assert len(doc) < 1024 and status.state == "CRCL_Error" and status.description.startswith("<&é>")
+    assert status.description.endswith("...") and len(doc) > 900
+
+
 def test_a_quiet_connection_gets_a_heartbeat_status_and_a_client_that_never_reads_blocks_nothing() -> None:
     with served(period=0.2) as server:
         with socket.create_connection(("127.0.0.1", server.command_port), timeout=10) as s:

@@ -28,6 +28,7 @@ import socketserver
 import threading
 import time
 from typing import Any, Iterator, Sequence
+from xml.sax.saxutils import escape
 
 from kb.core.errors import CellError, InputError
 from kb.core.namespaces import local_name
@@ -456,6 +457,8 @@ class _CommandHandler(_Handler):
 
 # --- CRCL 1.x sessions -----------------------------------------------------------------------------
 
+#: A status document is shorter than this (a simple client reads one per ``recv(1024)``).
+STATUS_BYTES = 1024
 #: The root elements of the documents a CRCL 1.x controller takes.
 _CRCL_ROOTS = ("CRCLCommandInstance", "CRCLProgram")
 _COMMAND_ID = re.compile(rb"<(?:\w+:)?CommandID>\s*(-?\d{1,18})\s*</")
@@ -534,12 +537,18 @@ class _CrclSession:
         self.send_status()
 
     def status(self) -> bytes:
-        """This connection's status now, as a CRCLStatus document (StatusID taken)."""
+        """This connection's status now, as a CRCLStatus document (StatusID taken) of fewer than
+        :data:`STATUS_BYTES` bytes: a long description is cut to fit."""
         self.status_id += 1
         pose, gripper = self.server.pose_and_gripper(self)
-        return write_status(CommandStatus(self.command_id, self.status_id, self.state,
-                                          pose=None if self.channel == "gripper" else pose, gripper=gripper,
-                                          description=_short(self.description)))
+        text = " ".join(self.description.split())
+        while True:
+            doc = write_status(CommandStatus(self.command_id, self.status_id, self.state,
+                                             pose=None if self.channel == "gripper" else pose, gripper=gripper,
+                                             description=text))
+            if len(doc) < STATUS_BYTES or not text:
+                return doc
+            text = _cut(text, len(doc) - STATUS_BYTES + 1)
 
     def send_status(self) -> None:
         """Send the status now (blocking: the client reads it)."""
@@ -587,7 +596,9 @@ def _commands(doc: Document) -> list[tuple[Command, int]]:
     return [read_command_instance(doc.data, "command")]
 
 
-def _short(text: str, most: int = 200) -> str:
-    """``text`` cut to ``most`` characters (a status stays within one recv of 1,024 bytes)."""
-    text = " ".join(text.split())
-    return text if len(text) <= most else text[:most - 3] + "..."
+def _cut(text: str, over: int) -> str:
+    """``text`` shorter by at least ``over`` bytes as written in XML (``...`` at its end)."""
+    body = text[:-3] if text.endswith("...") else text
+    while body and len(escape(text).encode()) - len(escape(body + "...").encode()) < over:
+        body = body[:-max(1, len(body) // 8)]
+    return body + "..." if body else ""
