@@ -189,20 +189,27 @@ RUN_NEEDS = ("move", "sense")
 def capabilities(cell: object) -> frozenset[str]:
     """The capabilities of ``cell``: its own ``capabilities`` declaration when it has one (a
     set of :data:`CAPABILITIES` names; a wrapper declares what it forwards), else those whose
-    protocol it implements."""
+    protocol it implements (worked out once per class: a cell's abilities are its class's,
+    unless the class forwards attributes with ``__getattr__`` or the cell declares them)."""
     declared = getattr(cell, "capabilities", None)
     if isinstance(declared, (set, frozenset, tuple, list)):
         return frozenset(declared)
-    return frozenset(name for name, proto in CAPABILITIES.items() if isinstance(cell, proto))
+    kind = type(cell)
+    found = _BY_CLASS.get(kind)
+    if found is None:
+        found = frozenset(name for name, proto in CAPABILITIES.items() if isinstance(cell, proto))
+        if not hasattr(kind, "__getattr__"):
+            _BY_CLASS[kind] = found
+    return found
+
+
+#: the capabilities of each class of cell met so far (:func:`capabilities`)
+_BY_CLASS: dict[type, frozenset[str]] = {}
 
 
 def has(cell: object, capability: str) -> bool:
-    """True when ``cell`` has ``capability`` (a :data:`CAPABILITIES` name): declared, or its
-    protocol implemented (as :func:`capabilities`, asking one protocol only)."""
-    declared = getattr(cell, "capabilities", None)
-    if isinstance(declared, (set, frozenset, tuple, list)):
-        return capability in declared
-    return isinstance(cell, CAPABILITIES[capability])
+    """True when ``cell`` has ``capability`` (a :data:`CAPABILITIES` name)."""
+    return capability in capabilities(cell)
 
 
 def missing(cell: object, needs: Sequence[str]) -> list[str]:
