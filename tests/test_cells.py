@@ -409,3 +409,10 @@ def test_testmethod_refuses_a_cell_that_does_not_answer_before_any_trial() -> No
     with pytest.raises(InputError, match=f"nothing answers at 127.0.0.1:{port}"):
         options.reach()
     Options("basic", cell="sim:").reach()  # the simulator needs nothing
+
+
+def test_the_entry_point_group_in_pyproject_declares_the_built_in_schemes() -> None:
+    import tomllib
+    from kb.cells.registry import BUILTIN, ENTRY_POINT_GROUP
+    declared = tomllib.loads((REPO / "pyproject.toml").read_text())["project"]["entry-points"][ENTRY_POINT_GROUP]
+    assert declared == {scheme: f"{module}:{fn}" for scheme, (module, fn) in BUILTIN.items()}
