@@ -57,9 +57,12 @@ def test_restating_says_the_programs_own_units_after_each_init_canon_once():
     assert restate(c.Program([_move(1)]), c.CRCL1_UNITS).commands == (_move(1),)  # units not known: kept
 
 
-def test_a_lone_length_command_cannot_change_form_silently():
-    with pytest.raises(InputError, match="before any InitCanon"):
-        restate(c.Program([_move(1)], source="one.crcl", units=c.PAPER_UNITS), c.CRCL1_UNITS)
+def test_a_lone_length_command_cannot_change_form_silently(tmp_path):
+    lone = c.Program([_move(1)], source="one.crcl", units=c.PAPER_UNITS)
+    assert restate(lone, c.CRCL1_UNITS).commands == lone.commands  # a session's sender may say them first
+    with pytest.raises(InputError, match="before any InitCanon") as err:
+        write_file(lone, tmp_path / "one.xml", xml_form="1.x")
+    assert err.value.file == "one.crcl" and not (tmp_path / "one.xml").exists()
 
 
 def test_said_units_are_si():

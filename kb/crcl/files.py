@@ -18,7 +18,7 @@ from kb.core.files import note_input, write_atomic
 from kb.crcl import commands as c
 from kb.crcl.commands import CRCL1_UNITS, Program, Unreadable
 from kb.crcl.text import read_text, write_text
-from kb.crcl.units import FORM_UNITS, UNIT_FREE, restate
+from kb.crcl.units import FORM_UNITS, UNIT_FREE, check_lone, restate
 from kb.crcl.xml import read_xml, write_xml
 
 #: File suffix -> form.
@@ -64,6 +64,7 @@ def write_file(program: Program, path: str | Path, schema: etree.XMLSchema | Non
     ``schema`` (CRCL.xsd) checks 2014 XML; CRCL 1.x is checked against NIST's 1.x schemas when
     they are found (:func:`kb.crcl.instance.default_schemas`)."""
     if form_of(path) == "text":
+        check_lone(program, FORM_UNITS["text"])
         return write_atomic(path, write_text(restate(program, FORM_UNITS["text"]), text_style))
     return write_atomic(path, xml_bytes(program, xml_form, schema))
 
@@ -73,8 +74,10 @@ def xml_bytes(program: Program, xml_form: str | None = None, schema: etree.XMLSc
     from kb.crcl import instance  # lxml schemas of CRCL 1.x only when written
     form = xml_form_of(program, xml_form)
     if form == "2014":
+        check_lone(program, FORM_UNITS["xml"])
         return write_xml(restate(program, FORM_UNITS["xml"]), schema)
     if form == "1.x":
+        check_lone(program, CRCL1_UNITS)
         data = instance.write_program_instance(restate(program, CRCL1_UNITS))
         kind = "program"
     else:

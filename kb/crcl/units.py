@@ -34,25 +34,34 @@ def restate(program: Program, units: tuple[str, str]) -> Program:
     InitCanon, a SetLengthUnits / SetAngleUnits naming the program's own default where it
     differs and the commands right after that InitCanon do not set it themselves. A program
     whose units are not known (None) or already ``units`` is returned as it is; the result
-    carries ``units``. A command whose numbers are lengths or angles before the first
-    InitCanon (a lone command) is an InputError: nothing could say its units."""
+    carries ``units``. Commands before the first InitCanon are left as they are
+    (:func:`check_lone` says whether their units would be lost)."""
     own = program.units
     if own is None or tuple(own) == tuple(units):
         return Program(program.commands, source=program.source, units=units if own is not None else None)
     out: list[Command] = []
     commands = program.commands
-    for command in commands:
-        if isinstance(command, InitCanon):
-            break
-        if not isinstance(command, UNIT_FREE):
-            raise InputError(f"{type(command).__name__} before any InitCanon is in {' and '.join(own)}, which the "
-                             f"form written resets to {' and '.join(units)}: give the program an InitCanon, after "
-                             "which its units are said", program.source, command.line)
     for i, command in enumerate(commands):
         out.append(command)
         if isinstance(command, InitCanon):
             out.extend(_said(commands, i + 1, own, units))
     return Program(tuple(out), source=program.source, units=tuple(units))  # type: ignore[arg-type]
+
+
+def check_lone(program: Program, units: tuple[str, str]) -> None:
+    """InputError at the first command before any InitCanon whose numbers are lengths or angles
+    when ``program``'s units differ from ``units``: written in a form that resets to ``units``
+    (a file of its own), nothing could say its units."""
+    own = program.units
+    if own is None or tuple(own) == tuple(units):
+        return
+    for command in program.commands:
+        if isinstance(command, InitCanon):
+            return
+        if not isinstance(command, UNIT_FREE):
+            raise InputError(f"{type(command).__name__} before any InitCanon is in {' and '.join(own)}, which the "
+                             f"form written resets to {' and '.join(units)}: give the program an InitCanon, after "
+                             "which its units are said", program.source, command.line)
 
 
 def _said(commands: tuple[Command, ...], start: int, own: tuple[str, str], units: tuple[str, str]) -> list[Command]:
