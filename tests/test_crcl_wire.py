@@ -457,6 +457,9 @@ def test_crcl_send_runs_nists_examples_on_a_controller(name: str) -> None:
     assert report["last_status"]["pose"]["point"] == [1.5, 1.0, 1.0]
     names = [kind(r) for r in sent]
     assert [n[:-4] for n in names] == [c["command"] for c in report["commands"]]
+    schema = etree.XMLSchema(etree.parse(str(CRCL_DIR / "schemas" / "CRCLCommandInstance.xsd")))
+    for root in controller.received:  # as sent, each a valid command instance
+        assert schema.validate(etree.fromstring(ET.tostring(root))), schema.error_log
     if source.tag == "CRCLProgram":
         assert names[0] == "InitCanonType" and names[-1] == "EndCanonType"
 
