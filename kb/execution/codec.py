@@ -259,9 +259,10 @@ class _Record(Codec):
             raise _bad(path, f"a {self.cls.__name__}", value)
         return value
 
-    def enc(self, value: Any, path: str) -> dict[str, Any]:
+    def enc(self, value: Any, path: str, skip: tuple[str, ...] = ()) -> dict[str, Any]:
         self.norm(value, path)
-        return {name: c.enc(getattr(value, name), f"{path}.{name}") for name, c in self.fields.items()}
+        return {name: c.enc(getattr(value, name), f"{path}.{name}") for name, c in self.fields.items()
+                if name not in skip}
 
     def dec(self, data: Any, path: str) -> Any:
         if not isinstance(data, dict):
@@ -270,13 +271,22 @@ class _Record(Codec):
         if unknown:
             raise ValueError(f"{path}: a {self.cls.__name__} has no field {unknown[0]!r} "
                              f"(written by another version of kitkb?)")
-        kw = {}
+        # made as the dataclass's __init__ would, without checking each value again (dec did)
+        out = object.__new__(self.cls)
         for f in dataclasses.fields(self.cls):
             if f.name in data:
-                kw[f.name] = self.fields[f.name].dec(data[f.name], f"{path}.{f.name}")
-            elif f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING:
+                value = self.fields[f.name].dec(data[f.name], f"{path}.{f.name}")
+            elif f.default is not dataclasses.MISSING:
+                value = f.default
+            elif f.default_factory is not dataclasses.MISSING:
+                value = f.default_factory()
+            else:
                 raise ValueError(f"{path}: a {self.cls.__name__} needs its field {f.name!r}")
-        return self.cls(**kw)
+            object.__setattr__(out, f.name, value)
+        post = getattr(out, "__post_init__", None)
+        if post is not None:
+            post()
+        return out
 
 
 _STR, _INT, _FLOAT, _BOOL, _JSON = _Str(), _Int(), _Float(), _Bool(), _Json()
@@ -319,9 +329,10 @@ def _make(tp: Any) -> Codec:
     raise TypeError(f"no dict form for the type {tp!r}")
 
 
-def encode(record: Any) -> dict[str, Any]:
-    """The dict form of a record (a dataclass instance): JSON data."""
-    return codec_of(type(record)).enc(record, type(record).__name__)
+def encode(record: Any, skip: tuple[str, ...] = ()) -> dict[str, Any]:
+    """The dict form of a record (a dataclass instance): JSON data (without the fields in
+    ``skip``)."""
+    return _record_codec(type(record)).enc(record, type(record).__name__, skip)
 
 
 def decode(cls: type, data: Any, where: str | None = None) -> Any:

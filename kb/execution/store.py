@@ -46,7 +46,7 @@ from kb.core.resources import ontology_path
 from kb.io import load_file
 from kb.io.turtle import Names
 from kb.core.units import SI, Units
-from kb.execution.codec import dumps, loads
+from kb.execution.codec import dumps, encode, loads
 from kb.execution.records import ActionRecord, FailureRecord, RunRecord
 from kb.world import LoadReport, load, normalize_url, open_engine
 from kb.world.database import safe_url
@@ -334,9 +334,7 @@ class RunStore:
 
 def _run_dict(record: RunRecord) -> dict[str, Any]:
     """The run's dict form without its actions and failures (which have rows of their own)."""
-    d = record.to_dict()
-    del d["actions"], d["failures"]
-    return d
+    return encode(record, skip=("actions", "failures"))
 
 
 def _run_columns(d: dict[str, Any]) -> dict[str, Any]:
