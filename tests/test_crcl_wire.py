@@ -579,6 +579,7 @@ def test_crcl_send_bad_input_and_an_unreachable_controller_are_exit_2(tmp_path: 
     broken = tmp_path / "b.xml"
     broken.write_text("<CRCLCommandInstance><CRCLCommand>")
     assert send(broken, free)[0] == 2
+    assert main(["sim", "serve", str(INIT), "--status-period", "-1"]) == 2
     paper = tmp_path / "end.crcl"
     paper.write_text("InitCanon()\nEndCanon(2)\n")
     code, _, err = send(paper, free)
