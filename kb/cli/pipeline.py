@@ -56,6 +56,9 @@ def run(files: list[str], output: str, faults: str | None, seed: int, db: str | 
             SensorNoise.parse(sensor_noise)
         except ValueError as exc:
             raise InputError(f"--sensor-noise: {exc}") from None
+    if cell is not None:  # a URL, scheme or parameter that cannot work is refused before any work
+        from kb.cells import CellRequest, check_cell
+        check_cell(cell, CellRequest(faults=faults or None, seed=seed or None))
     options = RunOptions(faults, seed, db, cell, match_names, domain, replace, sensor_noise)
     show = _Show(display=out.tracker, problems=_Current("stderr") if out.is_json else None,
                  on_report=(lambda data: print(json.dumps(data, indent=1), file=out.results, flush=True))
