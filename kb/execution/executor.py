@@ -1,8 +1,12 @@
 """The executor: a plan carried out on a cell, every action checked from geometry.
 
+Before the first, the cell is asked for the capabilities the plan needs (:func:`needs`: to move
+and to sense; to inspect for a ``look-for-part``) and refused without them.
+
 For each plan action (seed 004 §4, seed 002 §4-5):
 
-1. the cell hears which action starts (``begin_action``; a simulator injects its faults there);
+1. the cell hears which action starts (``begin_action``, where the cell has that capability,
+   :mod:`kb.crcl.cell`; a simulator injects its faults there);
 2. focus of attention: the action's neighbourhood (:mod:`.focus`: its objects and what its
    predicates' quantified variables can be, the objects touching those) is sensed, or, for an
    action whose definitions do not allow it, the classes its predicates search; the belief is
@@ -142,7 +146,7 @@ class Executor(Recovery):
     def run(self, plan: list[str]) -> RunRecord:
         """Carry out ``plan`` (PDDL action lines); the record says what happened."""
         rec = self.record
-        rec.started = time.perf_counter()
+        rec.started = rec.started or time.perf_counter()  # a caller's clock (since planning) is kept
         steps = self.parse_plan(plan)
         require(self.cell, needs(steps), "the plan")  # before anything is sent: a cell that cannot do it
         queue = deque(steps)
