@@ -181,6 +181,10 @@ def _as_data(record: Any) -> dict[str, Any]:
 
 
 def open_run(url: str | Path, run_id: int | None = None) -> Run:
-    """A run recorded in a world-model database (the latest one by default), to query."""
+    """A run recorded in a world-model database (the latest one by default), to query: its
+    record equal, field for field, to the run's when it was recorded (each row holds its
+    record's dict form, :mod:`kb.execution.codec`; a run of an older kitkb: what its columns
+    kept). A database without runs, a run it does not hold, or a row that is not a record:
+    :class:`~kb.core.errors.InputError` in one line."""
     from kb.execution.store import read_run
     return Run(read_run(url, run_id))
