@@ -203,7 +203,7 @@ FACTS = {
     "plan": {"output", "actions", "planner", "source", "validated", "seconds", "times", "plan"},
     "db load": {"datafile", "db", "statements", "individuals", "tables", "outside_model", "replaced", "seconds"},
     "db dump": {"output", "db", "bytes", "seconds"},
-    "crcl convert": {"output", "input", "form", "text_style", "commands", "unreadable", "xsd", "xml_not_validated"},
+    "crcl convert": {"output", "input", "form", "text_style", "xml_form", "commands", "unreadable", "xsd", "xml_not_validated"},
     "report": {"kind", "output", "bytes", "runs", "scene", "failures"},
 }
 
