@@ -343,3 +343,26 @@ def test_paper_text_through_1x_and_2014_means_the_same(middle):
     assert restate(again, c.CRCL1_UNITS).commands == crcl1.commands  # a fixed point after one trip
     early = read_xml(write_xml(restate(crcl1, c.PAPER_UNITS)))
     assert early.commands == again.commands
+
+
+def test_every_command_type_of_the_schema_is_read_or_refused():
+    from lxml import etree
+    xs = "{http://www.w3.org/2001/XMLSchema}"
+    tree = etree.parse(str(SCHEMAS / "CRCLCommands.xsd"))
+    bases = {t.get("name"): t.find(f".//{xs}extension").get("base")
+             for t in tree.getroot().iter(f"{xs}complexType") if t.find(f".//{xs}extension") is not None}
+
+    def command(name: str) -> bool:
+        while name in bases:
+            name = bases[name]
+            if name == "CRCLCommandType":
+                return True
+        return False
+
+    in_schema = {n for n in bases if command(n) and n != "MiddleCommandType"}
+    assert len(in_schema) == 38 and in_schema == inst.COMMAND_TYPES
+
+
+def test_a_document_given_as_text_with_its_declaration_reads():
+    text = inst.write_command_instance(c.Message("é ok"), 3).decode().replace("UTF-8", "utf-8")
+    assert inst.read_command_instance(text) == (c.Message("é ok"), 3)
