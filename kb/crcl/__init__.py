@@ -2,7 +2,8 @@
 values (:mod:`.commands`, :mod:`.pose`), their text form (:mod:`.text`: NIST's kittingViewer
 layout, written by default, and the first paper's Fig. 11) and XML
 instances of NIST's early CRCL.xsd (:mod:`.xml`), CRCL 1.x documents (:mod:`.instance`:
-CRCLCommandInstance, CRCLProgramInstance, CRCLStatus), files by suffix (:mod:`.files`,
+CRCLCommandInstance, CRCLProgramInstance, CRCLStatus), each form's default units
+(:mod:`.units`; docs/crcl.md), files by suffix (:mod:`.files`,
 ``kitkb crcl convert``); the cell contract an executor talks to (:mod:`.cell`:
 :class:`CellInterface`, :class:`Status`, :class:`Observation`, USARTruth lines), kitkb's cell
 protocol on TCP (:mod:`.wire`) and a cell behind it (:mod:`.remote`: :class:`RemoteCell`).

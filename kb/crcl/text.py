@@ -32,7 +32,12 @@ escape: NIST's parser has no escapes), an ``EndCanon`` reason outside a C ``int`
 longer than its 200-byte line buffer holds (:data:`NIST_LINE_BYTES`; a pose first tries a
 compact spelling of the same numbers) is an :class:`~kb.core.errors.InputError` at the
 command's line. ``style="paper"`` writes the paper's form, one command a line, strings escaped,
-millimetres as ``"mm"``. Either way an unreadable command is written back as it was read.
+millimetres as ``"mm"``. Either way an unreadable command is written back as it was read, and
+a CRCL 1.x command the paper's language lacks (:data:`~kb.crcl.commands.CRCL1_COMMANDS`, a
+``MoveThroughTo`` in straight lines) is an InputError at its line.
+
+A program read from text is in the paper's units until it sets others: InitCanon resets to
+millimetre and degree in both layouts (``Program.units``; docs/crcl.md).
 """
 
 from __future__ import annotations

@@ -8,6 +8,12 @@ hand. The schema has no element for ``SetCoordinateFrame``, ``StartObjectScan``,
 ``StopObjectScan`` and ``StopMotion``, nor for ``EndCanon``'s reason: writing them is an
 :class:`~kb.core.errors.InputError` naming the command and its line.
 
+A CRCL 1.x document (a program whose commands carry CommandIDs, a command instance) is read
+through :mod:`kb.crcl.instance` into a program in CRCL 1.x's units; a status is refused as what
+it is. A program read from CRCL.xsd XML is in the paper's units (millimetre and degree at
+InitCanon: CRCL.xsd names none; docs/crcl.md). Numbers are written as ``xs:decimal`` without
+exponent, sin(pi)-sized noise as 0 and at most 24 digits (libxml2's limit).
+
 Files are parsed without loading a DTD, resolving entities or touching the network, and a
 document type declaration is refused outright (CRCL needs none). The schema is NIST's data,
 not shipped with kitkb: :func:`schema` loads it from a path, :func:`default_xsd` finds it
