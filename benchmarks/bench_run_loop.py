@@ -9,6 +9,8 @@ the work) and the new (default ``HEAD``). For each:
   children's: Fast Downward, the SHACL fork), old and new interleaved with the order alternating;
 * the stage times ``kitkb run`` prints (validate, pddl, plan, geometry, world model, execute),
   of the same runs and of a 500-part scenario (``--parts 500 --kits 4``);
+* the 500-part geometry stage alone, in process (wall and CPU seconds): the old pipeline's
+  ``check_geometry`` after validation and the planning model, the loop's ``geometry`` stage;
 * how often each file is parsed in one run of small-kit: calls of the loader's parser
   (``kb.io.loader.parse_text``) by file name, and pyoxigraph's streaming parser
   (``pyoxigraph.parse``: the world-model load's N-Triples) by file name.
@@ -61,6 +63,46 @@ code = main(sys.argv[1:])
 print(json.dumps(counts), file=sys.stderr)
 sys.exit(code)
 """
+
+
+#: the geometry stage of a scenario, wall and CPU seconds of this process, after what the run does
+#: before it (validation, the planning model), as JSON on stdout: the old pipeline's call ...
+GEOMETRY_OLD = r"""
+import json, sys, time
+from kb import planning
+from kb.planning.geometry import check_geometry
+from kb.validation import validate
+init, goal = sys.argv[1:3]
+validate([init, goal]); planning.kitting_model([init], [goal], "strips")
+t, c = time.perf_counter(), time.process_time()
+check_geometry([init], [goal])
+print(json.dumps({"wall": time.perf_counter() - t, "cpu": time.process_time() - c}))
+"""
+#: ... and the loop's stage (its event)
+GEOMETRY_NEW = r"""
+import json, sys
+from kb.execution import ClosedLoop, LoopOptions, events
+init, goal = sys.argv[1:3]
+found = {}
+def on(e):
+    if isinstance(e, events.StageEnded) and e.stage == "geometry":
+        found.update(wall=e.seconds, cpu=e.cpu)
+ClosedLoop(init, goal, LoopOptions(execute=False), on_event=on).run()
+print(json.dumps(found))
+"""
+
+
+def geometry(trees: dict[str, Path], scenario: Path, runs: int) -> dict[str, list[dict]]:
+    """The geometry stage alone, in process, old and new interleaved."""
+    found: dict[str, list[dict]] = {name: [] for name in trees}
+    names = list(trees)
+    for i in range(runs):
+        for name in names if i % 2 == 0 else names[::-1]:
+            code = GEOMETRY_OLD if name == "old" else GEOMETRY_NEW
+            _w, _c, out, _e = kitkb(trees[name], [str(scenario / "init.ttl"), str(scenario / "goal.ttl")], code)
+            found[name].append(json.loads(out.strip().splitlines()[-1]))
+            print(f"  {scenario.name} geometry {name} run {i + 1}: {found[name][-1]}", file=sys.stderr)
+    return found
 
 
 def worktree(commit: str, folder: Path) -> Path:
@@ -127,6 +169,7 @@ def main() -> None:
     ap.add_argument("--runs", type=int, default=5)
     ap.add_argument("--runs500", type=int, default=3)
     ap.add_argument("--json", type=Path)
+    ap.add_argument("--no-500", action="store_true", help="leave out the 500-part whole runs (slow)")
     args = ap.parse_args()
     with tempfile.TemporaryDirectory(prefix="bench-run-loop-") as tmp:
         folder = Path(tmp)
@@ -144,11 +187,16 @@ def main() -> None:
                                             text=True).stdout.strip() for name, tree in trees.items()}
             small = ROOT / "ontologies" / "scenarios" / "small-kit"
             result = {"machine": machine(), "commits": commits, "parse_counts_small_kit": parses(trees, small, folder)}
-            for parts, runs in ((160, args.runs), (500, args.runs500)):
+            for parts, runs in ((160, args.runs), (500, 0 if args.no_500 else args.runs500)):
+                if not runs:
+                    continue
                 rows = measure(trees, scenarios[parts], runs, folder / "out")
                 med = {name: medians(r) for name, r in rows.items()}
                 ratio = {k: round(med["new"][k] / med["old"][k], 3) for k in med["new"] if med["old"].get(k)}
                 result[f"p{parts}"] = {"runs": rows, "medians": med, "ratio_new_old": ratio}
+            rows = geometry(trees, scenarios[500], args.runs500)
+            result["geometry_p500"] = {"runs": rows, "medians": {name: {k: round(statistics.median(r[k] for r in rs), 3)
+                                                                       for k in ("wall", "cpu")} for name, rs in rows.items()}}
             result["machine"]["load_average_end"] = round(os.getloadavg()[0], 2)
         finally:
             for tree in trees.values():
@@ -156,9 +204,8 @@ def main() -> None:
     text = json.dumps(result, indent=1)
     if args.json:
         args.json.write_text(text + "\n")
-    print(json.dumps({k: v for k, v in result.items() if not k.startswith("p")} |
-                     {k: {"medians": v["medians"], "ratio_new_old": v["ratio_new_old"]}
-                      for k, v in result.items() if k.startswith("p")}, indent=1))
+    print(json.dumps({k: ({"medians": v["medians"], "ratio_new_old": v.get("ratio_new_old")}
+                          if isinstance(v, dict) and "runs" in v else v) for k, v in result.items()}, indent=1))
 
 
 if __name__ == "__main__":

@@ -44,7 +44,8 @@ class StageEnded(Event):
     """A stage ended after ``seconds``; ``result`` is what it made: a ``ValidationReport``
     (validate), a ``KittingModel`` (pddl), a ``PlanResult`` (plan), an ``Agreement``
     (geometry), a :class:`WorldLoaded` (world), a ``Run`` (execute). ``ok`` False: the loop
-    goes no further (``reason`` says why, as the report does)."""
+    goes no further (``reason`` says why, as the report does). ``cpu``: this process's CPU
+    seconds in the stage (a planner's own process not counted)."""
 
     stage: str
     scenario: str
@@ -52,6 +53,7 @@ class StageEnded(Event):
     result: Any = field(default=None, compare=False)
     ok: bool = True
     reason: str | None = None
+    cpu: float = field(default=0.0, compare=False)
 
 
 @dataclass(frozen=True)

@@ -23,6 +23,7 @@ from functools import cached_property
 from pathlib import Path
 from typing import Any, Sequence
 
+from kb.core.memory import gc_paused
 from kb.core.resources import ontology_path
 from kb.io.loader import KnowledgeBase, Source, load
 from kb.model.definitions import Definitions, locator, read_definitions
@@ -123,14 +124,16 @@ class LoopInputs:
     def worlds(self) -> tuple[World, World]:
         """The symbolic views of the initial and the goal state."""
         tree = self.knowledge.tree
-        start = world_of([self.init], tree)
-        return start, world_of([self.goal], tree, like=start if self.match_names else None)
+        with gc_paused():
+            start = world_of([self.init], tree)
+            return start, world_of([self.goal], tree, like=start if self.match_names else None)
 
     @cached_property
     def problem(self) -> ProblemSpec:
         """The numeric problem: objects, the facts the planner is given, the goal."""
         start, end = self.worlds
-        return read_problem(self.domain, start, end)
+        with gc_paused():
+            return read_problem(self.domain, start, end)
 
     def model(self, encoding: str = "strips") -> KittingModel:
         """The planning model (domain, problem, unified-planning problem) in ``encoding``."""
@@ -144,11 +147,13 @@ class LoopInputs:
     def scene(self) -> Scene:
         """The initial state's scene, the goal's individuals declared (matched by name with
         ``match_names``)."""
-        return Scene.from_sources([self.init], declared=[self.goal], match_names=self.match_names)
+        with gc_paused():  # many small objects built beside the loaded files' millions: no collector passes
+            return Scene.from_sources([self.init], declared=[self.goal], match_names=self.match_names)
 
     @cached_property
     def goal_scene(self) -> Scene:
-        return Scene.from_sources([self.goal])
+        with gc_paused():
+            return Scene.from_sources([self.goal])
 
     def plan_inputs(self) -> PlanInputs:
         """What the executor needs (:class:`PlanInputs`)."""

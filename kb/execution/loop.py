@@ -145,6 +145,7 @@ class ClosedLoop:
         self.name = o.name or (self.init.resolve().parent.name if self.init.stem == "init" else self.init.stem)
         self.result = LoopResult(self.name)
         self._clock: float | None = None
+        self._cpu = 0.0
 
     # --- the loop ---------------------------------------------------------------------------
     def run(self) -> LoopResult:
@@ -190,6 +191,7 @@ class ClosedLoop:
 
     def _stage(self, stage: str, **detail: Any) -> float:
         self.on_event(StageStarted(stage, self.name, detail))
+        self._cpu = time.process_time()
         return time.perf_counter()
 
     def _ended(self, stage: str, started: float, result: Any, ok: bool = True, reason: str | None = None) -> bool:
@@ -197,7 +199,7 @@ class ClosedLoop:
         self.result.seconds[stage] = seconds
         if not ok:
             self.result.halted, self.result.reason = stage, reason
-        self.on_event(StageEnded(stage, self.name, seconds, result, ok, reason))
+        self.on_event(StageEnded(stage, self.name, seconds, result, ok, reason, time.process_time() - self._cpu))
         return ok
 
     # --- the stages -------------------------------------------------------------------------
@@ -269,7 +271,9 @@ class ClosedLoop:
             found = cell_accuracy(cell, accuracy)
             if accuracy is not None or (found is not None and not found.zero):  # an exact sensor stays None
                 accuracy = found
-        record = RunRecord(self.name, o.seed, plan_time=self.plan_time)
+        # the run's clock from its planning on, set before the run is stored (its rows equal the record)
+        clock = self._clock if o.clock_from_plan and self._clock is not None else 0.0
+        record = RunRecord(self.name, o.seed, plan_time=self.plan_time, started=clock)
 
         def notify(recipient: str, message: str) -> None:
             self.on_event(Notified(recipient, message))
@@ -282,8 +286,6 @@ class ClosedLoop:
             if own:
                 from kb.cells import close_cell
                 close_cell(cell)
-        if o.clock_from_plan and self._clock is not None:
-            run.record.started = min(run.record.started, self._clock)
         self.result.run = run
         self._ended("execute", t, run)
 
