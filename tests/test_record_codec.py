@@ -246,6 +246,26 @@ def test_what_changes_after_a_record_is_stored_is_stored_at_the_run_end(prepared
     same(read_run(prepared, run.run_id), run)
 
 
+def test_run_tables_of_an_older_version_are_widened_and_given_their_record_column(prepared: str) -> None:
+    from sqlalchemy import create_engine, text
+    old = RunRecord("before", 1, [ActionRecord(0, "a", ("x",), "done")],
+                    failures=[FailureRecord(0, "a", ("x",), "effect", [], [], "m", outcome="gave up")])
+    store_run(prepared, old)
+    engine = create_engine(prepared)
+    with engine.begin() as c:  # the tables as 472f1d7 made them: no record column, 32-bit integers, short text
+        for table in ("kitkb_run", "kitkb_run_action", "kitkb_run_failure"):
+            c.execute(text(f"ALTER TABLE {table} DROP COLUMN record"))
+        if engine.dialect.name == "postgresql":
+            c.execute(text("ALTER TABLE kitkb_run ALTER COLUMN seed TYPE INTEGER, "
+                           "ALTER COLUMN scenario TYPE VARCHAR(200)"))
+            c.execute(text("ALTER TABLE kitkb_run_failure ALTER COLUMN mode TYPE VARCHAR(200)"))
+    engine.dispose()
+    back = read_run(prepared, old.run_id)  # from the old columns
+    assert (back.scenario, back.seed, back.actions[0].status, back.failures[0].outcome) == ("before", 1, "done", "gave up")
+    new = RunRecord("n" * 300, 2 ** 40, failures=[FailureRecord(0, "a", (), "effect", [], [], "m" * 300)])
+    same(read_run(prepared, store_run(prepared, new)), new)  # the store widened the tables and added record
+
+
 # --- a real run, and older databases -------------------------------------------------------------
 
 @pytest.fixture(scope="module")
