@@ -24,6 +24,7 @@ scenario's report (``kitkb run --report``).
 
 from __future__ import annotations
 
+import gc
 import time
 from collections import Counter
 from contextlib import ExitStack
@@ -146,6 +147,7 @@ class ClosedLoop:
         self.result = LoopResult(self.name)
         self._clock: float | None = None
         self._cpu = 0.0
+        self._frozen = False
 
     # --- the loop ---------------------------------------------------------------------------
     def run(self) -> LoopResult:
@@ -153,6 +155,7 @@ class ClosedLoop:
         (:class:`~kb.core.errors.InputError`, as each stage raises them)."""
         o = self.options
         with ExitStack() as stack:
+            stack.callback(self._thaw)
             if o.db is not None and o.store is None:  # the writer lock from the start: a second run is
                 from kb.world.database import normalize_url  # refused before any work, not after planning
                 from kb.world.lock import hold
@@ -165,6 +168,7 @@ class ClosedLoop:
         if self.inputs is None and self.plan_inputs is None:
             self.inputs = LoopInputs.read(self.init, self.goal, domain_files=o.domain_files,
                                           match_names=o.match_names, imports=o.validate)
+        self._freeze()
         if o.validate and not self._validate():
             return
         plan = self.given_plan
@@ -174,6 +178,7 @@ class ClosedLoop:
                 return
         if o.geometry and not self._geometry():
             return
+        self._freeze()  # the scenes and the planning model too
         if not o.execute:
             return
         store = o.store
@@ -188,6 +193,19 @@ class ClosedLoop:
         finally:
             if own_store is not None:
                 own_store.close()
+
+    def _freeze(self) -> None:
+        """Keep what was read and made so far out of the garbage collector's passes for the rest
+        of the loop (they live to its end: a planner's or the executor's collections would
+        walk them again and again); only when nobody else froze objects (:func:`gc.freeze`)."""
+        if self._frozen or gc.get_freeze_count() == 0:
+            gc.freeze()
+            self._frozen = True
+
+    def _thaw(self) -> None:
+        if self._frozen:
+            gc.unfreeze()
+            self._frozen = False
 
     def _stage(self, stage: str, **detail: Any) -> float:
         self.on_event(StageStarted(stage, self.name, detail))
