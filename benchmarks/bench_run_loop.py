@@ -41,8 +41,8 @@ PYTHON = ROOT / ".venv" / "bin" / "python"
 STAGES = ("validate", "pddl", "plan", "geometry", "world model", "execute")
 _STAGE = re.compile(r"^  (validate|pddl|plan|geometry|world model|execute): .*\(([0-9.]+) s\)$")
 
-#: run by the measured checkout's Python: kitkb's command line
-RUN = "import sys; from kb.cli import main; sys.exit(main(sys.argv[1:]))"
+#: run by the measured checkout's Python: kitkb's console script (kb.cli:run, as .venv/bin/kitkb runs it)
+RUN = "import sys; from kb.cli import run; sys.argv[0] = 'kitkb'; run()"
 #: the same, counting parses by file name (printed as JSON on the last line of stderr)
 COUNT = r"""
 import collections, json, sys
