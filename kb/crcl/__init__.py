@@ -22,7 +22,10 @@ from kb.crcl.commands import (CRCL1_COMMANDS, CRCL1_UNITS, PAPER_UNITS, ActuateJ
                               GetStatus, JointActuation, JointReport, Parameter, PoseTolerance, RotSetting,
                               RunProgram, SetEndEffector, SetEndEffectorParameters, SetEndPoseTolerance,
                               SetForceUnits, SetIntermediatePoseTolerance, SetMotionCoordination,
-                              SetRobotParameters, SetRotAccel, SetRotSpeed, SetTorqueUnits)
+                              SetRobotParameters, SetRotAccel, SetRotSpeed, SetTorqueUnits,
+                              ConfigureStatusReport, DisableGripper, DisableRobotParameterStatus, DisableSensor,
+                              EnableGripper, EnableRobotParameterStatus, EnableSensor, JointTolerance,
+                              LoopBlockEnd, LoopBlockStart, MoveScrew, SetDefaultJointPositionsTolerances)
 from kb.crcl.files import convert, read_file, write_file
 from kb.crcl.instance import (CommandStatus, GripperStatus, JointStatus, read_command_instance,
                               read_program_instance, read_status, write_command_instance,
@@ -44,6 +47,9 @@ __all__ = [
     "JointActuation", "JointReport", "Parameter", "PoseTolerance", "RotSetting", "RunProgram", "SetEndEffector",
     "SetEndEffectorParameters", "SetEndPoseTolerance", "SetForceUnits", "SetIntermediatePoseTolerance",
     "SetMotionCoordination", "SetRobotParameters", "SetRotAccel", "SetRotSpeed", "SetTorqueUnits",
+    "ConfigureStatusReport", "DisableGripper", "DisableRobotParameterStatus", "DisableSensor", "EnableGripper",
+    "EnableRobotParameterStatus", "EnableSensor", "JointTolerance", "LoopBlockEnd", "LoopBlockStart", "MoveScrew",
+    "SetDefaultJointPositionsTolerances",
     "CommandStatus", "GripperStatus", "JointStatus", "read_command_instance", "read_program_instance",
     "read_status", "write_command_instance", "write_program_instance", "write_status",
     "convert", "default_xsd", "execute_program", "parse_truth_line", "read_file", "read_text", "read_xml",

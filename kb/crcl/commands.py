@@ -460,6 +460,142 @@ class RunProgram(Command):
     program_text: str
 
 
+# --- CRCL 1.x housekeeping and the rest of CRCLCommands.xsd -----------------------------------------
+
+@dataclass(frozen=True)
+class ConfigureStatusReport(Command):
+    """Which parts the controller's status documents carry from now on (CRCL 1.x): joint
+    statuses, the pose, the gripper, settings, sensors and guards, each true or false."""
+
+    joints: bool
+    pose: bool
+    gripper: bool
+    settings: bool
+    sensors: bool
+    guards: bool
+
+
+@dataclass(frozen=True)
+class EnableGripper(Command):
+    """Enable the gripper named ``name`` (an XML name token), with ``options`` whose meaning
+    is the controller's (CRCL 1.x)."""
+
+    name: str
+    options: tuple[Parameter, ...] = ()
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        _options(self, "options")
+
+
+@dataclass(frozen=True)
+class DisableGripper(Command):
+    """Disable the gripper named ``name``: it takes no SetEndEffector until enabled (CRCL 1.x)."""
+
+    name: str
+
+
+@dataclass(frozen=True)
+class EnableSensor(Command):
+    """Enable the sensor ``sensor_id``, with ``options`` whose meaning is the sensor's (CRCL 1.x)."""
+
+    sensor_id: str
+    options: tuple[Parameter, ...] = ()
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        _options(self, "options")
+
+
+@dataclass(frozen=True)
+class DisableSensor(Command):
+    """Disable the sensor ``sensor_id`` (CRCL 1.x)."""
+
+    sensor_id: str
+
+
+@dataclass(frozen=True)
+class EnableRobotParameterStatus(Command):
+    """Report the robot parameter ``name`` in the status's settings (CRCL 1.x)."""
+
+    name: str
+
+
+@dataclass(frozen=True)
+class DisableRobotParameterStatus(Command):
+    """Stop reporting the robot parameter ``name`` (CRCL 1.x)."""
+
+    name: str
+
+
+@dataclass(frozen=True)
+class JointTolerance:
+    """One joint's position tolerance (CRCL 1.x's ``JointPositionToleranceSettingType``): its
+    number and the tolerance in length or angle units."""
+
+    number: int
+    tolerance: float
+
+
+@dataclass(frozen=True)
+class SetDefaultJointPositionsTolerances(Command):
+    """Default position tolerances of the given joints (CRCL 1.x's
+    ``SetDefaultJointPositonsTolerances``, spelt so in CRCLCommands.xsd)."""
+
+    tolerances: tuple[JointTolerance, ...]
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "tolerances", tuple(self.tolerances))
+        if not self.tolerances or not all(isinstance(t, JointTolerance) for t in self.tolerances):
+            raise ValueError("SetDefaultJointPositionsTolerances.tolerances must be one or more JointTolerances, "
+                             f"not {self.tolerances!r}")
+
+
+@dataclass(frozen=True)
+class MoveScrew(Command):
+    """A screwing motion (CRCL 1.x): from ``start_position`` (optional) turn ``turn`` (angle
+    units) about the axis through ``axis_point`` (optional), moving ``axial_distance_free``
+    (optional) and then ``axial_distance_screw`` along it (length units)."""
+
+    axial_distance_screw: float
+    turn: float
+    start_position: Pose | None = None
+    axis_point: tuple[float, float, float] | None = None
+    axial_distance_free: float | None = None
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.start_position is not None and not isinstance(self.start_position, Pose):
+            raise ValueError(f"MoveScrew.start_position must be a Pose, not {self.start_position!r}")
+        if self.axis_point is not None:
+            point = tuple(_checked("MoveScrew", "axis_point", "float", v) for v in self.axis_point)
+            if len(point) != 3:
+                raise ValueError(f"MoveScrew.axis_point must be three numbers, not {self.axis_point!r}")
+            object.__setattr__(self, "axis_point", point)
+
+
+@dataclass(frozen=True)
+class LoopBlockStart(Command):
+    """Start of a block repeated until its :class:`LoopBlockEnd` of the same ``name`` (CRCL 1.x)."""
+
+    name: str
+
+
+@dataclass(frozen=True)
+class LoopBlockEnd(Command):
+    """End of the block ``name``: back to its start, at most ``max_count`` times (CRCL 1.x)."""
+
+    name: str
+    max_count: int
+
+
+def _options(command: Command, attr: str) -> None:
+    value = tuple(getattr(command, attr))
+    if not all(isinstance(p, Parameter) for p in value):
+        raise ValueError(f"{type(command).__name__}.{attr} must be Parameters, not {value!r}")
+    object.__setattr__(command, attr, value)
+
+
 # --- what could not be read -------------------------------------------------------------------
 
 @dataclass(frozen=True)
@@ -487,7 +623,9 @@ CRCL1_COMMANDS: dict[str, type[Command]] = {
     cls.__name__: cls for cls in (
         GetStatus, SetEndEffector, SetForceUnits, SetTorqueUnits, SetMotionCoordination, SetRotSpeed,
         SetRotAccel, SetEndPoseTolerance, SetIntermediatePoseTolerance, SetEndEffectorParameters,
-        SetRobotParameters, ActuateJoints, ConfigureJointReports, RunProgram)
+        SetRobotParameters, ActuateJoints, ConfigureJointReports, RunProgram, ConfigureStatusReport,
+        EnableGripper, DisableGripper, EnableSensor, DisableSensor, EnableRobotParameterStatus,
+        DisableRobotParameterStatus, SetDefaultJointPositionsTolerances, MoveScrew, LoopBlockStart, LoopBlockEnd)
 }
 
 

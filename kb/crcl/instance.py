@@ -11,8 +11,10 @@ docs/crcl.md): ``MoveTo`` with ``MoveStraight`` true is :class:`MoveStraightTo`;
 is a fraction in CRCL 1.x, a percentage in the paper); ``SetEndPoseTolerance`` /
 ``SetIntermediatePoseTolerance`` with equal point (or, for the end, axis) tolerances are the
 paper's point and angle tolerances; ``StopMotion`` Immediate is an emergency stop, Normal a
-graceful one. What kitkb does not read (``MoveScrew``, guards, sensors, loops, a ``Fast`` stop,
-a waypoint with settings ...) is an :class:`~kb.core.errors.InputError` naming it at its line;
+graceful one. Every command of CRCLCommands.xsd is read (the housekeeping ones, ``MoveScrew``
+and the loop blocks too: what a controller cannot do it answers with ``CRCL_Error``); what cannot
+be represented (a ``Guard``, a ``Fast`` stop, a waypoint with settings ...) is an
+:class:`~kb.core.errors.InputError` naming it at its line;
 what CRCL 1.x cannot hold (``SetCoordinateFrame``, ``StartObjectScan``, ``StopObjectScan``,
 ``EndCanon`` with a reason, an unreadable line) likewise when written. Optional ``Name``
 elements are skipped.
@@ -459,6 +461,62 @@ def _gripper(setting: float) -> Callable[[Any, Any], None]:
     return lambda el, command: _sub(el, "Setting", number_text(setting))
 
 
+def _w_named(tag: str, attr: str, options: str | None = None, nmtoken: bool = False) -> Callable[[Any, Any], None]:
+    """A writer of ``tag`` (an ``xs:token``, or with ``nmtoken`` an ``xs:NMTOKEN``) and its options."""
+    def fill(el: Any, command: Any) -> None:
+        value = getattr(command, attr)
+        if nmtoken and not re.fullmatch(r"[\w.:-]+", value):
+            raise _Unwritable(f"{type(command).__name__} {value!r}: a {tag} is an XML name token (letters, "
+                              "digits, '.', ':', '-', '_')")
+        if value != " ".join(value.split()) or _XML_CHARS.search(value):
+            raise _Unwritable(f"{type(command).__name__} {value!r}: a {tag} has no leading, trailing or "
+                              "repeated white space and no control characters")
+        _sub(el, tag, value)
+        for p in (command.options if options else ()):
+            ps = _sub(el, options)
+            _sub(ps, "ParameterName", _string(p.name))
+            _sub(ps, "ParameterValue", _string(p.value))
+    return fill
+
+
+def _w_status_report(el: Any, command: c.ConfigureStatusReport) -> None:
+    for tag, attr in _REPORT_TAGS:
+        _sub(el, tag, _bool(getattr(command, attr)))
+
+
+_REPORT_TAGS = (("ReportJointStatuses", "joints"), ("ReportPoseStatus", "pose"), ("ReportGripperStatus", "gripper"),
+                ("ReportSettingsStatus", "settings"), ("ReportSensorsStatus", "sensors"),
+                ("ReportGuardsStatus", "guards"))
+
+
+def _w_joint_tolerances(el: Any, command: c.SetDefaultJointPositionsTolerances) -> None:
+    inner = _sub(el, "JointTolerances")
+    for t in command.tolerances:
+        setting = _sub(inner, "Setting")
+        _sub(setting, "JointNumber", str(int(t.number)))
+        _sub(setting, "JointPositionTolerance", number_text(t.tolerance))
+
+
+def _w_screw(el: Any, command: c.MoveScrew) -> None:
+    if command.start_position is not None:
+        _write_pose(_sub(el, "StartPosition"), command.start_position)
+    if command.axis_point is not None:
+        point = _sub(el, "AxisPoint")
+        for n, v in zip("XYZ", command.axis_point):
+            _sub(point, n, number_text(v))
+    if command.axial_distance_free is not None:
+        _sub(el, "AxialDistanceFree", number_text(command.axial_distance_free))
+    _sub(el, "AxialDistanceScrew", number_text(command.axial_distance_screw))
+    _sub(el, "Turn", number_text(command.turn))
+
+
+def _w_loop_end(el: Any, command: c.LoopBlockEnd) -> None:
+    if not -2 ** 31 <= command.max_count < 2 ** 31:
+        raise _Unwritable(f"LoopBlockEnd MaxCount {command.max_count}: CRCL 1.x's is a 32-bit integer")
+    _sub(el, "LoopName", _string(command.name))
+    _sub(el, "MaxCount", str(command.max_count))
+
+
 _WRITERS: dict[type[c.Command], tuple[str, Callable[[Any, Any], None]]] = {
     c.InitCanon: ("InitCanonType", _w_none),
     c.EndCanon: ("EndCanonType", _w_none),
@@ -499,6 +557,17 @@ _WRITERS: dict[type[c.Command], tuple[str, Callable[[Any, Any], None]]] = {
     c.ConfigureJointReports: ("ConfigureJointReportsType", _w_reports),
     c.RunProgram: ("RunProgramType", lambda el, cmd: _sub(el, "ProgramText", _string(cmd.program_text))),
     c.GetStatus: ("GetStatusType", _w_none),
+    c.ConfigureStatusReport: ("ConfigureStatusReportType", _w_status_report),
+    c.EnableGripper: ("EnableGripperType", _w_named("GripperName", "name", "GripperOption", nmtoken=True)),
+    c.DisableGripper: ("DisableGripperType", _w_named("GripperName", "name", nmtoken=True)),
+    c.EnableSensor: ("EnableSensorType", _w_named("SensorID", "sensor_id", "SensorOption")),
+    c.DisableSensor: ("DisableSensorType", _w_named("SensorID", "sensor_id")),
+    c.EnableRobotParameterStatus: ("EnableRobotParameterStatusType", _w_named("RobotParameterName", "name")),
+    c.DisableRobotParameterStatus: ("DisableRobotParameterStatusType", _w_named("RobotParameterName", "name")),
+    c.SetDefaultJointPositionsTolerances: ("SetDefaultJointPositonsTolerancesType", _w_joint_tolerances),
+    c.MoveScrew: ("MoveScrewType", _w_screw),
+    c.LoopBlockStart: ("LoopBlockStartType", lambda el, cmd: _sub(el, "LoopName", _string(cmd.name))),
+    c.LoopBlockEnd: ("LoopBlockEndType", _w_loop_end),
 }
 
 
@@ -709,9 +778,6 @@ def _command(el: Any, source: str, fixed_type: str | None) -> tuple[c.Command, i
     guard = next((ch for ch in rest if ch.tag == "Guard"), None)
     if guard is not None:
         raise InputError("a Guard (stop on a sensor's value) is not read by kitkb", source, guard.sourceline)
-    if type_name in _REFUSED:
-        raise InputError(f"{type_name.removesuffix('Type')} is a CRCL 1.x command kitkb does not read "
-                         f"({_REFUSED[type_name]})", source, el.sourceline)
     reader = _READERS.get(type_name)
     if reader is None:
         raise InputError(f"xsi:type {type_name or '(none)'} is not a command of CRCLCommands.xsd", source,
@@ -873,6 +939,68 @@ def _r_reports(rest: list[Any], el: Any, source: str) -> c.Command:
     return c.ConfigureJointReports(_boolean(rest[0], source), tuple(reports), line=el.sourceline)
 
 
+def _parameter_list(el: Any, children: list[Any], tag: str, source: str) -> tuple[c.Parameter, ...]:
+    out = []
+    for ps in children:
+        if ps.tag != tag:
+            raise InputError(f"<{ps.tag}> where {_type_of(el).removesuffix('Type')} holds {tag} elements", source,
+                             ps.sourceline)
+        name, value = _expect(ps, ["ParameterName", "ParameterValue"], source)
+        out.append(c.Parameter(_text(name, source).strip(), _text(value, source).strip()))
+    return tuple(out)
+
+
+def _r_named(cls: type[c.Command], first: str, options: str | None = None) -> Callable[..., Any]:
+    """A reader of ``first`` (a token) and, if ``options`` names them, its parameter settings."""
+    def build(rest: list[Any], el: Any, source: str) -> c.Command:
+        if not rest or rest[0].tag != first or (options is None and len(rest) > 1):
+            wanted = ", ".join(["CommandID", first] + ([f"{options} ..."] if options else []))
+            found = ", ".join(str(ch.tag) for ch in rest) or "none"
+            raise InputError(f"<{el.tag}> ({_type_of(el) or el.tag}) holds {wanted}, found CommandID, {found}",
+                             source, el.sourceline)
+        value = " ".join(_text(rest[0], source).split())
+        extra = (_parameter_list(el, rest[1:], options, source),) if options else ()
+        return _made(cls, rest[0], source, value, *extra, line=el.sourceline)
+    return build
+
+
+def _r_status_report(rest: list[Any], el: Any, source: str) -> c.Command:
+    return c.ConfigureStatusReport(*(_boolean(ch, source) for ch in rest), line=el.sourceline)
+
+
+def _r_joint_tolerances(rest: list[Any], el: Any, source: str) -> c.Command:
+    settings = _named(rest[0], source)
+    if not settings or any(s.tag != "Setting" for s in settings):
+        raise InputError("<JointTolerances> holds one or more <Setting> elements", source, rest[0].sourceline)
+    tolerances = []
+    for s in settings:
+        number, tolerance = _expect(s, ["JointNumber", "JointPositionTolerance"], source)
+        tolerances.append(_made(c.JointTolerance, s, source, _int(number, source), _double(tolerance, source)))
+    return c.SetDefaultJointPositionsTolerances(tuple(tolerances), line=el.sourceline)
+
+
+_SCREW_TAGS = ("StartPosition", "AxisPoint", "AxialDistanceFree", "AxialDistanceScrew", "Turn")
+
+
+def _r_screw(rest: list[Any], el: Any, source: str) -> c.Command:
+    tags = [ch.tag for ch in rest]
+    optional = [t for t in _SCREW_TAGS[:3] if t in tags]
+    if tags != [*optional, "AxialDistanceScrew", "Turn"]:
+        raise InputError("<MoveScrew> holds CommandID, StartPosition?, AxisPoint?, AxialDistanceFree?, "
+                         f"AxialDistanceScrew, Turn; found CommandID, {', '.join(map(str, tags)) or 'none'}",
+                         source, el.sourceline)
+    parts = dict(zip(tags, rest))
+    values: dict[str, Any] = {}
+    if "StartPosition" in parts:
+        values["start_position"] = _pose(parts["StartPosition"], source)
+    if "AxisPoint" in parts:
+        values["axis_point"] = tuple(_double(v, source) for v in _expect(parts["AxisPoint"], ["X", "Y", "Z"], source))
+    if "AxialDistanceFree" in parts:
+        values["axial_distance_free"] = _double(parts["AxialDistanceFree"], source)
+    return _made(c.MoveScrew, el, source, _double(parts["AxialDistanceScrew"], source), _double(parts["Turn"], source),
+                 line=el.sourceline, **values)
+
+
 #: xsi:type -> (its elements after CommandID, or None: checked by the reader; reader).
 _READERS: dict[str, tuple[Sequence[str] | None, Callable[[list[Any], Any, str], c.Command]]] = {
     "InitCanonType": ((), _line(c.InitCanon)),
@@ -909,22 +1037,22 @@ _READERS: dict[str, tuple[Sequence[str] | None, Callable[[list[Any], Any, str], 
     "SetRobotParametersType": (None, _r_parameters(c.SetRobotParameters)),
     "ActuateJointsType": (None, _r_actuate),
     "ConfigureJointReportsType": (None, _r_reports),
+    "ConfigureStatusReportType": (("ReportJointStatuses", "ReportPoseStatus", "ReportGripperStatus",
+                                   "ReportSettingsStatus", "ReportSensorsStatus", "ReportGuardsStatus"),
+                                  _r_status_report),
+    "EnableGripperType": (None, _r_named(c.EnableGripper, "GripperName", "GripperOption")),
+    "DisableGripperType": (None, _r_named(c.DisableGripper, "GripperName")),
+    "EnableSensorType": (None, _r_named(c.EnableSensor, "SensorID", "SensorOption")),
+    "DisableSensorType": (None, _r_named(c.DisableSensor, "SensorID")),
+    "EnableRobotParameterStatusType": (None, _r_named(c.EnableRobotParameterStatus, "RobotParameterName")),
+    "DisableRobotParameterStatusType": (None, _r_named(c.DisableRobotParameterStatus, "RobotParameterName")),
+    "SetDefaultJointPositonsTolerancesType": (("JointTolerances",), _r_joint_tolerances),
+    "MoveScrewType": (None, _r_screw),
+    "LoopBlockStartType": (("LoopName",), lambda rest, el, source: c.LoopBlockStart(_text(rest[0], source),
+                                                                                    line=el.sourceline)),
+    "LoopBlockEndType": (("LoopName", "MaxCount"), lambda rest, el, source: _made(
+        c.LoopBlockEnd, el, source, _text(rest[0], source), _int(rest[1], source), line=el.sourceline)),
 }
 
-#: The commands of CRCLCommands.xsd kitkb refuses, and why.
-_REFUSED = {
-    "MoveScrewType": "a screwing motion; kitkb's cells do not screw",
-    "SetDefaultJointPositonsTolerancesType": "joint tolerances are not modelled",
-    "ConfigureStatusReportType": "kitkb's controllers always report pose and gripper",
-    "EnableSensorType": "sensors are kitkb's cell's, not the controller's",
-    "DisableSensorType": "sensors are kitkb's cell's, not the controller's",
-    "EnableGripperType": "one gripper, always enabled",
-    "DisableGripperType": "one gripper, always enabled",
-    "EnableRobotParameterStatusType": "robot parameters are not reported",
-    "DisableRobotParameterStatusType": "robot parameters are not reported",
-    "LoopBlockStartType": "loops are not part of the paper's language",
-    "LoopBlockEndType": "loops are not part of the paper's language",
-}
-
-#: Every ``xsi:type`` of CRCLCommands.xsd's commands, read or refused.
-COMMAND_TYPES = frozenset(_READERS) | frozenset(_REFUSED)
+#: Every ``xsi:type`` of CRCLCommands.xsd's commands: each is read.
+COMMAND_TYPES = frozenset(_READERS)

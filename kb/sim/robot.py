@@ -88,9 +88,12 @@ from __future__ import annotations
 
 from typing import Any, Callable
 
+import re
+
 import numpy as np
 
 from kb import crcl
+from kb.core.namespaces import local_name
 from kb.core.units import ANGLE, LENGTH
 from kb.crcl.cell import Status
 from kb.sim.world import EFFECTOR_LOAD, EFFECTOR_WEIGHT, HOLDER_EFFECTOR, ROBOT_LOAD, TOLERANCE, World, translate
@@ -145,6 +148,8 @@ class Robot:
         self.effector: int | None = mounted[0] if mounted else None
         held = world.children(self.effector) if self.effector is not None else []
         self.held: int | None = held[0] if held else None
+        self.disabled: set[int] = set()  # effectors disabled by DisableGripper (no SetEndEffector until enabled)
+        self.parameter_status: set[str] = set()  # robot parameters a client asked to be reported (none are)
 
     # --- geometry ---------------------------------------------------------------------
     @property
@@ -439,6 +444,44 @@ class Robot:
             self.world.drop(j, set(self.world.subtree(self.index)))
         return Status.ok()
 
+    def gripper_name(self, index: int | None = None) -> str:
+        """The CRCL ``GripperName`` of the effector ``index`` (the mounted one by default): its
+        local name as an XML name token (characters outside one as ``_``)."""
+        j = self.effector if index is None else index
+        return "" if j is None else re.sub(r"[^\w.:-]", "_", local_name(self.world.names[j])) or "effector"
+
+    def enable_gripper(self, name: str, enable: bool) -> Status:
+        """EnableGripper / DisableGripper ``name``: the mounted effector (by its GripperName, local
+        name or IRI); a disabled gripper takes no SetEndEffector until enabled again."""
+        verb = "EnableGripper" if enable else "DisableGripper"
+        j = self.effector
+        if j is None:
+            return Status.error(f"{verb} {name}: no gripper is mounted")
+        if name not in (self.gripper_name(), local_name(self.world.names[j]), self.world.names[j]):
+            return Status.error(f"{verb} {name}: no gripper {name} on this controller "
+                                f"(the mounted gripper is {self.gripper_name()})")
+        (self.disabled.discard if enable else self.disabled.add)(j)
+        return Status.ok(f"gripper {self.gripper_name()} {'enabled' if enable else 'disabled'}")
+
+    def end_effector(self, c: crcl.Command) -> Status:
+        """OpenGripper, CloseGripper, SetEndEffector (above 0: open); CRCL_Error when the mounted
+        gripper is disabled (DisableGripper)."""
+        if self.effector is not None and self.effector in self.disabled:
+            return Status.error(f"{type(c).__name__}: gripper {self.gripper_name()} is disabled "
+                                f"(DisableGripper): EnableGripper {self.gripper_name()} first")
+        if isinstance(c, crcl.CloseGripper) or (isinstance(c, crcl.SetEndEffector) and c.setting <= 0):
+            return self.close_gripper()
+        return self.open_gripper()
+
+    def parameter_report(self, c: crcl.EnableRobotParameterStatus | crcl.DisableRobotParameterStatus) -> Status:
+        """Enable/DisableRobotParameterStatus: recorded; the simulated robot has no parameters to report."""
+        if isinstance(c, crcl.EnableRobotParameterStatus):
+            self.parameter_status.add(c.name)
+            return Status.ok(f"robot parameter {c.name}: recorded; the simulated robot has no parameters, "
+                             "nothing is reported")
+        self.parameter_status.discard(c.name)
+        return Status.ok(f"robot parameter {c.name}: not reported")
+
     def dwell(self, seconds: float) -> Status:
         """Wait: the clock advances."""
         if not seconds >= 0:
@@ -554,8 +597,8 @@ _HANDLERS: dict[type, Callable[[Robot, crcl.Command], Status]] = {
     crcl.MoveTo: lambda r, c: r.move((c.end_position,), straight=False),  # type: ignore[attr-defined]
     crcl.MoveStraightTo: lambda r, c: r.move((c.end_position,)),  # type: ignore[attr-defined]
     crcl.MoveThroughTo: lambda r, c: r.move(tuple(c.waypoints)),  # type: ignore[attr-defined]
-    crcl.CloseGripper: lambda r, c: r.close_gripper(),
-    crcl.OpenGripper: lambda r, c: r.open_gripper(),
+    crcl.CloseGripper: lambda r, c: r.end_effector(c),
+    crcl.OpenGripper: lambda r, c: r.end_effector(c),
     crcl.CloseToolChanger: lambda r, c: r.close_tool_changer(),
     crcl.OpenToolChanger: lambda r, c: r.open_tool_changer(),
     crcl.Dwell: lambda r, c: r.dwell(c.dwell_time),  # type: ignore[attr-defined]
@@ -563,7 +606,7 @@ _HANDLERS: dict[type, Callable[[Robot, crcl.Command], Status]] = {
     crcl.SetLengthUnits: lambda r, c: r.set_length_units(c.unit_name),  # type: ignore[attr-defined]
     crcl.SetAngleUnits: lambda r, c: r.set_angle_units(c.unit_name),  # type: ignore[attr-defined]
     crcl.SetCoordinateFrame: _unit("Workstation"),
-    crcl.SetEndEffector: lambda r, c: r.open_gripper() if c.setting > 0 else r.close_gripper(),  # type: ignore[attr-defined]
+    crcl.SetEndEffector: lambda r, c: r.end_effector(c),
     crcl.SetRotSpeed: lambda r, c: r.set_rot_speed(c),  # type: ignore[arg-type]
     crcl.SetRotAccel: lambda r, c: r.set_rot_speed(c),  # type: ignore[arg-type]
     **dict.fromkeys((crcl.SetEndAngleTolerance, crcl.SetEndPointTolerance, crcl.SetIntermediatePointTolerance,
@@ -571,4 +614,17 @@ _HANDLERS: dict[type, Callable[[Robot, crcl.Command], Status]] = {
     crcl.ActuateJoints: _refuse("the simulated robot has no joint model (its joint positions would be in the "
                                 "angle or length units in force)"),
     crcl.RunProgram: _refuse("the simulated robot has no program language of its own"),
+    crcl.EnableGripper: lambda r, c: r.enable_gripper(c.name, True),  # type: ignore[attr-defined]
+    crcl.DisableGripper: lambda r, c: r.enable_gripper(c.name, False),  # type: ignore[attr-defined]
+    crcl.EnableRobotParameterStatus: lambda r, c: r.parameter_report(c),  # type: ignore[arg-type]
+    crcl.DisableRobotParameterStatus: lambda r, c: r.parameter_report(c),  # type: ignore[arg-type]
+    crcl.ConfigureStatusReport: lambda r, c: Status.ok("this cell sends no status documents: nothing to configure"),
+    **dict.fromkeys((crcl.EnableSensor, crcl.DisableSensor), lambda r, c: Status.error(
+        f"{type(c).__name__}: no sensor {c.sensor_id} on this controller (the cell's sensor "  # type: ignore[attr-defined]
+        "answers on its own port)")),
+    crcl.SetDefaultJointPositionsTolerances: _refuse("the simulated robot has no joint model, so no joint "
+                                                     "tolerances to honour"),
+    crcl.MoveScrew: _refuse("the simulated robot does not screw (no screwing motion is modelled)"),
+    **dict.fromkeys((crcl.LoopBlockStart, crcl.LoopBlockEnd), _refuse(
+        "this controller executes no loops: send the block's commands unrolled")),
 }

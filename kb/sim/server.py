@@ -31,9 +31,9 @@ from typing import Any, Iterator, Sequence
 from xml.sax.saxutils import escape
 
 from kb.core.errors import CellError, InputError
-from kb.core.namespaces import local_name
 from kb.crcl.cell import Observation, Status, run_in_order, truth_line
-from kb.crcl.commands import CloseGripper, Command, GetStatus, Message, OpenGripper, SetEndEffector
+from kb.crcl.commands import (CloseGripper, Command, ConfigureStatusReport, DisableGripper, EnableGripper, GetStatus,
+                              Message, OpenGripper, SetEndEffector)
 from kb.crcl.instance import (CommandStatus, GripperStatus, read_command_instance, read_program_instance,
                               write_status)
 from kb.crcl.pose import Pose
@@ -201,16 +201,17 @@ class CellServer:
             session.channel = "robot"
         robot = self.cell.robot
         with self.lock:
-            if isinstance(command, _GRIPPER_COMMANDS):
-                self.jaws_open = not isinstance(command, CloseGripper) and getattr(command, "setting", 1.0) > 0
             shared = _units(robot)
             if session.units is not None:
                 _set_units(robot, session.units)
             try:
-                return self._run(command)
+                status = self._run(command)
             finally:
                 session.units = _units(robot)
                 _set_units(robot, shared)
+            if status.done and isinstance(command, _JAW_COMMANDS):
+                self.jaws_open = not isinstance(command, CloseGripper) and getattr(command, "setting", 1.0) > 0
+            return status
 
     def pose_and_gripper(self, session: "_CrclSession") -> tuple[Pose, GripperStatus | None]:
         """The tool tip's pose in ``session``'s length unit and the mounted effector's status."""
@@ -223,7 +224,7 @@ class CellServer:
             pose = Pose.from_matrix(tip)
             if effector is None:
                 return pose, None
-            name = _nmtoken(local_name(world.names[effector]))
+            name = robot.gripper_name()
             holding = held is not None
             if world.is_a(effector, "VacuumEffector"):
                 return pose, GripperStatus(name, "vacuum", powered=holding, holding=holding)
@@ -266,11 +267,6 @@ def _units(robot: Any) -> dict[str, Any]:
 def _set_units(robot: Any, units: dict[str, Any]) -> None:
     for a, v in units.items():
         setattr(robot, a, v)
-
-
-def _nmtoken(name: str) -> str:
-    """``name`` as an XML NMTOKEN (GripperName): characters outside it as ``_``."""
-    return re.sub(r"[^\w.:-]", "_", name) or "effector"
 
 
 def _frame(commands: Sequence[Command]) -> set[int]:
@@ -462,11 +458,18 @@ STATUS_BYTES = 1024
 #: The root elements of the documents a CRCL 1.x controller takes.
 _CRCL_ROOTS = ("CRCLCommandInstance", "CRCLProgram")
 _COMMAND_ID = re.compile(rb"<(?:\w+:)?CommandID>\s*(-?\d{1,18})\s*</")
+#: Commands that open or close the jaws.
+_JAW_COMMANDS = (OpenGripper, CloseGripper, SetEndEffector)
 #: Commands of a gripper channel (its status has no pose, Reference.md VIII).
-_GRIPPER_COMMANDS = (OpenGripper, CloseGripper, SetEndEffector)
+_GRIPPER_COMMANDS = (*_JAW_COMMANDS, EnableGripper, DisableGripper)
 #: Commands that say nothing of which device a connection drives.
 _NEUTRAL = frozenset({"InitCanon", "EndCanon", "Message", "Dwell", "SetLengthUnits", "SetAngleUnits",
-                      "SetForceUnits", "SetTorqueUnits", "SetEndEffectorParameters"})
+                      "SetForceUnits", "SetTorqueUnits", "SetEndEffectorParameters", "ConfigureStatusReport",
+                      "EnableSensor", "DisableSensor", "EnableRobotParameterStatus",
+                      "DisableRobotParameterStatus"})
+#: What a connection's statuses carry until its ConfigureStatusReport: the pose and the gripper.
+DEFAULT_REPORT = ConfigureStatusReport(joints=False, pose=True, gripper=True, settings=False, sensors=False,
+                                       guards=False)
 
 
 class _CrclSession:
@@ -487,6 +490,7 @@ class _CrclSession:
         #: have no pose, Reference.md VIII), "robot" once it moves the robot
         self.channel: str | None = None
         self.units: Any = None  # this connection's units on the robot (between its commands)
+        self.report = DEFAULT_REPORT  # what its statuses carry (ConfigureStatusReport)
 
     # --- reading ---------------------------------------------------------------------------
     def run(self) -> None:
@@ -516,11 +520,16 @@ class _CrclSession:
         except Exception as exc:  # InputError, ValueError; anything else is a bug of ours: answered too
             why = str(exc) if isinstance(exc, (InputError, ValueError)) else \
                 f"internal error: {type(exc).__name__}: {exc}"
-            found = _COMMAND_ID.search(doc.data)
-            self.error(int(found.group(1)) if found else self.command_id, why)
+            found = _failed_id(doc, exc.line if isinstance(exc, InputError) else None)
+            self.error(found if found is not None else self.command_id, why)
             return True
         for command, command_id in items:
             if isinstance(command, GetStatus):
+                self.send_status()
+                continue
+            if isinstance(command, ConfigureStatusReport):
+                self.report = command
+                self.command_id, self.state, self.description = command_id, DONE, _report_note(command)
                 self.send_status()
                 continue
             self.command_id, self.state, self.description = command_id, WORKING, ""
@@ -544,8 +553,8 @@ class _CrclSession:
         text = " ".join(self.description.split())
         while True:
             doc = write_status(CommandStatus(self.command_id, self.status_id, self.state,
-                                             pose=None if self.channel == "gripper" else pose, gripper=gripper,
-                                             description=text))
+                                             pose=pose if self.report.pose and self.channel != "gripper" else None,
+                                             gripper=gripper if self.report.gripper else None, description=text))
             if len(doc) < STATUS_BYTES or not text:
                 return doc
             text = _cut(text, len(doc) - STATUS_BYTES + 1)
@@ -594,6 +603,36 @@ def _commands(doc: Document) -> list[tuple[Command, int]]:
     if doc.root == "CRCLProgram":
         return list(read_program_instance(doc.data, "program"))
     return [read_command_instance(doc.data, "command")]
+
+
+def _report_note(report: ConfigureStatusReport) -> str:
+    """What a connection's statuses carry after ``report``, and what they cannot."""
+    carried = [part for part, on in (("pose", report.pose), ("gripper", report.gripper)) if on]
+    said = ["status reports " + (" and ".join(carried) if carried else "the command's state only")]
+    if report.joints:
+        said.append("no joint statuses: the simulated robot has no joint model")
+    if report.settings:
+        said.append("no settings status")
+    if report.sensors or report.guards:
+        said.append("no sensors or guards on this controller")
+    return "; ".join(said)
+
+
+def _failed_id(doc: Document, line: int | None) -> int | None:
+    """The CommandID of the command of ``doc`` at ``line`` (a program's: the command element
+    holding that line; else the document's first CommandID); None when none can be read."""
+    data = doc.data
+    if line is not None and doc.root == "CRCLProgram":
+        lines = data.split(b"\n")
+        starts = [i for i in range(min(line, len(lines))) if _COMMAND_START.search(lines[i])]
+        if starts:
+            data = b"\n".join(lines[starts[-1]:])
+    found = _COMMAND_ID.search(data)
+    return int(found.group(1)) if found else None
+
+
+#: A line where one of a program's commands begins.
+_COMMAND_START = re.compile(rb"<(?:\w+:)?(?:InitCanon|MiddleCommand|EndCanon)[\s>/]")
 
 
 def _cut(text: str, over: int) -> str:
