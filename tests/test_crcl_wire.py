@@ -12,6 +12,10 @@
   that closes, one that reports an error.
 * Every command kitkb sends during ``kitkb run --cell`` validates against
   CRCLCommandInstance.xsd (recorded at the server during a real small-kit run).
+* The housekeeping commands NIST's clients send: ConfigureStatusReport first (the statuses of
+  that connection then carry what it asked for), Enable/DisableGripper by name, sensors, joint
+  tolerances, screws and loops answered CRCL_Error with the reason and the CommandID; every
+  example of ../shared/crcl/instances through ``kitkb crcl send`` against ``kitkb sim serve``.
 """
 
 from __future__ import annotations
@@ -664,3 +668,176 @@ def test_every_status_the_server_writes_validates_against_crcl_status_xsd() -> N
     states = [read_status(d) for d in docs]
     assert (states[0].command_id, states[0].state) == (0, "CRCL_Ready")  # GetStatus before any command
     assert any(st.state == "CRCL_Error" and st.command_id == 10 for st in states)  # the negative Dwell
+
+
+# --- the housekeeping commands NIST's clients send (ConfigureStatusReport, grippers, sensors ...) -----
+
+def report_config(command_id: int, joints: bool, pose: bool, gripper: bool, rest: bool = False) -> bytes:
+    flags = {"ReportJointStatuses": joints, "ReportPoseStatus": pose, "ReportGripperStatus": gripper,
+             "ReportSettingsStatus": rest, "ReportSensorsStatus": rest, "ReportGuardsStatus": rest}
+    return nist_command("ConfigureStatusReportType", command_id,
+                        "".join(f"    <{k}>{str(v).lower()}</{k}>\n" for k, v in flags.items()))
+
+
+def gripper_switch(command_id: int, enable: bool, name: str, options: str = "") -> bytes:
+    return nist_command("EnableGripperType" if enable else "DisableGripperType", command_id,
+                        f"    <GripperName>{name}</GripperName>\n{options}")
+
+
+def describe(st: ET.Element) -> str:
+    return st.findtext("CommandStatus/StateDescription") or ""
+
+
+def test_a_nist_style_client_configures_the_status_report_first_then_moves() -> None:
+    x, y, z = GRIPPER_MOUNT
+    with sim_serve("--status-period", "0") as (_, port):
+        client = SimpleClient(port)
+        try:
+            # right after connecting, as crcl4java's clients do: everything asked for
+            st = client.send(report_config(1, True, True, True, rest=True), 1)
+            assert state(st) == "CRCL_Done" and st.findtext("CommandStatus/CommandID") == "1"
+            assert "no joint statuses: the simulated robot has no joint model" in describe(st)
+            assert "no sensors or guards" in describe(st) and st.find("JointStatuses") is None
+            assert state(client.send(nist_command("InitCanonType", 2), 2)) == "CRCL_Done"
+            for n, zz in ((3, z + 0.2), (4, z)):
+                st = client.send(nist_move(n, x, y, zz), n)
+                assert state(st) == "CRCL_Done" and point(st) == pytest.approx((x, y, zz))
+            st = client.send(nist_command("CloseToolChangerType", 5), 5)
+            assert st.findtext("GripperStatus/GripperName") == "part_gripper"
+            # the pose only: no gripper status from now on, on this connection
+            st = client.send(report_config(6, False, True, False), 6)
+            assert state(st) == "CRCL_Done" and st.find("GripperStatus") is None and st.find("PoseStatus") is not None
+            st = client.send(end_effector(7, 0.0), 7)
+            assert state(st) == "CRCL_Done" and st.find("GripperStatus") is None
+            other = SimpleClient(port)  # another connection keeps the default: pose and gripper
+            try:
+                st = other.send(nist_command("GetStatusType", 1))
+                assert st.find("PoseStatus") is not None and st.find("GripperStatus") is not None
+            finally:
+                other.close()
+            # neither: the command's state alone
+            st = client.send(report_config(8, False, False, False), 8)
+            assert st.find("PoseStatus") is None and st.find("GripperStatus") is None
+            assert state(client.send(end_effector(9, 1.0), 9)) == "CRCL_Done"
+            st = client.send(nist_command("GetStatusType", 10))
+            assert st.findtext("CommandStatus/CommandID") == "9" and st.find("PoseStatus") is None
+            assert state(client.send(nist_command("EndCanonType", 11), 11)) == "CRCL_Done"
+        finally:
+            client.close()
+
+
+def mounted(server: CellServer, s: socket.socket) -> None:
+    """The part gripper mounted on the server's robot (over ``s``, CommandIDs 1 to 3)."""
+    x, y, z = GRIPPER_MOUNT
+    s.sendall(nist_move(1, x, y, z + 0.2) + nist_move(2, x, y, z) + nist_command("CloseToolChangerType", 3))
+    got = [read_status(d) for d in statuses(s, lambda d: len(d) >= 3)]
+    assert [g.state for g in got] == ["CRCL_Done"] * 3 and got[-1].gripper is not None
+
+
+def answers(s: socket.socket, *docs: bytes) -> list[tuple[int, str, str]]:
+    """(CommandID, state, description) of the status of each document sent."""
+    s.sendall(b"".join(docs))
+    return [(g.command_id, g.state, g.description)
+            for g in map(read_status, statuses(s, lambda d: len(d) >= len(docs)))]
+
+
+def test_enable_and_disable_gripper_by_its_name() -> None:
+    with served() as server, socket.create_connection(("127.0.0.1", server.command_port), timeout=10) as s:
+        got = answers(s, gripper_switch(1, True, "part_gripper"))
+        assert got[0][:2] == (1, "CRCL_Error") and "no gripper is mounted" in got[0][2]
+        mounted(server, s)
+        option = ("    <GripperOption><ParameterName>force</ParameterName>"
+                  "<ParameterValue>20</ParameterValue></GripperOption>\n")
+        got = answers(s, gripper_switch(4, True, "part_gripper", option), gripper_switch(5, False, "jaws"),
+                      gripper_switch(6, False, "part_gripper"), end_effector(7, 0.0),
+                      nist_command("SetEndEffectorType", 8, "    <Setting>0.5</Setting>\n"))
+        assert [g[:2] for g in got] == [(4, "CRCL_Done"), (5, "CRCL_Error"), (6, "CRCL_Done"), (7, "CRCL_Error"),
+                                        (8, "CRCL_Error")]
+        assert "no gripper jaws on this controller (the mounted gripper is part_gripper)" in got[1][2]
+        assert "gripper part_gripper is disabled (DisableGripper): EnableGripper part_gripper first" in got[3][2]
+        jaws = server.jaws_open  # open still: the refused SetEndEffectors did not close them
+        got = answers(s, gripper_switch(9, True, "part_gripper"), end_effector(10, 0.0))
+        assert [g[:2] for g in got] == [(9, "CRCL_Done"), (10, "CRCL_Done")] and jaws and not server.jaws_open
+    # the in-process cell answers the same: the controller is the robot's
+    cell = SimulatedCell(INIT)
+    cell.robot.effector = cell.world.index[next(n for n in cell.world.names if n.endswith("part_gripper"))]
+    assert cell.execute(crcl.DisableGripper("part_gripper")).done
+    assert not cell.execute(crcl.OpenGripper()).done and not cell.execute(crcl.CloseGripper()).done
+    assert cell.execute(crcl.EnableGripper(cell.world.names[cell.robot.effector])).done  # its IRI names it too
+    assert cell.execute(crcl.OpenGripper()).done
+
+
+def test_sensors_joint_tolerances_screws_and_loops_are_errors_with_the_reason_and_the_command_id() -> None:
+    param = ("    <RobotParameterName>speedOverride</RobotParameterName>\n")
+    with served() as server, socket.create_connection(("127.0.0.1", server.command_port), timeout=10) as s:
+        got = answers(
+            s, nist_command("EnableRobotParameterStatusType", 3, param),
+            nist_command("DisableRobotParameterStatusType", 4, param),
+            nist_command("EnableSensorType", 5, "    <SensorID>ATINetFT</SensorID>\n    <SensorOption>"
+                         "<ParameterName>host</ParameterName><ParameterValue>192.168.1.1</ParameterValue>"
+                         "</SensorOption>\n"),
+            nist_command("DisableSensorType", 6, "    <SensorID>ATINetFT</SensorID>\n"),
+            nist_command("SetDefaultJointPositonsTolerancesType", 7, "    <JointTolerances><Setting><JointNumber>1"
+                         "</JointNumber><JointPositionTolerance>0.1</JointPositionTolerance></Setting>"
+                         "</JointTolerances>\n"),
+            nist_command("MoveScrewType", 8, "    <AxialDistanceScrew>0.01</AxialDistanceScrew><Turn>6.28</Turn>\n"),
+            nist_command("LoopBlockStartType", 9, "    <LoopName>twice</LoopName>\n"),
+            nist_command("LoopBlockEndType", 10, "    <LoopName>twice</LoopName><MaxCount>2</MaxCount>\n"))
+    assert [g[:2] for g in got] == [(3, "CRCL_Done"), (4, "CRCL_Done")] + [
+        (n, "CRCL_Error") for n in range(5, 11)]
+    assert "recorded" in got[0][2] and "nothing is reported" in got[0][2]
+    assert "no sensor ATINetFT on this controller" in got[2][2] and "no sensor ATINetFT" in got[3][2]
+    assert "no joint model" in got[4][2] and "does not screw" in got[5][2]
+    assert all("executes no loops" in g[2] for g in got[6:])
+    assert server.cell.robot.parameter_status == set()  # enabled, then disabled
+
+
+def test_a_command_refused_when_read_is_answered_with_its_own_command_id() -> None:
+    guard = ("    <Guard><SensorID>ATINetFT</SensorID><LimitType>OVER_MAX</LimitType>"
+             "<LimitValue>10</LimitValue></Guard>\n")
+    moved = nist_move(7, *GRIPPER_MOUNT).replace(b"<CommandID>7</CommandID>\n", b"<CommandID>7</CommandID>\n"
+                                                 + guard.encode())
+    program = (b'<CRCLProgram xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance">\n'
+               b"<InitCanon><CommandID>1</CommandID></InitCanon>\n"
+               b'<MiddleCommand xsi:type="DwellType">\n<CommandID>2</CommandID><DwellTime>1</DwellTime>'
+               b"</MiddleCommand>\n"
+               b'<MiddleCommand xsi:type="MoveToType">\n<CommandID>3</CommandID>\n' + guard.encode() +
+               b"<MoveStraight>true</MoveStraight></MiddleCommand>\n"
+               b"<EndCanon><CommandID>4</CommandID></EndCanon></CRCLProgram>")
+    with served() as server, socket.create_connection(("127.0.0.1", server.command_port), timeout=10) as s:
+        got = answers(s, moved, program)
+    assert [g[:2] for g in got] == [(7, "CRCL_Error"), (3, "CRCL_Error")]
+    assert all("a Guard" in g[2] for g in got)
+    assert server.cell.time == 0.0  # nothing of the program ran
+
+
+#: What each of NIST's example commands and programs does through ``kitkb crcl send`` against
+#: ``kitkb sim serve`` small-kit, sent in name order to one server: exit 0 (all done), or exit 1
+#: and the command (sent CommandID, type) that ended in CRCL_Error. Never exit 2: each is valid CRCL 1.x.
+THROUGH_SIM = {
+    **{name: 0 for name in SENDABLE if name.startswith("command") or name.startswith("programExample")},
+    "programAll.xml": (2, "ActuateJoints"), "programAllWithNames.xml": (2, "ActuateJoints"),
+    **{f"testForceSensorProgram{n}.xml": (4, "EnableSensor") for n in ("", 2, 3, 4)},
+    **{f"testForceSensorProgram{n}.xml": (5, "EnableSensor") for n in (5, 6)},
+    "testForceSensorProgram7.xml": (7, "EnableSensor"),
+}
+
+
+@needs_crcl
+def test_every_example_through_crcl_send_against_kitkb_sim_serve_completes_or_stops_at_a_named_error() -> None:
+    assert sorted(THROUGH_SIM) == SENDABLE and len(SENDABLE) == 22
+    outcomes = {}
+    with sim_serve("--status-period", "0") as (_, port):
+        for name in SENDABLE:
+            code, out, err = send(INSTANCES / name, port, "--format", "json", "--timeout", "10")
+            assert code in (0, 1), (name, err)
+            report = json.loads(out)
+            rows = report["commands"]
+            if code == 0:
+                outcomes[name] = 0
+                assert report["all_done"] and all(r["state"] == "CRCL_Done" for r in rows), name
+            else:
+                last = rows[-1]
+                outcomes[name] = (last["id"], last["command"])
+                assert last["state"] == "CRCL_Error" and last["command"] in err, (name, err)
+    assert outcomes == THROUGH_SIM
