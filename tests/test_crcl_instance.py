@@ -45,9 +45,9 @@ EXPECTED = {
     "programExample.xml": "program", "programExampleWithNames.xml": "program",
     "requiredTriggerErrorStatus.xml": "status", "statusExample.xml": "status", "statusExampleGen.xml": "status",
     "statusExampleStr.xml": "status", "statusExampleWithNames.xml": "status", "triggeredStatusExample.xml": "status",
-    # its CommandID 5 twice (Reference.md: each command of a session has its own); the others' moves have Guards
-    "testForceSensorProgram.xml": "CommandID 5 again",
-    **{f"testForceSensorProgram{n}.xml": "a Guard" for n in (2, 3, 4, 5, 6, 7)},
+    # a CommandID twice (Reference.md: each command of a session has its own): 5 in the first, 0 in the 7th
+    "testForceSensorProgram.xml": "CommandID 5 again", "testForceSensorProgram7.xml": "CommandID 0 again",
+    **{f"testForceSensorProgram{n}.xml": "program" for n in (2, 3, 4, 5, 6)},  # guarded moves
 }
 
 
@@ -228,6 +228,34 @@ def test_the_housekeeping_commands_of_nists_clients_read_with_their_command_ids(
             b"<GripperName> jaws </GripperName>", b"<Turn>1</Turn>"))
 
 
+def test_guards_are_read_on_any_command_and_written_back_after_the_command_id(tmp_path):
+    pairs = inst.read_program_instance((INSTANCES / "testForceSensorProgram2.xml").read_bytes())
+    guarded = [x for x, _ in pairs if isinstance(x, c.Guarded)]
+    assert len(guarded) == 1 and isinstance(guarded[0].command, c.MoveStraightTo)
+    assert guarded[0].guards == (c.Guard("ATINetFT", "DECREASE_BEYOND_LIMIT", -1.0, recheck_us=20,
+                                         name="ATINetFTFz"),)
+    full = c.Guard("ft", "OVER_MAX", 12.5, sub_field="Fz", recheck_us=10, check_count=3, last_check_time=99,
+                   last_check_value=1.25, require_trigger=True, error_on_trigger=False)
+    for command in (c.Guarded(c.Dwell(2.0), [full, c.Guard("ft", "UNDER_MIN", -1)]),
+                    c.Guarded(c.SetEndEffector(0.5), [full])):
+        data = inst.write_command_instance(command, 4)
+        _valid(data, "command", tmp_path)
+        assert inst.read_command_instance(data) == (command, 4)
+    program = [c.Guarded(c.InitCanon(), [full]), c.MoveTo(DOWN), c.Guarded(c.EndCanon(), [full])]
+    data = inst.write_program_instance(program)
+    _valid(data, "program", tmp_path)
+    assert [x for x, _ in inst.read_program_instance(data)] == program
+    with pytest.raises(ValueError, match="limit_type must be one of"):
+        c.Guard("ft", "SIDEWAYS", 1)
+    with pytest.raises(ValueError, match="without guards"):
+        c.Guarded(c.Guarded(c.Dwell(1), [full]), [full])
+    misplaced = inst.write_command_instance(c.Guarded(c.Dwell(1.0), [full]), 4).replace(
+        b"<DwellTime>1</DwellTime>", b"").replace(b"<CommandID>4</CommandID>", b"<CommandID>4</CommandID>"
+                                                  b"<DwellTime>1</DwellTime>")
+    with pytest.raises(InputError, match="holds CommandID, DwellTime, found CommandID, DwellTime, Guard"):
+        inst.read_command_instance(misplaced)
+
+
 def test_an_end_canon_with_a_reason_is_refused():
     with pytest.raises(InputError, match=r"EndCanon\(2\): CRCL 1.x's EndCanon has no reason"):
         inst.write_command_instance(c.EndCanon(2), 9)
@@ -260,8 +288,12 @@ def test_a_program_keeps_its_ids_and_refuses_a_repeated_one():
     repeated = data.replace(b"<CommandID>20</CommandID>", b"<CommandID>10</CommandID>")
     with pytest.raises(InputError, match="CommandID 10 again"):
         inst.read_program_instance(repeated)
-    with pytest.raises(InputError, match="ids of a program increase"):
-        inst.write_program_instance([(c.InitCanon(), 3), (c.EndCanon(), 2)])
+    with pytest.raises(InputError, match="CommandID 3 again"):
+        inst.write_program_instance([(c.InitCanon(), 3), (c.EndCanon(), 3)])
+    # ids in any order (NIST's testForceSensorProgram5 has 3211 before 0), each kept
+    out_of_order = [(c.InitCanon(), 3211), (c.Dwell(1.0), 0), c.Dwell(2.0), (c.EndCanon(), 7)]
+    assert inst.read_program_instance(inst.write_program_instance(out_of_order)) == [
+        (c.InitCanon(), 3211), (c.Dwell(1.0), 0), (c.Dwell(2.0), 3212), (c.EndCanon(), 7)]
 
 
 def test_numbers_are_short_without_noise_and_xmllint_accepts_them(tmp_path):
@@ -356,6 +388,10 @@ _MIDDLE = st.one_of(
     st.builds(c.MoveScrew, _num, _num, start_position=st.none() | _pose, axis_point=st.none() | _vec,
               axial_distance_free=st.none() | _num),
     st.builds(c.LoopBlockStart, _text), st.builds(c.LoopBlockEnd, _text, st.integers(-2 ** 31, 2 ** 31 - 1)),
+    st.builds(c.Guarded, st.builds(c.MoveTo, _pose) | st.builds(c.Dwell, _num), st.lists(st.builds(
+        c.Guard, _token, st.sampled_from(c.GUARD_LIMITS), _num, sub_field=st.none() | _token,
+        recheck_us=st.none() | st.integers(0, 2 ** 40), require_trigger=st.none() | st.booleans(),
+        name=st.none() | _token), min_size=1, max_size=2)),
 )
 
 

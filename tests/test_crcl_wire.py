@@ -14,7 +14,8 @@
   CRCLCommandInstance.xsd (recorded at the server during a real small-kit run).
 * The housekeeping commands NIST's clients send: ConfigureStatusReport first (the statuses of
   that connection then carry what it asked for), Enable/DisableGripper by name, sensors, joint
-  tolerances, screws and loops answered CRCL_Error with the reason and the CommandID; every
+  tolerances, screws, loops and guarded commands answered CRCL_Error with the reason and the
+  CommandID; every
   example of ../shared/crcl/instances through ``kitkb crcl send`` against ``kitkb sim serve``.
 """
 
@@ -792,7 +793,7 @@ def test_sensors_joint_tolerances_screws_and_loops_are_errors_with_the_reason_an
     assert server.cell.robot.parameter_status == set()  # enabled, then disabled
 
 
-def test_a_command_refused_when_read_is_answered_with_its_own_command_id() -> None:
+def test_a_guarded_command_or_one_refused_when_read_is_answered_with_its_own_command_id() -> None:
     guard = ("    <Guard><SensorID>ATINetFT</SensorID><LimitType>OVER_MAX</LimitType>"
              "<LimitValue>10</LimitValue></Guard>\n")
     moved = nist_move(7, *GRIPPER_MOUNT).replace(b"<CommandID>7</CommandID>\n", b"<CommandID>7</CommandID>\n"
@@ -801,13 +802,16 @@ def test_a_command_refused_when_read_is_answered_with_its_own_command_id() -> No
                b"<InitCanon><CommandID>1</CommandID></InitCanon>\n"
                b'<MiddleCommand xsi:type="DwellType">\n<CommandID>2</CommandID><DwellTime>1</DwellTime>'
                b"</MiddleCommand>\n"
-               b'<MiddleCommand xsi:type="MoveToType">\n<CommandID>3</CommandID>\n' + guard.encode() +
-               b"<MoveStraight>true</MoveStraight></MiddleCommand>\n"
+               b'<MiddleCommand xsi:type="StopMotionType">\n<CommandID>3</CommandID>\n'
+               b"<StopCondition>Fast</StopCondition></MiddleCommand>\n"
                b"<EndCanon><CommandID>4</CommandID></EndCanon></CRCLProgram>")
     with served() as server, socket.create_connection(("127.0.0.1", server.command_port), timeout=10) as s:
+        start = server.cell.robot.tip().copy()
         got = answers(s, moved, program)
+        assert (server.cell.robot.tip() == start).all()  # the guarded move was not made unguarded
     assert [g[:2] for g in got] == [(7, "CRCL_Error"), (3, "CRCL_Error")]
-    assert all("a Guard" in g[2] for g in got)
+    assert "MoveStraightTo guarded by ATINetFT: no sensor ATINetFT on this controller" in got[0][2]
+    assert "StopMotion Fast" in got[1][2]
     assert server.cell.time == 0.0  # nothing of the program ran
 
 

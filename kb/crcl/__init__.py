@@ -25,7 +25,8 @@ from kb.crcl.commands import (CRCL1_COMMANDS, CRCL1_UNITS, PAPER_UNITS, ActuateJ
                               SetRobotParameters, SetRotAccel, SetRotSpeed, SetTorqueUnits,
                               ConfigureStatusReport, DisableGripper, DisableRobotParameterStatus, DisableSensor,
                               EnableGripper, EnableRobotParameterStatus, EnableSensor, JointTolerance,
-                              LoopBlockEnd, LoopBlockStart, MoveScrew, SetDefaultJointPositionsTolerances)
+                              LoopBlockEnd, LoopBlockStart, MoveScrew, SetDefaultJointPositionsTolerances,
+                              Guard, Guarded)
 from kb.crcl.files import convert, read_file, write_file
 from kb.crcl.instance import (CommandStatus, GripperStatus, JointStatus, read_command_instance,
                               read_program_instance, read_status, write_command_instance,
@@ -49,7 +50,7 @@ __all__ = [
     "SetMotionCoordination", "SetRobotParameters", "SetRotAccel", "SetRotSpeed", "SetTorqueUnits",
     "ConfigureStatusReport", "DisableGripper", "DisableRobotParameterStatus", "DisableSensor", "EnableGripper",
     "EnableRobotParameterStatus", "EnableSensor", "JointTolerance", "LoopBlockEnd", "LoopBlockStart", "MoveScrew",
-    "SetDefaultJointPositionsTolerances",
+    "SetDefaultJointPositionsTolerances", "Guard", "Guarded",
     "CommandStatus", "GripperStatus", "JointStatus", "read_command_instance", "read_program_instance",
     "read_status", "write_command_instance", "write_program_instance", "write_status",
     "convert", "default_xsd", "execute_program", "parse_truth_line", "read_file", "read_text", "read_xml",

@@ -589,6 +589,63 @@ class LoopBlockEnd(Command):
     max_count: int
 
 
+#: CRCL 1.x's ``GuardLimitEnumType``.
+GUARD_LIMITS = ("OVER_MAX", "UNDER_MIN", "INCREASE_OVER_LIMIT", "DECREASE_BEYOND_LIMIT")
+
+
+@dataclass(frozen=True)
+class Guard:
+    """A condition on a sensor's value that stops the command it guards (CRCL 1.x's
+    ``GuardType``): ``sensor_id`` (and its ``sub_field``), ``limit_type`` (one of
+    :data:`GUARD_LIMITS`) and ``limit_value``; the rest optional as in the schema."""
+
+    sensor_id: str
+    limit_type: str
+    limit_value: float
+    sub_field: str | None = None
+    recheck_us: int | None = None
+    check_count: int | None = None
+    last_check_time: int | None = None
+    last_check_value: float | None = None
+    require_trigger: bool | None = None
+    error_on_trigger: bool | None = None
+    name: str | None = None
+
+    def __post_init__(self) -> None:
+        if self.limit_type not in GUARD_LIMITS:
+            raise ValueError(f"Guard.limit_type must be one of {', '.join(GUARD_LIMITS)}, not {self.limit_type!r}")
+        object.__setattr__(self, "limit_value", _checked("Guard", "limit_value", "float", self.limit_value))
+        for attr in ("recheck_us", "check_count", "last_check_time"):
+            if getattr(self, attr) is not None:
+                object.__setattr__(self, attr, _checked("Guard", attr, "int", getattr(self, attr)))
+        for attr in ("require_trigger", "error_on_trigger"):
+            if getattr(self, attr) is not None:
+                _checked("Guard", attr, "bool", getattr(self, attr))
+        object.__setattr__(self, "last_check_value",
+                           _checked("Guard", "last_check_value", "float | None", self.last_check_value))
+
+
+@dataclass(frozen=True)
+class Guarded(Command):
+    """``command`` with ``guards`` (one or more): it stops when a guard's sensor value passes
+    its limit (CRCL 1.x, any command may carry guards). Its line is the command's."""
+
+    command: Command
+    guards: tuple[Guard, ...]
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "guards", tuple(self.guards))
+        if not isinstance(self.command, Command) or isinstance(self.command, Guarded):
+            raise ValueError(f"Guarded.command must be a command without guards, not {self.command!r}")
+        if not self.guards or not all(isinstance(g, Guard) for g in self.guards):
+            raise ValueError(f"Guarded.guards must be one or more Guards, not {self.guards!r}")
+
+
+def unguarded(command: Command) -> Command:
+    """The command a :class:`Guarded` guards; any other command itself."""
+    return command.command if isinstance(command, Guarded) else command
+
+
 def _options(command: Command, attr: str) -> None:
     value = tuple(getattr(command, attr))
     if not all(isinstance(p, Parameter) for p in value):
@@ -625,7 +682,8 @@ CRCL1_COMMANDS: dict[str, type[Command]] = {
         SetRotAccel, SetEndPoseTolerance, SetIntermediatePoseTolerance, SetEndEffectorParameters,
         SetRobotParameters, ActuateJoints, ConfigureJointReports, RunProgram, ConfigureStatusReport,
         EnableGripper, DisableGripper, EnableSensor, DisableSensor, EnableRobotParameterStatus,
-        DisableRobotParameterStatus, SetDefaultJointPositionsTolerances, MoveScrew, LoopBlockStart, LoopBlockEnd)
+        DisableRobotParameterStatus, SetDefaultJointPositionsTolerances, MoveScrew, LoopBlockStart, LoopBlockEnd,
+        Guarded)
 }
 
 

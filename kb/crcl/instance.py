@@ -206,8 +206,9 @@ def write_command_instance(command: c.Command, command_id: int, *, pretty: bool 
 def write_program_instance(commands: c.Program | Iterable[c.Command | tuple[c.Command, int]], *,
                            name: str | None = None, pretty: bool = True) -> bytes:
     """A ``CRCLProgram`` of CRCLProgramInstance.xsd: InitCanon first, EndCanon last, the
-    rest ``MiddleCommand``s. Commands given as (command, id) keep their ids (which must
-    increase); others are numbered from 1 (after the last id given). A program of another
+    rest ``MiddleCommand``s. Commands given as (command, id) keep their ids (each its own, in
+    any order, as Reference.md asks and NIST's examples have them); others are numbered from 1
+    (after the largest id given so far). A program of another
     form with other units (:attr:`~kb.crcl.commands.Program.units`) should first pass
     :func:`kb.crcl.units.restate` (:func:`kb.crcl.files.write_file` does)."""
     source = commands.source if isinstance(commands, c.Program) else None
@@ -220,7 +221,7 @@ def write_program_instance(commands: c.Program | Iterable[c.Command | tuple[c.Co
         _sub(root, "Name", _string(name))
     last = len(pairs) - 1
     for i, (command, command_id) in enumerate(pairs):
-        problem = _misplaced(command, i == 0, i == last)
+        problem = _misplaced(c.unguarded(command), i == 0, i == last)
         if problem:
             raise InputError(problem, source, command.line)
         tag = "InitCanon" if i == 0 else "EndCanon" if i == last else "MiddleCommand"
@@ -273,14 +274,15 @@ def _write_gripper(root: Any, g: GripperStatus) -> None:
 def _numbered(commands: c.Program | Iterable[c.Command | tuple[c.Command, int]],
               source: str | None) -> list[tuple[c.Command, int]]:
     pairs: list[tuple[c.Command, int]] = []
-    last = 0
+    largest, seen = 0, set()
     for item in commands:
-        command, command_id = item if isinstance(item, tuple) else (item, last + 1)
-        if command_id <= last:
-            raise InputError(f"CommandID {command_id} after {last}: the ids of a program increase",
-                             source, command.line)
+        command, command_id = item if isinstance(item, tuple) else (item, largest + 1)
+        if command_id in seen:
+            raise InputError(f"CommandID {command_id} again: each command of a program has its own "
+                             "(Reference.md)", source, command.line)
+        seen.add(command_id)
         pairs.append((command, command_id))
-        last = command_id
+        largest = max(largest, command_id) if isinstance(command_id, int) else largest
     return pairs
 
 
@@ -330,6 +332,11 @@ def _checked_element(command: c.Command, command_id: int, tag: str, source: str 
 
 
 def _element(command: c.Command, command_id: int, tag: str) -> Any:
+    if isinstance(command, c.Guarded):
+        el = _element(command.command, command_id, tag)
+        for n, guard in enumerate(command.guards, 1):
+            el.insert(n, _guard_element(guard))  # after the CommandID
+        return el
     writer = _WRITERS.get(type(command))
     if writer is None:
         if isinstance(command, c.Unreadable):
@@ -342,6 +349,37 @@ def _element(command: c.Command, command_id: int, tag: str) -> Any:
     _sub(el, "CommandID", str(command_id))
     fill(el, command)
     return el
+
+
+def _guard_element(g: c.Guard) -> Any:
+    el = etree.Element("Guard")
+    if g.name is not None:
+        _sub(el, "Name", _token(g.name, "Guard's Name"))
+    _sub(el, "SensorID", _token(g.sensor_id, "SensorID"))
+    if g.sub_field is not None:
+        _sub(el, "SubField", _token(g.sub_field, "SubField"))
+    _sub(el, "LimitType", g.limit_type)
+    _sub(el, "LimitValue", number_text(g.limit_value))
+    for tag, value in (("RecheckTimeMicroSeconds", g.recheck_us), ("CheckCount", g.check_count),
+                       ("LastCheckTime", g.last_check_time)):
+        if value is not None:
+            if not -2 ** 63 <= value < 2 ** 63:
+                raise _Unwritable(f"Guard {tag} {value}: CRCL 1.x's is a 64-bit integer")
+            _sub(el, tag, str(value))
+    if g.last_check_value is not None:
+        _sub(el, "LastCheckValue", number_text(g.last_check_value))
+    for tag, flag in (("RequireTrigger", g.require_trigger), ("ErrorOnTrigger", g.error_on_trigger)):
+        if flag is not None:
+            _sub(el, tag, _bool(flag))
+    return el
+
+
+def _token(value: str, what: str) -> str:
+    """``value`` as an ``xs:token``; _Unwritable when it is not one."""
+    if value != " ".join(value.split()) or _XML_CHARS.search(value):
+        raise _Unwritable(f"{what} {value!r}: an xs:token has no leading, trailing or repeated white space "
+                          "and no control characters")
+    return value
 
 
 def _write_pose(el: Any, pose: Pose) -> None:
@@ -775,9 +813,8 @@ def _command(el: Any, source: str, fixed_type: str | None) -> tuple[c.Command, i
                          el.sourceline)
     command_id = _int(children[0], source)
     rest = children[1:]
-    guard = next((ch for ch in rest if ch.tag == "Guard"), None)
-    if guard is not None:
-        raise InputError("a Guard (stop on a sensor's value) is not read by kitkb", source, guard.sourceline)
+    count = next((i for i, ch in enumerate(rest) if ch.tag != "Guard"), len(rest))
+    guards, rest = tuple(_read_guard(g, source) for g in rest[:count]), rest[count:]
     reader = _READERS.get(type_name)
     if reader is None:
         raise InputError(f"xsi:type {type_name or '(none)'} is not a command of CRCLCommands.xsd", source,
@@ -786,7 +823,37 @@ def _command(el: Any, source: str, fixed_type: str | None) -> tuple[c.Command, i
     if names is not None:
         rest = _expect_list(el, rest, names, source)
     command = build(rest, el, source)
+    if guards:
+        command = c.Guarded(command, guards, line=el.sourceline)
     return command, command_id
+
+
+_GUARD_TAGS = ("SensorID", "SubField", "LimitType", "LimitValue", "RecheckTimeMicroSeconds", "CheckCount",
+               "LastCheckTime", "LastCheckValue", "RequireTrigger", "ErrorOnTrigger")
+
+
+def _read_guard(el: Any, source: str) -> c.Guard:
+    name_el = next((ch for ch in el if isinstance(ch.tag, str) and ch.tag == "Name"), None)
+    children = _named(el, source)
+    tags = [ch.tag for ch in children]
+    if tags != [t for t in _GUARD_TAGS if t in tags] or not {"SensorID", "LimitType", "LimitValue"} <= set(tags):
+        raise InputError(f"<Guard> holds SensorID, SubField?, LimitType, LimitValue, RecheckTimeMicroSeconds?, "
+                         f"CheckCount?, LastCheckTime?, LastCheckValue?, RequireTrigger?, ErrorOnTrigger?; "
+                         f"found {', '.join(map(str, tags)) or 'none'}", source, el.sourceline)
+    parts = dict(zip(tags, children))
+    token = {"SensorID": "sensor_id", "SubField": "sub_field", "LimitType": "limit_type"}
+    values: dict[str, Any] = {attr: " ".join(_text(parts[tag], source).split()) for tag, attr in token.items()
+                              if tag in parts}
+    for tag, attr, read in (("LimitValue", "limit_value", _double), ("RecheckTimeMicroSeconds", "recheck_us", _int),
+                            ("CheckCount", "check_count", _int), ("LastCheckTime", "last_check_time", _int),
+                            ("LastCheckValue", "last_check_value", _double),
+                            ("RequireTrigger", "require_trigger", _boolean),
+                            ("ErrorOnTrigger", "error_on_trigger", _boolean)):
+        if tag in parts:
+            values[attr] = read(parts[tag], source)
+    if name_el is not None:
+        values["name"] = " ".join(_text(name_el, source).split())
+    return _made(c.Guard, el, source, **values)
 
 
 def _expect_list(el: Any, children: list[Any], names: Sequence[str], source: str) -> list[Any]:

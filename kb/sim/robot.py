@@ -624,6 +624,10 @@ _HANDLERS: dict[type, Callable[[Robot, crcl.Command], Status]] = {
         "answers on its own port)")),
     crcl.SetDefaultJointPositionsTolerances: _refuse("the simulated robot has no joint model, so no joint "
                                                      "tolerances to honour"),
+    crcl.Guarded: lambda r, c: Status.error(
+        f"{type(c.command).__name__} guarded by {', '.join(sorted({g.sensor_id for g in c.guards}))}: "  # type: ignore[attr-defined]
+        f"no sensor {', '.join(sorted({g.sensor_id for g in c.guards}))} on this controller to watch, "  # type: ignore[attr-defined]
+        "so it is not executed"),
     crcl.MoveScrew: _refuse("the simulated robot does not screw (no screwing motion is modelled)"),
     **dict.fromkeys((crcl.LoopBlockStart, crcl.LoopBlockEnd), _refuse(
         "this controller executes no loops: send the block's commands unrolled")),
