@@ -256,6 +256,18 @@ def test_guards_are_read_on_any_command_and_written_back_after_the_command_id(tm
         inst.read_command_instance(misplaced)
 
 
+def test_a_status_with_settings_reads_and_writes_back_valid(tmp_path):
+    read = inst.read_status((INSTANCES / "triggeredStatusExample.xml").read_bytes())
+    assert read.settings == inst.SettingsStatus("millimeter", "degree", 1.0, 10.0)
+    status = inst.CommandStatus(3, 9, "CRCL_Working", DOWN, inst.GripperStatus("jaws", separation=0.02),
+                                settings=inst.SettingsStatus("inch", "radian", None, 39.37))
+    data = inst.write_status(status)
+    _valid(data, "status", tmp_path)
+    assert inst.read_status(data) == status and len(data) < 1024
+    with pytest.raises(ValueError, match="length_unit must be one of"):
+        inst.SettingsStatus("furlong")
+
+
 def test_an_end_canon_with_a_reason_is_refused():
     with pytest.raises(InputError, match=r"EndCanon\(2\): CRCL 1.x's EndCanon has no reason"):
         inst.write_command_instance(c.EndCanon(2), 9)

@@ -44,6 +44,7 @@ from kb.core.errors import CellError
 from kb.core.resources import ontology_path
 from kb.crcl import RemoteCell
 from kb.crcl.cell import NOT_EXECUTED, Status
+from kb.crcl import instance
 from kb.crcl.instance import read_status, write_command_instance
 from kb.crcl.wire import DocumentError, Documents
 from kb.sim import CellServer, SimulatedCell
@@ -655,7 +656,8 @@ def test_every_status_the_server_writes_validates_against_crcl_status_xsd() -> N
     commands = [crcl.GetStatus(), crcl.InitCanon(), crcl.SetLengthUnits("inch"), crcl.SetLengthUnits("meter"),
                 crcl.MoveTo(crcl.Pose((x, y, z + 0.2), (1, 0, 0), (0, 0, -1))),
                 crcl.MoveTo(crcl.Pose((x, y, z), (1, 0, 0), (0, 0, -1))), crcl.CloseToolChanger(),
-                crcl.CloseGripper(), crcl.OpenGripper(), crcl.Dwell(-1), crcl.Message("a <b> & 'c'"), crcl.EndCanon()]
+                crcl.CloseGripper(), crcl.OpenGripper(), crcl.Dwell(-1), crcl.Message("a <b> & 'c'"), crcl.EndCanon(),
+                crcl.ConfigureStatusReport(True, True, True, True, True, True), crcl.SetLengthUnits("inch")]
     with served(period=0.1) as server, socket.create_connection(("127.0.0.1", server.command_port), timeout=10) as s:
         for i, command in enumerate(commands, 1):
             s.sendall(write_command_instance(command, i))
@@ -669,6 +671,8 @@ def test_every_status_the_server_writes_validates_against_crcl_status_xsd() -> N
     states = [read_status(d) for d in docs]
     assert (states[0].command_id, states[0].state) == (0, "CRCL_Ready")  # GetStatus before any command
     assert any(st.state == "CRCL_Error" and st.command_id == 10 for st in states)  # the negative Dwell
+    inch = next(st for st in states if st.command_id == 14)  # after ConfigureStatusReport: settings too
+    assert inch.settings == instance.SettingsStatus("inch", "radian", 1.0, pytest.approx(1 / 0.0254))
 
 
 # --- the housekeeping commands NIST's clients send (ConfigureStatusReport, grippers, sensors ...) -----
@@ -699,15 +703,20 @@ def test_a_nist_style_client_configures_the_status_report_first_then_moves() -> 
             assert state(st) == "CRCL_Done" and st.findtext("CommandStatus/CommandID") == "1"
             assert "no joint statuses: the simulated robot has no joint model" in describe(st)
             assert "no sensors or guards" in describe(st) and st.find("JointStatuses") is None
-            assert state(client.send(nist_command("InitCanonType", 2), 2)) == "CRCL_Done"
+            st = client.send(nist_command("InitCanonType", 2), 2)
+            assert state(st) == "CRCL_Done" and st.findtext("SettingsStatus/LengthUnitName") == "meter"
+            assert st.findtext("SettingsStatus/AngleUnitName") == "radian"
+            assert float(st.findtext("SettingsStatus/TransSpeedAbsolute/Setting") or "nan") > 0
             for n, zz in ((3, z + 0.2), (4, z)):
                 st = client.send(nist_move(n, x, y, zz), n)
                 assert state(st) == "CRCL_Done" and point(st) == pytest.approx((x, y, zz))
             st = client.send(nist_command("CloseToolChangerType", 5), 5)
             assert st.findtext("GripperStatus/GripperName") == "part_gripper"
-            # the pose only: no gripper status from now on, on this connection
+            assert st.findtext("SettingsStatus/EndEffectorSetting") == "1"  # the jaws open
+            # the pose only: no gripper status (nor settings) from now on, on this connection
             st = client.send(report_config(6, False, True, False), 6)
             assert state(st) == "CRCL_Done" and st.find("GripperStatus") is None and st.find("PoseStatus") is not None
+            assert st.find("SettingsStatus") is None
             st = client.send(end_effector(7, 0.0), 7)
             assert state(st) == "CRCL_Done" and st.find("GripperStatus") is None
             other = SimpleClient(port)  # another connection keeps the default: pose and gripper

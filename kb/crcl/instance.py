@@ -89,11 +89,32 @@ class JointStatus:
 
 
 @dataclass(frozen=True)
+class SettingsStatus:
+    """The part of CRCLStatus.xsd's ``SettingsStatus`` kitkb reads and writes: the length and
+    angle unit names in force, the end effector's setting (0 closed to 1 open) and the absolute
+    translational speed (length units per second), each optional."""
+
+    length_unit: str | None = None
+    angle_unit: str | None = None
+    end_effector: float | None = None
+    speed: float | None = None
+
+    def __post_init__(self) -> None:
+        for attr, allowed in (("length_unit", c.LENGTH_UNITS), ("angle_unit", c.ANGLE_UNITS)):
+            value = getattr(self, attr)
+            if value is not None and value not in allowed:
+                raise ValueError(f"SettingsStatus.{attr} must be one of {', '.join(allowed)}, not {value!r}")
+        if self.end_effector is not None and not 0.0 <= self.end_effector <= 1.0:
+            raise ValueError(f"SettingsStatus.end_effector must be a fraction from 0 to 1, not {self.end_effector!r}")
+
+
+@dataclass(frozen=True)
 class CommandStatus:
     """A ``CRCLStatus`` document: the ``command_id`` it is about, its own ``status_id``,
     ``state`` (one of :data:`STATES`), and optionally the pose of the controlled point, the
-    gripper, joint statuses and ``description`` (``StateDescription``). The status's settings,
-    sensors and guards are not read."""
+    gripper, joint statuses, ``settings`` (:class:`SettingsStatus`: its units, end effector
+    setting and speed; its other elements are not read) and ``description``
+    (``StateDescription``). The status's sensors and guards are not read."""
 
     command_id: int
     status_id: int
@@ -102,6 +123,7 @@ class CommandStatus:
     gripper: GripperStatus | None = None
     description: str = ""
     joints: tuple[JointStatus, ...] = field(default=())
+    settings: SettingsStatus | None = None
 
     def __post_init__(self) -> None:
         if self.state not in STATES:
@@ -252,7 +274,33 @@ def write_status(status: CommandStatus, *, pretty: bool = False) -> bytes:
         _write_pose(_sub(_sub(root, "PoseStatus"), "Pose"), status.pose)
     if status.gripper is not None:
         _write_gripper(root, status.gripper)
+    if status.settings is not None:
+        _write_settings(_sub(root, "SettingsStatus"), status.settings)
     return _document(root, pretty)
+
+
+def _write_settings(el: Any, st: SettingsStatus) -> None:
+    # in SettingsStatusType's order: AngleUnitName, EndEffectorSetting, LengthUnitName, TransSpeedAbsolute
+    if st.angle_unit is not None:
+        _sub(el, "AngleUnitName", st.angle_unit)
+    if st.end_effector is not None:
+        _sub(el, "EndEffectorSetting", number_text(st.end_effector))
+    if st.length_unit is not None:
+        _sub(el, "LengthUnitName", st.length_unit)
+    if st.speed is not None:
+        _sub(_sub(el, "TransSpeedAbsolute"), "Setting", number_text(st.speed))
+
+
+def _read_settings(el: Any, source: str) -> SettingsStatus:
+    values: dict[str, Any] = {}
+    for ch in _named(el, source):
+        if ch.tag in ("AngleUnitName", "LengthUnitName"):
+            values["angle_unit" if ch.tag == "AngleUnitName" else "length_unit"] = _text(ch, source).strip()
+        elif ch.tag == "EndEffectorSetting":
+            values["end_effector"] = _double(ch, source)
+        elif ch.tag == "TransSpeedAbsolute":
+            values["speed"] = _double(_expect(ch, ["Setting"], source)[0], source)
+    return _made(SettingsStatus, el, source, **values)
 
 
 def _write_gripper(root: Any, g: GripperStatus) -> None:
@@ -674,6 +722,8 @@ def read_status(data: bytes | str, source: str = "<crcl>") -> CommandStatus:
             values["pose"] = _pose(pose, source)
         elif el.tag == "GripperStatus":
             values["gripper"] = _read_gripper(el, source)
+        elif el.tag == "SettingsStatus":
+            values["settings"] = _read_settings(el, source)
         elif el.tag == "JointStatuses":
             values["joints"] = tuple(_read_joint(j, source) for j in _named(el, source) if j.tag == "JointStatus")
     description = _text(cs["StateDescription"], source) if "StateDescription" in cs else ""

@@ -57,7 +57,8 @@ Several clients may connect at once (a robot and a gripper): each connection is 
 with its own CommandIDs, status stream and units, all driving the one robot; a connection that
 has only sent gripper commands is a gripper channel, whose statuses carry no pose. A
 ``ConfigureStatusReport`` sets what that connection's statuses carry from then on (the pose,
-the gripper; kitkb's controller has no joint, settings, sensor or guard statuses to add). A document
+the gripper, the settings: units, speed, end effector; kitkb's controller has no joint, sensor
+or guard statuses to add). A document
 that is well-formed CRCL but wrong (an unknown command, a bad number) gets ``CRCL_Error``
 naming the problem, with its CommandID where one can be read, and the connection goes on; a
 document that is not CRCL (another root element), a stream that is not XML, a DOCTYPE, or a

@@ -21,6 +21,7 @@ without sockets (the answer lines, ``{End}`` last).
 """
 from __future__ import annotations
 
+import math
 import re
 import selectors
 import socket
@@ -31,11 +32,12 @@ from typing import Any, Iterator, Sequence
 from xml.sax.saxutils import escape
 
 from kb.core.errors import CellError, InputError
+from kb.core.units import ANGLE, LENGTH
 from kb.crcl.cell import Observation, Status, run_in_order, truth_line
 from kb.crcl.commands import (CloseGripper, Command, ConfigureStatusReport, DisableGripper, EnableGripper, GetStatus,
                               Message, OpenGripper, SetEndEffector)
-from kb.crcl.instance import (CommandStatus, GripperStatus, read_command_instance, read_program_instance,
-                              write_status)
+from kb.crcl.instance import (CommandStatus, GripperStatus, SettingsStatus, read_command_instance,
+                              read_program_instance, write_status)
 from kb.crcl.pose import Pose
 from kb.crcl.wire import (COMMAND_PORT, CRLF, DONE, END, ERROR, MAX_LINE, MAX_PROGRAM, READY, SENSOR_PORT,
                           STATUS_PERIOD, WORKING, Document, DocumentError, Documents, Query, error_line, field,
@@ -234,6 +236,18 @@ class CellServer:
             width = width if width == width and width != float("inf") else 0.0  # no shape: NaN
             return pose, GripperStatus(name, "parallel", separation=width / metres, holding=holding)
 
+    def settings(self, session: "_CrclSession") -> SettingsStatus:
+        """``session``'s settings now: its length and angle units, the translational speed in
+        them, and (a gripper mounted) the end effector's setting, 1 open, 0 closed."""
+        robot = self.cell.robot
+        with self.lock:
+            units = session.units if session.units is not None else _units(robot)
+            metres, radians = float(units.get("metres", 1.0)), float(units.get("radians", 1.0))
+            effector = None if robot.effector is None else float(self.jaws_open)
+            speed = robot.speed / metres
+        return SettingsStatus(_unit_name(LENGTH, metres), _unit_name(ANGLE, radians), effector,
+                              speed if math.isfinite(speed) else None)
+
     def _heartbeats(self) -> None:
         """Send each quiet CRCL 1.x connection its status every :attr:`status_period` seconds."""
         tick = min(self.status_period / 4, 0.25)
@@ -258,6 +272,11 @@ class CellServer:
 
 #: The robot's attributes that hold the units of the commands it is given (saved per connection).
 _UNIT_ATTRIBUTES = ("metres", "length_unit", "radians", "angle_unit", "units")
+
+
+def _unit_name(table: dict[str, float], scale: float) -> str | None:
+    """The name of the unit of ``table`` that is ``scale`` base units (None when none is)."""
+    return next((name for name, value in table.items() if math.isclose(value, scale, rel_tol=1e-12)), None)
 
 
 def _units(robot: Any) -> dict[str, Any]:
@@ -550,11 +569,13 @@ class _CrclSession:
         :data:`STATUS_BYTES` bytes: a long description is cut to fit."""
         self.status_id += 1
         pose, gripper = self.server.pose_and_gripper(self)
+        settings = self.server.settings(self) if self.report.settings else None
         text = " ".join(self.description.split())
         while True:
             doc = write_status(CommandStatus(self.command_id, self.status_id, self.state,
                                              pose=pose if self.report.pose and self.channel != "gripper" else None,
-                                             gripper=gripper if self.report.gripper else None, description=text))
+                                             gripper=gripper if self.report.gripper else None, description=text,
+                                             settings=settings))
             if len(doc) < STATUS_BYTES or not text:
                 return doc
             text = _cut(text, len(doc) - STATUS_BYTES + 1)
@@ -607,12 +628,11 @@ def _commands(doc: Document) -> list[tuple[Command, int]]:
 
 def _report_note(report: ConfigureStatusReport) -> str:
     """What a connection's statuses carry after ``report``, and what they cannot."""
-    carried = [part for part, on in (("pose", report.pose), ("gripper", report.gripper)) if on]
-    said = ["status reports " + (" and ".join(carried) if carried else "the command's state only")]
+    carried = [part for part, on in (("pose", report.pose), ("gripper", report.gripper),
+                                     ("settings (units, speed, end effector)", report.settings)) if on]
+    said = ["status reports " + (", ".join(carried) if carried else "the command's state only")]
     if report.joints:
         said.append("no joint statuses: the simulated robot has no joint model")
-    if report.settings:
-        said.append("no settings status")
     if report.sensors or report.guards:
         said.append("no sensors or guards on this controller")
     return "; ".join(said)
