@@ -8,7 +8,8 @@ clients read it: combined ``{class C} {name N}`` queries, an empty line for ever
 CR LF line ends, USARTruth's five fields unless kitkb's are asked for); the command port is a
 CRCL 1.x controller: each connection a session of its own (``_CrclSession``: its documents
 split from the stream by :class:`kb.crcl.wire.Documents`, executed in order on the one cell,
-its own status stream and units), or, when a connection's first byte is ``{``, kitkb's earlier
+its own status stream, units and status report: ``ConfigureStatusReport`` says whether its
+statuses carry the pose, the gripper, the settings), or, when a connection's first byte is ``{``, kitkb's earlier
 ``{Length N}`` programs. One lock serialises every access to the cell, so a command (or an old
 program) runs whole between two queries, whichever connection sent it; a heartbeat thread
 sends each quiet CRCL connection its status every :attr:`CellServer.status_period` seconds,
