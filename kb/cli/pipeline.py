@@ -51,9 +51,9 @@ def run(files: list[str], output: str, faults: str | None, seed: int, db: str | 
         raise InputError("--db takes one scenario (kitkb run INIT GOAL --db URL); the main job writes "
                          "out/<scenario>/world.sqlite for each")
     if sensor_noise is not None:  # refused before any work
-        from kb.sim.noise import SensorNoise
+        from kb.cells.accuracy import SensorAccuracy
         try:
-            SensorNoise.parse(sensor_noise)
+            SensorAccuracy.parse(sensor_noise)
         except ValueError as exc:
             raise InputError(f"--sensor-noise: {exc}") from None
     if cell is not None:  # a URL, scheme or parameter that cannot work is refused before any work
