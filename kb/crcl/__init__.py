@@ -5,8 +5,10 @@ instances of NIST's early CRCL.xsd (:mod:`.xml`), CRCL 1.x documents (:mod:`.ins
 CRCLCommandInstance, CRCLProgramInstance, CRCLStatus), each form's default units
 (:mod:`.units`; docs/crcl.md), files by suffix (:mod:`.files`,
 ``kitkb crcl convert``); the cell contract an executor talks to (:mod:`.cell`:
-:class:`CellInterface`, :class:`Status`, :class:`Observation`, USARTruth lines), kitkb's cell
-protocol on TCP (:mod:`.wire`) and a cell behind it (:mod:`.remote`: :class:`RemoteCell`).
+:class:`CellInterface` and its capabilities as protocols, :class:`Status`, :class:`Observation`,
+USARTruth lines), the wire (:mod:`.wire`: CRCL 1.x documents split from a TCP stream, USARTruth
+lines, kitkb's earlier ``{Length N}`` framing) and the clients behind sockets (:mod:`.remote`:
+:class:`RemoteCell`, a CRCL 1.x session, ``kitkb crcl send``'s stream).
 """
 
 from kb.crcl.commands import (ANGLE_UNITS, COMMANDS, COORDINATE_FRAMES, LENGTH_UNITS, CloseGripper,

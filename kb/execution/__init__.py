@@ -7,7 +7,9 @@ action's neighbourhood (:mod:`.focus`), its recovery from failed checks (:mod:`.
 diagnosis, retry, rebind, replan, stop), the plan's steps
 (:mod:`.steps`), the closed loop that runs it all once over inputs read once (:mod:`.loop`,
 :mod:`.inputs`) and its typed events (:mod:`.events`), its belief of the cell (:mod:`.belief`), late-bound CRCL targets
-(:mod:`.targets`), the records a run leaves (:mod:`.records`) and their store (:mod:`.store`).
+(:mod:`.targets`), the records a run leaves (:mod:`.records`), their one dict form
+(:mod:`.codec`) and their store (:mod:`.store`); the cell is opened by URL (:mod:`kb.cells`),
+never by importing the simulator.
 """
 
 from kb.execution.api import Run, open_run
