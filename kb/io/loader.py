@@ -38,7 +38,7 @@ from kb.core.errors import InputError
 from kb.core.files import note_input
 from kb.core.limits import check_file_size, deep_calls
 from kb.core.memory import gc_paused
-from kb.core.resources import ontology_path
+from kb.core.resources import ontologies_dir, ontology_path, shapes_dir
 from kb.io import nist2012
 from kb.io.lines import LineIndex, build_index
 from kb.io.lines.turtle import TargetedTurtleIndex
@@ -110,6 +110,16 @@ class Source:
 
     def __repr__(self) -> str:
         return f"Source({str(self.path)!r}, {self.format!r}, ontology_iri={self.ontology_iri!r})"
+
+    def copy(self) -> "Source":
+        """A new Source over the same parsed statements (the list of triples copied, the
+        triples themselves shared: they are immutable); its graph, views and line index are
+        built again on first use, so nothing one holder does to them reaches the other."""
+        twin = Source(self.path, self.format, None, self.ontology_iri, self.imports, self.warnings,
+                      triples=list(self.triples()), prefixes=self.prefixes)
+        twin.written_as = dict(self.written_as)
+        twin.unmapped_2012 = dict(self.unmapped_2012)
+        return twin
 
     @property
     def graph(self) -> Graph:
@@ -309,9 +319,50 @@ def catalog() -> dict[str, Path]:
 
 def load_file(path: str | Path) -> Source:
     """Read one file (any supported format); InputError if it is missing or malformed, or
-    past a limit of :mod:`kb.core.limits` (size, statements, literal length, nesting)."""
+    past a limit of :mod:`kb.core.limits` (size, statements, literal length, nesting).
+
+    kitkb's own model ontologies and shapes (the files directly in the shipped ``ontologies/``
+    and ``shapes/`` folders, which the validator, the scene, the units and the domain each
+    import) are parsed once per process: a later read gets a new :class:`Source` over the same
+    parsed statements, while the file is unchanged (same size, modification time, inode)."""
+    path = Path(path)
+    key = _shipped_key(path)
+    if key is not None and key in _SHIPPED:
+        note_input(path)
+        source = _SHIPPED[key].copy()
+        for notes in _notes:  # as a first reading tells them
+            notes.extend(w for w in source.warnings if w.rule in NOT_READ_RULES)
+        return source
     with gc_paused():
-        return _load_file(Path(path))
+        source = _load_file(path)
+    if key is not None:
+        _SHIPPED[key] = source.copy()
+    return source
+
+
+#: shipped model file's (path, size, mtime_ns, inode) -> its first reading (never handed out)
+_SHIPPED: dict[tuple, "Source"] = {}
+
+
+def _shipped_key(path: Path) -> tuple | None:
+    """The cache key of a shipped model ontology or shapes file, else None."""
+    try:
+        folder = path.resolve().parent
+        if folder not in _shipped_folders():
+            return None
+        st = path.stat()
+    except OSError:
+        return None
+    return (str(path.resolve()), st.st_size, st.st_mtime_ns, st.st_ino)
+
+
+_FOLDERS: list[frozenset[Path]] = []
+
+
+def _shipped_folders() -> frozenset[Path]:
+    if not _FOLDERS:
+        _FOLDERS.append(frozenset(p.resolve() for p in (ontologies_dir(), shapes_dir())))
+    return _FOLDERS[0]
 
 
 def _load_file(path: Path) -> Source:
