@@ -148,6 +148,8 @@ class ClosedLoop:
         self._clock: float | None = None
         self._cpu = 0.0
         self._frozen = False
+        self._model: tuple[Any, float] | None = None  # the planning model made ahead, and its seconds
+        self._started: Any = None  # the planner started ahead (kb.planning.planners.Started)
 
     # --- the loop ---------------------------------------------------------------------------
     def run(self) -> LoopResult:
@@ -156,6 +158,7 @@ class ClosedLoop:
         o = self.options
         with ExitStack() as stack:
             stack.callback(self._thaw)
+            stack.callback(self._cancel_planner)
             if o.db is not None and o.store is None:  # the writer lock from the start: a second run is
                 from kb.world.database import normalize_url  # refused before any work, not after planning
                 from kb.world.lock import hold
@@ -169,6 +172,8 @@ class ClosedLoop:
             self.inputs = LoopInputs.read(self.init, self.goal, domain_files=o.domain_files,
                                           match_names=o.match_names, imports=o.validate)
         self._freeze()
+        if o.validate and self.given_plan is None:
+            self._start_planner()
         if o.validate and not self._validate():
             return
         plan = self.given_plan
@@ -237,16 +242,19 @@ class ClosedLoop:
         assert inputs is not None
         out = Path(o.out_dir) if o.out_dir is not None else None
         t = self._stage("pddl", out_dir=str(out) if out is not None else None)
-        model = inputs.model("strips")
+        model, ahead = self._model if self._model is not None else (inputs.model("strips"), 0.0)
         if out is not None:
             get_generator("pddl")(model).write_outputs(out)
         self.result.model = model
-        self._ended("pddl", t, model)
+        self._ended("pddl", t - ahead, model)  # the model made ahead counts as this stage's time
+        started, self._started = self._started, None
         t = self._stage("plan")
         self._clock = t
+        if started is not None:
+            t -= started.seconds
         try:
             result = planning.run(model.up_problem, out / "plan.txt" if out is not None else None, o.planner,
-                                  progress=self.progress)
+                                  progress=self.progress, started=started)
         except NotSolvableError as e:
             self.result.error = e
             self._ended("plan", t, None, False, f"no plan: {e}")
@@ -255,6 +263,27 @@ class ClosedLoop:
         self.result.plan = result
         self._ended("plan", t, result)
         return list(result.lines)
+
+    def _start_planner(self) -> None:
+        """Make the planning model and start the planner before validation, so that it plans on
+        the other core while the state files are validated (:func:`kb.planning.planners.start`);
+        the pddl and plan stages then use them. Anything that goes wrong here is left for those
+        stages to meet again and say, after validation, as without; a state that does not
+        validate stops the planner (nothing of it is written)."""
+        from kb.planning import planners
+        assert self.inputs is not None
+        t = time.perf_counter()
+        try:
+            model = self.inputs.model("strips")
+        except Exception:  # noqa: BLE001 - said by the pddl stage, after validation
+            return
+        self._model = (model, time.perf_counter() - t)
+        self._started = planners.start(model.up_problem, self.options.planner)
+
+    def _cancel_planner(self) -> None:
+        if self._started is not None:
+            self._started.cancel()
+            self._started = None
 
     def _geometry(self) -> bool:
         from kb.planning.geometry import agreement

@@ -20,6 +20,12 @@
   the planners to skip the false ones again), whose ``kind`` is computed once by
   :func:`freeze`, and which finds objects by name in a dictionary instead of a linear scan.
   Stock: ``Problem``.
+- :data:`EARLY_START`: :class:`StartedSolve` runs what ``PDDLPlanner._solve`` runs (the
+  engine's own PDDL writer, command line, plan reader and exit-status reading), split in two:
+  the planner's process is started at once and read when asked for, so the caller can work on
+  the other core meanwhile (``kitkb run`` validates the state files while Fast Downward plans;
+  a planner whose own ``_solve`` does more than ``PDDLPlanner``'s is not started ahead). Stock: nothing started ahead
+  (:meth:`StartedSolve.start` returns None), the plan made when asked for.
 
 Differential tests: ``tests/test_plan.py`` (fast paths give the walkers' results, broken
 plans are rejected) and ``tests/test_patches.py`` (same PDDL and plans with the patches off).
@@ -27,8 +33,10 @@ plans are rejected) and ``tests/test_patches.py`` (same PDDL and plans with the 
 
 from __future__ import annotations
 
+import contextlib
 import importlib
 import sys
+import time
 import types
 from contextlib import contextmanager
 from typing import Any, Iterator
@@ -38,7 +46,8 @@ from kb.patches.gate import Patch
 LEAN_IMPORT = Patch("unified-planning", "1.3.0", "1.4", "ConfigSpace imported on first use only")
 VALIDATOR = Patch("unified-planning", "1.3.0", "1.4", "plan-validator fast paths")
 LEAN_PROBLEM = Patch("unified-planning", "1.3.0", "1.4", "Problem with explicit initial values, kind kept")
-PATCHES = [LEAN_IMPORT, VALIDATOR, LEAN_PROBLEM]
+EARLY_START = Patch("unified-planning", "1.3.0", "1.4", "a PDDL planner's process started ahead, read later")
+PATCHES = [LEAN_IMPORT, VALIDATOR, LEAN_PROBLEM, EARLY_START]
 
 
 # --- lean import -----------------------------------------------------------------------------
@@ -251,3 +260,106 @@ def _stock_kind(problem: Any) -> Any:
     from unified_planning.model import Problem
 
     return Problem.kind.fget(problem)
+
+
+# --- a PDDL planner started ahead ---------------------------------------------------------------
+
+class StartedSolve:
+    """A PDDL planner engine's process working on a problem in the background: what its
+    ``_solve`` does (``unified_planning.engines.pddl_planner.PDDLPlanner._solve``, one-shot,
+    no timeout, no output stream), with the waiting left to :meth:`result`. Its own temporary
+    folder is the process's working folder (Fast Downward writes ``output.sas`` there)."""
+
+    def __init__(self, engine: Any, problem: Any) -> None:
+        import os
+        import subprocess
+        import tempfile
+
+        from unified_planning.io import PDDLWriter
+
+        self.engine, self.problem = engine, problem
+        self.closed = False
+        self._folder = tempfile.TemporaryDirectory(prefix="kitkb-plan-")
+        try:
+            work = self._folder.name
+            self.writer = PDDLWriter(problem, engine._needs_requirements, engine._rewrite_bool_assignments)
+            domain, task = os.path.join(work, "domain.pddl"), os.path.join(work, "problem.pddl")
+            self.plan_file = os.path.join(work, "plan.txt")
+            self.writer.write_domain(domain)
+            self.writer.write_problem(task)
+            cmd = engine._get_cmd(domain, task, self.plan_file)
+            self._started = time.time()
+            self.process = subprocess.Popen(cmd, cwd=work, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                            start_new_session=True)
+        except BaseException:
+            self._folder.cleanup()
+            raise
+
+    @classmethod
+    def start(cls, engine: Any, problem: Any) -> "StartedSolve | None":
+        """Start ``engine`` (made by unified-planning's factory in one-shot mode) on ``problem``,
+        or None where :data:`EARLY_START` does not apply (another version, an engine that is
+        not a PDDL planner or has its own ``_solve``)."""
+        if not EARLY_START.active():
+            return None
+        from unified_planning.engines import OperationMode
+        from unified_planning.engines.pddl_anytime_planner import PDDLAnytimePlanner
+        from unified_planning.engines.pddl_planner import PDDLPlanner
+
+        # PDDLAnytimePlanner._solve, one-shot, only sets the mode one-shot and calls PDDLPlanner's
+        if not isinstance(engine, PDDLPlanner) \
+                or type(engine)._solve not in (PDDLPlanner._solve, PDDLAnytimePlanner._solve) \
+                or getattr(engine, "_mode_running", None) != OperationMode.ONESHOT_PLANNER:
+            return None
+        if not engine.skip_checks and not engine.supports(problem.kind):
+            return None  # the engine's solve would warn or refuse: let it
+        return cls(engine, problem)
+
+    def result(self) -> Any:
+        """Wait for the process; the ``PlanGenerationResult`` ``_solve`` would return."""
+        import os
+
+        from unified_planning.engines.results import LogLevel, LogMessage, PlanGenerationResult
+
+        try:
+            out, err = self.process.communicate()
+            ended = time.time()
+            logs = [LogMessage(LogLevel.INFO, out.decode()), LogMessage(LogLevel.ERROR, err.decode())]
+            plan = None
+            if os.path.isfile(self.plan_file):
+                plan = self.engine._plan_from_file(self.problem, self.plan_file, self.writer.get_item_named)
+            status = self.engine._result_status(self.problem, plan, self.process.returncode, logs)
+            return PlanGenerationResult(status, plan, engine_name=self.engine.name, log_messages=logs,
+                                        metrics={"engine_internal_time": str(ended - self._started)})
+        finally:
+            self.close()
+
+    def cancel(self) -> None:
+        """Stop the process (and what it started) if it still runs; remove its folder."""
+        import os
+        import signal
+        import subprocess
+
+        if self.closed:
+            return
+        if self.process.poll() is None:
+            try:
+                os.killpg(self.process.pid, signal.SIGTERM)
+                self.process.wait(timeout=5)
+            except ProcessLookupError:
+                pass
+            except subprocess.TimeoutExpired:
+                with contextlib.suppress(ProcessLookupError):
+                    os.killpg(self.process.pid, signal.SIGKILL)
+            self.process.wait()
+        self.close()
+
+    def close(self) -> None:
+        if self.closed:
+            return
+        self.closed = True
+        for stream in (self.process.stdout, self.process.stderr):
+            if stream is not None:
+                stream.close()
+        self._folder.cleanup()
+        self.engine.destroy()

@@ -133,8 +133,6 @@ def solve(problem: Any, planner: str, timeout: float | None = None, engine_defau
 
     kitkb's :data:`PARAMS` are passed to the engine unless ``engine_defaults``.
     """
-    from unified_planning.engines import PlanGenerationResultStatus as Status
-
     factory = environment().factory
     try:
         engine_cm = factory.OneshotPlanner(name=planner, params=None if engine_defaults else PARAMS.get(planner))
@@ -148,6 +146,13 @@ def solve(problem: Any, planner: str, timeout: float | None = None, engine_defau
             result = engine.solve(problem, timeout=timeout)
         except FileNotFoundError as exc:
             raise ConfigurationError(f"planner {planner} cannot run: {exc} (is Java installed for ENHSP?)") from None
+    return _plan_of(result, planner)
+
+
+def _plan_of(result: Any, planner: str) -> Any:
+    """The plan of an engine's ``PlanGenerationResult``, or the error its status means."""
+    from unified_planning.engines import PlanGenerationResultStatus as Status
+
     ok = (Status.SOLVED_SATISFICING, Status.SOLVED_OPTIMALLY)
     if result.status in (Status.UNSUPPORTED_PROBLEM, Status.INTERNAL_ERROR):  # not "no plan exists"
         raise ConfigurationError(f"planner {planner} cannot plan this problem: it says {result.status.name}"
@@ -289,12 +294,61 @@ def write_plan(lines: list[str], path: str | Path) -> Path:
     return write_atomic(path, "".join(line + "\n" for line in lines))
 
 
+class Started:
+    """A planner already at work on a problem (:func:`start`): :func:`run` reads its plan
+    (``started=``); :meth:`cancel` stops it when the plan is not wanted after all."""
+
+    def __init__(self, problem: Any, planner: str | None, name: str, solving: Any) -> None:
+        self.problem, self.planner, self.name, self._solving = problem, planner, name, solving
+        self.seconds = 0.0  # spent here starting it (the caller's time, the planner's part)
+
+    def plan(self) -> Any:
+        """Wait for the planner; its plan (or the error ``solve`` would raise)."""
+        return _plan_of(self._solving.result(), self.name)
+
+    def cancel(self) -> None:
+        self._solving.cancel()
+
+
+def start(problem: Any, planner: str | None = None, source: Source | None = None) -> Started | None:
+    """Start the planner :func:`run` would choose for ``problem`` (kitkb's parameters, no time
+    limit) as a process of its own and return at once, so that other work runs on another core
+    while it plans; None where it cannot be started ahead (a problem with axioms, a planner not
+    run as a PDDL process, a refusal: :func:`run` then plans, or says why, as without)."""
+    from kb.patches.unified_planning import StartedSolve
+
+    t = time.perf_counter()
+    if source is not None and source.planner_texts:
+        return None
+    engine = None
+    try:
+        name = choose_planner(problem, planner, source)
+        check_validatable(problem, source)
+        engine = environment().factory.OneshotPlanner(name=name, params=PARAMS.get(name))
+        solving = StartedSolve.start(engine, problem)
+    except Exception:  # noqa: BLE001 - whatever refuses here is said by run(), at its place
+        solving = None
+    if solving is None:
+        if engine is not None:
+            engine.destroy()
+        return None
+    started = Started(problem, planner, name, solving)
+    started.seconds = time.perf_counter() - t
+    return started
+
+
 def run(problem: Any, out: str | Path | None, planner: str | None = None,
         timeout: float | None = None, engine_defaults: bool = False, progress: Progress = SILENT,
-        source: Source | None = None) -> PlanResult:
+        source: Source | None = None, started: Started | None = None) -> PlanResult:
     """Choose a planner, solve, validate, and write the plan to ``out`` (if given);
     ``progress``: where solving and validating report (:mod:`kb.core.progress`); ``source``:
-    the files the problem came from (names in the plan, where a refused feature is used)."""
+    the files the problem came from (names in the plan, where a refused feature is used);
+    ``started``: the same problem's planner already at work (:func:`start`; only without a
+    ``timeout`` or ``engine_defaults``), whose plan is read instead of solving again."""
+    if started is not None and (started.problem is not problem or started.planner != planner or timeout
+                                or engine_defaults):
+        started.cancel()
+        started = None
     times: dict[str, float] = {}
     t0 = time.perf_counter()
     axioms = source.planner_texts if source is not None else None
@@ -304,8 +358,13 @@ def run(problem: Any, out: str | Path | None, planner: str | None = None,
     else:
         name = choose_planner(problem, planner, source)
     check_validatable(problem, source)
+    if started is not None and started.name != name:
+        started.cancel()
+        started = None
     with progress.task(f"solving with {name}" + (f" (time limit {timeout:g} s)" if timeout else "")):
-        if axioms:
+        if started is not None and started.name == name:
+            plan = started.plan()
+        elif axioms:
             plan = solve_axioms(problem, axioms, name, timeout, engine_defaults, source)
         else:
             plan = solve(problem, name, timeout, engine_defaults)
