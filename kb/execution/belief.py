@@ -343,6 +343,15 @@ class Belief:
         i = self.index.get(name)
         return i is not None and not np.isnan(self.poses[i, 0, 0]) and not np.isnan(self.local_lo[i, 0])
 
+    def placed_positions(self, cls: str, but: str | None = None) -> np.ndarray:
+        """(K, 3) global positions of the placed objects of class ``cls`` but ``but`` (each
+        ``name`` of :meth:`of_class` for which :meth:`placed` holds: ``pose(name)[:3, 3]``)."""
+        index = self.index
+        idx = np.fromiter((index[n] for n, c in zip(self.names, self.classes) if cls in c and n != but),
+                          np.int64)
+        idx = idx[~np.isnan(self.poses[idx, 0, 0]) & ~np.isnan(self.local_lo[idx, 0])]
+        return self.poses[idx, :3, 3].reshape(-1, 3)
+
     def of_class(self, cls: str) -> list[str]:
         return [n for n, c in zip(self.names, self.classes) if cls in c]
 

@@ -338,8 +338,7 @@ class Targets:
         g = self._seen(kit)
         planned = getattr(self, "_args", {}).get("sku")  # the SKU the plan puts in this slot
         sku = [planned] if planned else self.b.related(SKU_OF, part)
-        taken = np.array([self.b.pose(p)[:3, 3] for p in self.b.of_class(str(KTW.Part))
-                          if p != part and self.b.placed(p)]).reshape(-1, 3)
+        taken = self.b.placed_positions(str(KTW.Part), but=part)
         for design in self.b.related(str(KTW.hasKit_Design), kit):
             for prp in self.b.related(str(KTW.hasKitDesign_PartRefAndPose), design):
                 if self.b.related(str(KTW.hasPartRefAndPose_Sku), prp) != sku:

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import re
 from collections import defaultdict
+from functools import lru_cache
 from pathlib import Path
 
 from rdflib import Graph, URIRef
@@ -30,8 +31,10 @@ _CONTAINS = [
 _OWNERS = [KTW.hasLargeBoxWithEmptyKitTrays_LargeContainer, KTW.hasLargeBoxWithKits_LargeContainer]
 
 
+@lru_cache(maxsize=65_536)
 def pddl_name(iri: str) -> str:
-    """A PDDL-safe object name from an individual's local name."""
+    """A PDDL-safe object name from an individual's local name (remembered: the executor asks
+    for the same few thousand names again and again)."""
     local = str(iri).rsplit("#", 1)[-1].rsplit("/", 1)[-1]
     name = re.sub(r"[^A-Za-z0-9_-]", "_", local)
     return name if name[:1].isalpha() else f"o_{name}"
