@@ -33,6 +33,7 @@ from pathlib import Path
 from typing import Any, Callable, Sequence
 
 from kb.core.errors import NotSolvableError
+from kb.core.memory import gc_paused
 from kb.core.progress import SILENT, Progress
 from kb.crcl.cell import CellInterface
 from kb.execution.api import Run, execute_plan, sensor_accuracy
@@ -327,8 +328,12 @@ class ClosedLoop:
             o.notifier(recipient, message)
 
         try:
-            run = execute_plan(plan, cell, pin, record, accuracy=accuracy, store=store, paths=(self.init, self.goal),
-                               notifier=notify, planner=o.planner, on_event=self.on_event)
+            # without the cyclic collector's passes: the executor's objects are nearly all freed by
+            # their reference counts (a 160-part run holds 3 MB more at its peak, 0.14 s less)
+            with gc_paused():
+                run = execute_plan(plan, cell, pin, record, accuracy=accuracy, store=store,
+                                   paths=(self.init, self.goal), notifier=notify, planner=o.planner,
+                                   on_event=self.on_event)
         finally:
             if own:
                 from kb.cells import close_cell
