@@ -339,9 +339,12 @@ class Targets:
         planned = getattr(self, "_args", {}).get("sku")  # the SKU the plan puts in this slot
         sku = [planned] if planned else self.b.related(SKU_OF, part)
         taken = self.b.placed_positions(str(KTW.Part), but=part)
+        skus: dict[str, list[str]] = {}  # each slot's SKUs (as related() says them), in one pass
+        for s, o in self.b.facts.get(str(KTW.hasPartRefAndPose_Sku), ()):
+            skus.setdefault(s, []).append(o)
         for design in self.b.related(str(KTW.hasKit_Design), kit):
             for prp in self.b.related(str(KTW.hasKitDesign_PartRefAndPose), design):
-                if self.b.related(str(KTW.hasPartRefAndPose_Sku), prp) != sku:
+                if sorted(skus.get(prp, ())) != sku:
                     continue
                 frame = g @ self._prp_pose(prp)
                 off = taken[:, :2] - frame[:2, 3]  # every part at once: none within 1 cm across and 5 cm up

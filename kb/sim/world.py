@@ -140,12 +140,12 @@ class World:
 
     def subtree(self, i: int) -> list[int]:
         """``i`` and everything that moves with it."""
-        kids = self._children()
-        out, todo = [], [i]
+        parent = self.parent  # each node's children in index order (the parents change between calls:
+        out, todo = [], [i]  # one comparison per node costs less than a table made again)
         while todo:
             j = todo.pop()
             out.append(j)
-            todo.extend(kids.get(int(j), ()))
+            todo.extend(np.flatnonzero(parent == j).tolist())
         return out
 
     def _children(self) -> dict[int, list[int]]:
