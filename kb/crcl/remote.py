@@ -54,6 +54,28 @@ from kb.crcl.xml import hardened_parser, unwritable, write_xml
 _CHUNK = 1 << 16
 
 
+def _open(host: str, port: int, timeout: float | None, who: str, address: str) -> socket.socket:
+    """A TCP connection to ``host:port`` without Nagle's delay; a CellError naming ``who`` if
+    it cannot be made."""
+    try:
+        sock = socket.create_connection((host, port), timeout=timeout)
+    except OSError as exc:
+        why = "timed out" if isinstance(exc, TimeoutError) else (exc.strerror or str(exc))
+        raise CellError(f"cannot reach {who}: {why}", address) from None
+    sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+    return sock
+
+
+def _shut(sock: socket.socket | None) -> None:
+    """Close ``sock`` if there is one (a socket already broken is closed all the same)."""
+    if sock is not None:
+        try:
+            sock.close()
+        except OSError:
+            pass
+    return None
+
+
 @dataclass(frozen=True)
 class Bounds:
     """How much of one answer a client waits for (None: no bound): ``seconds`` from the
@@ -131,12 +153,7 @@ class Connection:
         return not readable
 
     def _connect(self) -> None:
-        try:
-            self.sock = socket.create_connection((self.host, self.port), timeout=self.timeout)
-        except OSError as exc:
-            why = "timed out" if isinstance(exc, TimeoutError) else (exc.strerror or str(exc))
-            raise CellError(f"cannot reach the cell's {self.role} port: {why}", self.address) from None
-        self.sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+        self.sock = _open(self.host, self.port, self.timeout, f"the cell's {self.role} port", self.address)
 
     def _exchange(self, data: bytes) -> list[str]:
         """Send ``data``, read the answer up to ``{End}`` within the bounds."""
@@ -214,12 +231,7 @@ class Connection:
 
     def close(self) -> None:
         """Close the connection (the next request opens a new one)."""
-        if self.sock is not None:
-            try:
-                self.sock.close()
-            except OSError:
-                pass
-        self.sock = None
+        self.sock = _shut(self.sock)
 
 
 # --- CRCL 1.x ------------------------------------------------------------------------------------
@@ -295,22 +307,12 @@ class CrclClient:
     def connect(self) -> None:
         """Open the connection (a new session: CommandIDs from 1)."""
         self.close()
-        try:
-            self.sock = socket.create_connection((self.host, self.port), timeout=self.bounds.seconds)
-        except OSError as exc:
-            why = "timed out" if isinstance(exc, TimeoutError) else (exc.strerror or str(exc))
-            raise CellError(f"cannot reach {self.who}: {why}", self.address) from None
-        self.sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+        self.sock = _open(self.host, self.port, self.bounds.seconds, self.who, self.address)
         self.docs, self.next_id, self.last, self.polls = Documents(MAX_STATUS), 1, None, set()
 
     def close(self) -> None:
         """Close the connection."""
-        if self.sock is not None:
-            try:
-                self.sock.close()
-            except OSError:
-                pass
-        self.sock = None
+        self.sock = _shut(self.sock)
 
     def run(self, command: "Command | Forwarded", timeout: float | None = None) -> Outcome:
         """Send ``command`` (an InputError, before anything is sent, for one CRCL 1.x cannot
