@@ -49,6 +49,7 @@ from kb.crcl.wire import (COMMAND_PORT, DONE, END, ERROR, EXTRA_FIELDS, MAX_LINE
                           Documents, action_message, fields, frame_message, length_line, parse_address,
                           parse_status_line, query_line)
 from kb.crcl.xml import hardened_parser, unwritable, write_xml
+from kb.crcl.xmlbase import syntax_error
 
 #: bytes asked of the socket at a time
 _CHUNK = 1 << 16
@@ -489,7 +490,7 @@ def forwarded(path: str | Path) -> list[Forwarded] | None:
     try:
         root = etree.fromstring(data, hardened_parser())
     except etree.XMLSyntaxError as exc:
-        raise InputError(f"XML syntax error: {exc.msg}", path, exc.lineno) from None
+        raise syntax_error(exc, path) from None
     kids = [ch for ch in root if isinstance(ch.tag, str) and ch.tag != "Name"]
     if root.tag == "CRCLCommandInstance":
         kind, elements = "command", [ch for ch in kids if ch.tag == "CRCLCommand"]

@@ -39,7 +39,7 @@ from kb.crcl.commands import (CRCL1_UNITS, PAPER_UNITS, CloseGripper, CloseToolC
                               SetIntermediatePointTolerance, SetLengthUnits,
                               SetRelativeAcceleration, SetRelativeSpeed, Unreadable)
 from kb.crcl.pose import Pose
-from kb.crcl.xmlbase import _XML_CHARS, _parse, _read, default_xsd, hardened_parser, schema  # noqa: F401 (kb.crcl.xml's API)
+from kb.crcl.xmlbase import _XML_CHARS, _parse, _read, default_xsd, hardened_parser, schema, syntax_error  # noqa: F401 (kb.crcl.xml's API)
 
 #: Command class -> (field, child element, value kind) of each child CRCL.xsd gives it.
 #: ``MoveThroughTo`` (repeated ``Waypoint`` and ``NumPositions``) is read and written apart.
@@ -155,8 +155,7 @@ def _read_stream(path: Path, schema: etree.XMLSchema | None, name: str) -> Progr
                 _take(pending[:-2], root, schema, name, commands, first=not commands, last=False)
                 pending = pending[-2:]
     except etree.XMLSyntaxError as exc:
-        message = ((exc.msg or str(exc)).strip().splitlines() or ["not well-formed"])[0]
-        raise InputError(f"XML syntax error: {message}", name, exc.lineno) from None
+        raise syntax_error(exc, name) from None
     if root is not None and root.text and root.text.strip():
         raise InputError(f"unexpected text {root.text.strip()[:30]!r} in <{root.tag}>", name, root.sourceline)
     _take(pending, root, schema, name, commands, first=not commands, last=True)

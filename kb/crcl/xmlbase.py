@@ -62,11 +62,17 @@ def _parse(data: bytes, name: str | None, base_url: str | None = None) -> Any:
     try:
         tree = etree.parse(io.BytesIO(data), hardened_parser(), base_url=base_url)
     except etree.XMLSyntaxError as exc:
-        # one line: libxml2 ends some messages with "\n, line L, column C"
-        message = ((exc.msg or str(exc)).strip().splitlines() or ["not well-formed"])[0]
-        raise InputError(f"XML syntax error: {message}", name, exc.lineno) from None
+        raise syntax_error(exc, name) from None
     if tree.docinfo.internalDTD is not None or tree.docinfo.doctype:
         line = data.count(b"\n", 0, max(data.find(b"<!DOCTYPE"), 0)) + 1
         raise InputError("a DOCTYPE is not allowed in CRCL XML (no entity is expanded or fetched)",
                          name, line)
     return tree
+
+
+def syntax_error(exc: etree.XMLSyntaxError, name: "str | Path | None") -> InputError:
+    """lxml's syntax error as one line at its file and line: libxml2's first line of the
+    message, without the ", line L, column C" lxml adds (the line is the error's own)."""
+    message = ((exc.msg or str(exc)).strip().splitlines() or ["not well-formed"])[0]
+    message = re.sub(r",? line \d+, column \d+$", "", message).rstrip(", ") or "not well-formed"
+    return InputError(f"XML syntax error: {message}", name, exc.lineno)
