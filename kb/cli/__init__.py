@@ -164,7 +164,19 @@ def _add_generate(sub: Any) -> None:
         g.set_defaults(generator=name)
 
 
+#: The help of ``--domain`` on every command that reads the planning domain.
+DOMAIN_HELP = ("a domain extension (Turtle or any syntax kitkb reads) added to the shipped kitting-domain.ttl: "
+               "actions with their programs, predicates and functions with their definitions, failure modes, "
+               "fault kinds (repeatable; it may import kitkb's ontologies by IRI; a file that declares "
+               "<https://w3id.org/kitkb/kitting-domain> itself replaces the shipped domain; docs/soap.md)")
+
+
+def _domain_option(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--domain", action="append", metavar="FILE", help=DOMAIN_HELP)
+
+
 def _state_files(p: argparse.ArgumentParser) -> None:
+    _domain_option(p)
     p.add_argument("--encoding", choices=["strips", "numeric"], default="strips",
                    help="strips: counts compiled into objects (Fast Downward, pyperplan); "
                         "numeric: PDDL 2.1 fluents (ENHSP) (default strips)")
@@ -224,9 +236,7 @@ def _add_run(sub: Any) -> None:
                                                "a new out/<scenario>/world.sqlite); a postgresql:// URL works too")
     p.add_argument("--replace", action="store_true",
                    help="with --db: replace the world model and run history the database already holds")
-    p.add_argument("--domain", action="append", metavar="FILE",
-                   help="domain ontology with the actions, predicates, failure modes and remediations "
-                        "(repeatable; default: the shipped kitting-domain.ttl)")
+    _domain_option(p)
     p.add_argument("--report", metavar="FILE", help="write the JSON report (goal_holds, injected, failures, ...); "
                                                    "--format json prints the same report on standard output")
     p.add_argument("--report-html", metavar="FILE",
@@ -340,9 +350,7 @@ def _add_predicates(sub: Any) -> None:
                         "model facts but no geometry, as the PDDL generator does (NIST's kits)")
     p.add_argument("--match-names", action="store_true",
                    help="with --goal: match its individuals to the state's by local name (NIST's files)")
-    p.add_argument("--domain", action="append", metavar="FILE",
-                   help="domain ontology with the predicate definitions (repeatable; default: the shipped "
-                        "kitting-domain.ttl)")
+    _domain_option(p)
     p.add_argument("-p", "--predicate", action="append", metavar="NAME", help="only this predicate (repeatable)")
     p.add_argument("--tolerance", type=float, metavar="METRES",
                    help="contact and equality tolerance in metres (default 0.001)")
@@ -412,6 +420,7 @@ def _add_testmethod(sub: Any) -> None:
                    help="sim: (default: every trial its own simulated cell of its real placement), or one cell at a "
                         "URL as kitkb run --cell takes it that the trial runs on, its placement the cell's own: "
                         "one trial, not the errors method")
+    _domain_option(p)
     where = p.add_mutually_exclusive_group()
     where.add_argument("--workers", type=int, metavar="N",
                        help="Dask worker processes of a local cluster on this machine (default: one per core)")

@@ -9,13 +9,16 @@ from pathlib import Path
 
 from kb import planning
 from kb.cli.output import Output
+from kb.core.errors import InputError
 from kb.core.generators import get_generator
 
 
-def generate_pddl(init: str, goal: str, output: str, encoding: str, match_names: bool, out: Output) -> int:
-    """Write ``domain.pddl`` and ``problem.pddl`` for INIT -> GOAL into the folder ``output``."""
+def generate_pddl(init: str, goal: str, output: str, encoding: str, match_names: bool, out: Output,
+                  domain: list[str] | None = None) -> int:
+    """Write ``domain.pddl`` and ``problem.pddl`` for INIT -> GOAL into the folder ``output``
+    (``domain``: extension files added to the shipped domain)."""
     with out.progress(f"generating PDDL from {Path(init).name} and {Path(goal).name}"):
-        model = planning.kitting_model([init], [goal], encoding, match_names=match_names)
+        model = planning.kitting_model([init], [goal], encoding, domain_files=domain, match_names=match_names)
         for note in model.problem.notes:  # what the state files hold that is not read
             out.warn(note)
         written = get_generator("pddl")(model).write_outputs(Path(output))
@@ -25,19 +28,24 @@ def generate_pddl(init: str, goal: str, output: str, encoding: str, match_names:
 
 
 def plan(first: str, second: str, output: str, planner: str | None, encoding: str, timeout: float | None,
-         engine_defaults: bool, match_names: bool, out: Output) -> int:
-    """Plan from INIT GOAL ontology files, or from DOMAIN PROBLEM PDDL files; write the plan."""
+         engine_defaults: bool, match_names: bool, out: Output, domain: list[str] | None = None) -> int:
+    """Plan from INIT GOAL ontology files, or from DOMAIN PROBLEM PDDL files; write the plan
+    (``domain``: extension files added to the shipped domain; not with PDDL files)."""
     start = time.perf_counter()
     with out.progress(f"planning {Path(first).name} -> {Path(second).name}"):
         files = None
         if planning.is_pddl(first) and planning.is_pddl(second):
+            if domain:
+                raise InputError("--domain extends the ontology's domain; it does not apply to PDDL files "
+                                 f"({Path(first).name}, {Path(second).name})")
             with out.progress("reading the PDDL files"):
                 files = planning.read_pddl(first, second, warn=out.warn)
             problem = files.problem
             source = "PDDL"
         else:
             with out.progress("building the planning problem from the ontology files"):
-                model = planning.kitting_model([first], [second], encoding, overlap=True, match_names=match_names)
+                model = planning.kitting_model([first], [second], encoding, domain_files=domain, overlap=True,
+                                               match_names=match_names)
             for note in model.problem.notes:  # what the state files hold that is not read
                 out.warn(note)
             problem = model.up_problem

@@ -6,8 +6,8 @@ import json
 from pathlib import Path
 
 from kb.cli.output import Output
-from kb.core.resources import ontology_path
-from kb.io.loader import load, reading_notes
+from kb.core.namespaces import SOAP
+from kb.io.loader import Source, domain_knowledge, load, reading_notes
 from kb.io.vocabulary import not_understood
 from kb.model.definitions import Definitions, locator, read_definitions
 from kb.spatial import DEFAULT_TOLERANCE, Evaluator, Scene
@@ -38,15 +38,24 @@ def predicates(state: list[str], goal: str | None, match_names: bool, domain: li
 
 
 def _definitions(domain: list[str] | None) -> Definitions:
-    """The predicate definitions of the domain files (default: the shipped kitting domain)."""
-    kb = load(list(domain) if domain else [ontology_path("kitting-domain.ttl")])
+    """The predicate definitions of the shipped kitting domain and the extension files ``domain``."""
+    kb = domain_knowledge(domain)
     defs = read_definitions(kb.graph, locator(kb))
-    if domain and not defs.predicates:
-        named = kb.sources[:len(set(domain))]
+    given = {Path(d).resolve() for d in domain or ()}
+    named = [s for s in kb.sources if s.path.resolve() in given]
+    if named and not any(_defines_predicate(s) for s in named):
         raise not_understood(f"no predicate definition kitkb reads in {', '.join(Path(d).name for d in domain)} "
                              "(it looked for individuals of soap:Predicate with a soap:hasPredicate_Definition)",
                              (t for s in named for t in s.triples()), domain[0])
     return defs
+
+
+def _defines_predicate(source: Source) -> bool:
+    """Whether ``source`` says anything in kitkb's SOAP vocabulary (an extension may add only
+    actions or failure modes; one that states nothing of it, such as NIST's own SOAP file,
+    defines no predicate kitkb reads)."""
+    soap = str(SOAP)
+    return any(str(p).startswith(soap) or str(o).startswith(soap) for _s, p, o in source.triples())
 
 
 def _scene(state: list[str], goal: str | None, match_names: bool) -> Scene:

@@ -25,7 +25,7 @@ from typing import Any, Sequence
 
 from kb.core.memory import gc_paused
 from kb.core.resources import ontology_path
-from kb.io.loader import KnowledgeBase, Source, load
+from kb.io.loader import KnowledgeBase, Source, domain_knowledge, load
 from kb.model.definitions import Definitions, locator, read_definitions
 from kb.model.failures import FailureModel, read_failure_model
 from kb.model.soap import DomainSpec, read_domain
@@ -33,6 +33,10 @@ from kb.planning.model import KittingModel, encoded, model_of
 from kb.planning.problem import ProblemSpec, read_problem, used_types, world_of
 from kb.planning.state import ClassTree, World
 from kb.spatial.scene import Scene
+
+
+def _model_files() -> set[Path]:
+    return {ontology_path(name).resolve() for name in ("soap.ttl", "kitting.ttl")}
 
 
 @dataclass(frozen=True)
@@ -49,18 +53,29 @@ class PlanInputs:
 
 
 class DomainInputs:
-    """A domain's files (None: the shipped ``kitting-domain.ttl``) read once with their
-    imports, and what is made of them on first use: the planning domain, the predicate
-    definitions, the failure modes. One serves every loop of a process that plans in the same
-    domain (``kb.testmethod``'s trials)."""
+    """The domain: the shipped ``kitting-domain.ttl`` and the extension files ``domain_files``
+    (``--domain FILE...``; None or empty: the shipped domain alone) read once with their imports
+    by :func:`kb.io.loader.domain_knowledge`, and what is made of them on first use: the planning
+    domain, the predicate and function definitions, the failure modes. One serves every loop of
+    a process that plans in the same domain (``kb.testmethod``'s trials); every reader of the
+    domain (planner, executor, diagnosis, the simulator's fault kinds, the test methods) takes
+    its knowledge from :attr:`kb` (its ``graph``, and ``locator(kb)`` for lines), so all see
+    the same extended domain. ``files`` is the list actually read (the shipped file first)."""
 
     def __init__(self, domain_files: Sequence[str | Path] | None = None) -> None:
+        #: the extension files as given (None: none)
         self.domain_files = list(domain_files) if domain_files else None
 
     @cached_property
     def kb(self) -> KnowledgeBase:
-        """The domain files with their imports (the model ontologies)."""
-        return load(self.domain_files or [ontology_path("kitting-domain.ttl")])
+        """The shipped domain and the extensions with their imports (the model ontologies)."""
+        return domain_knowledge(self.domain_files)
+
+    @property
+    def files(self) -> list[Path]:
+        """The domain's own files in reading order (the shipped ``kitting-domain.ttl`` first,
+        unless an extension is a modified copy of it), without the model ontologies."""
+        return [s.path for s in self.kb.sources if s.path.resolve() not in _model_files()]
 
     @cached_property
     def domain(self) -> DomainSpec:

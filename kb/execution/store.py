@@ -42,8 +42,8 @@ from sqlalchemy import (BigInteger, Boolean, Column, DateTime, Float, ForeignKey
                         func, insert, inspect, select, text, update)
 
 from kb.core.errors import InputError
-from kb.core.resources import ontology_path
 from kb.io import load_file
+from kb.io.loader import domain_paths
 from kb.io.turtle import Names
 from kb.core.units import SI, Units
 from kb.execution.codec import dumps, encode, loads
@@ -134,7 +134,7 @@ def prepare(url: str | Path, init: str | Path, domain_files: Sequence[str | Path
     url = normalize_url(url)
     held = acquire(url, RUN)  # before anything is read: a busy database is refused at once
     try:
-        domain = _domain_sources(domain_files) if domain_files else [ontology_path("kitting-domain.ttl")]
+        domain = domain_paths(domain_files)  # the shipped domain and the extensions
         with tempfile.TemporaryDirectory(prefix="kitkb-run-") as tmp:
             both = Path(tmp) / f"{Path(init).stem}+domain.nt"
             # N-Triples spellings: <iri>, _:label, "escaped"^^<dt> (rdflib's n3() writes a string with
@@ -174,14 +174,6 @@ def _in_source(exc: InputError, both: Path, starts: list[tuple[int, Any]], init:
     statement = next(itertools.islice(src.triples(), exc.line - first, None), None)
     line = src.line_of(*statement) if statement is not None else None
     return InputError(exc.message, src.path, line)
-
-
-def _domain_sources(domain_files: Sequence[str | Path]) -> list[Path]:
-    """The domain files and the domain ontologies they import (an extension imports
-    kitting-domain), without the model ontologies (soap.ttl, kitting.ttl) they import."""
-    from kb.io import load as load_ontologies
-    model = {ontology_path(name).resolve() for name in ("soap.ttl", "kitting.ttl")}
-    return [s.path for s in load_ontologies(list(domain_files)).sources if Path(s.path).resolve() not in model]
 
 
 class RunStore:

@@ -465,7 +465,74 @@ def load(paths: Sequence[str | Path], *, resolve_imports: bool = True) -> Knowle
     unique: dict[Path, Path] = {}
     for p in paths:
         unique.setdefault(Path(p).resolve(), Path(p))
-    sources = [load_file(p) for p in unique.values()]
+    return _knowledge_base([load_file(p) for p in unique.values()], resolve_imports)
+
+
+#: The shipped domain file, the first file of every domain (:func:`domain_knowledge`).
+SHIPPED_DOMAIN = "kitting-domain.ttl"
+
+
+def domain_knowledge(extensions: Sequence[str | Path] | None = None) -> KnowledgeBase:
+    """The planning domain as one knowledge base: the shipped ``kitting-domain.ttl`` first, then
+    each extension file in ``extensions`` (``--domain FILE``), with their imports.
+
+    This is the one way kitkb reads a domain; its own domain file is simply the list's first
+    entry. An extension adds actions (with their programs), predicates, functions, failure
+    modes, fault kinds ... to the shipped ones; it may ``owl:imports`` kitkb's ontologies by IRI
+    (``https://w3id.org/kitkb/soap``, ``.../kitting``, ``.../kitting-domain``: the shipped files,
+    never the network). A file that declares the shipped domain's own ontology IRI
+    (``<https://w3id.org/kitkb/kitting-domain> a owl:Ontology``: a modified copy of it) takes the
+    shipped file's place instead of adding to it. Errors in a file (syntax, limits) are
+    InputErrors at its ``file:line``; what the domain's readers find wrong in the knowledge
+    (:mod:`kb.model.soap`, :mod:`kb.model.definitions`) they report at the line of the node."""
+    unique: dict[Path, Path] = {}
+    for p in extensions or ():
+        unique.setdefault(Path(p).resolve(), Path(p))
+    given = [load_file(p) for p in unique.values()]
+    shipped = ontology_path(SHIPPED_DOMAIN)
+    replaced = shipped.resolve() in unique or any(
+        (s.ontology_iri or "").rstrip("#/") == ns.KITTING_DOMAIN_ONTOLOGY.rstrip("#/") for s in given)
+    kb = _knowledge_base(given if replaced else [load_file(shipped), *given], True)
+    if given and not replaced:
+        _check_terms(given, kb)
+    return kb
+
+
+def _check_terms(extensions: list[Source], kb: KnowledgeBase) -> None:
+    """InputError at its line for the first term of kitkb's namespaces (SOAP, the kitting model,
+    the kitting domain) that an extension uses but no file of the domain states anything
+    about: a misspelt property or class (``soap:hasPredicate_Defintion``), or a reference to
+    an action, predicate or individual that is not defined."""
+    known = {s for s in kb.graph.subjects() if isinstance(s, URIRef)}
+    ours = (str(ns.SOAP), str(ns.KTW), str(ns.KD))
+    for source in extensions:
+        for s, p, o in source.triples():
+            for term in (p, o):
+                if isinstance(term, URIRef) and term not in known and str(term).startswith(ours):
+                    what = "property" if term is p else "term"
+                    raise InputError(f"unknown {what} {_curie(term)}: no file of the "
+                                     "domain (the shipped kitting-domain.ttl, soap.ttl, kitting.ttl and the "
+                                     "extensions) defines it", source.path, source.line_of(s, p, o))
+
+
+def _curie(term: URIRef) -> str:
+    """``soap:Name`` / ``ktw:Name`` / ``kd:Name`` for a term of kitkb's namespaces."""
+    for prefix, space in (("soap", ns.SOAP), ("ktw", ns.KTW), ("kd", ns.KD)):
+        if str(term).startswith(str(space)):
+            return f"{prefix}:{str(term)[len(str(space)):]}"
+    return f"<{term}>"
+
+
+def domain_paths(extensions: Sequence[str | Path] | None = None) -> list[Path]:
+    """The files :func:`domain_knowledge` reads for ``extensions`` (the shipped domain first), without
+    the model ontologies (``soap.ttl``, ``kitting.ttl``) they import."""
+    model = {ontology_path(name).resolve() for name in ("soap.ttl", "kitting.ttl")}
+    return [s.path for s in domain_knowledge(extensions).sources if s.path.resolve() not in model]
+
+
+def _knowledge_base(sources: list[Source], resolve_imports: bool) -> KnowledgeBase:
+    """The knowledge base of the files ``sources`` (already read) and, with
+    ``resolve_imports``, the files they import (transitively)."""
     named = list(sources)
     _stand_in_notes(named)
     if resolve_imports:

@@ -29,8 +29,8 @@ from rdflib.namespace import OWL, RDF
 
 from kb.core.errors import InputError
 from kb.core.namespaces import SOAP
-from kb.core.resources import ontology_path
-from kb.io import KnowledgeBase, load
+from kb.io import KnowledgeBase
+from kb.io.loader import domain_knowledge
 
 #: The 30 primitive relations, per axis: RCC8 then cardinal directions.
 RCC8_NAMES = ("DC", "EC", "PO", "EQ", "TPP", "NTPP", "TPPi", "NTPPi")
@@ -228,7 +228,7 @@ class Definitions:
 def load_definitions(domain_files: Sequence[str | Path] | None = None) -> Definitions:
     """The definitions of the domain in ``domain_files`` (default: the shipped
     ``kitting-domain.ttl``) with their imports; errors name the file and line of the node."""
-    kb = load(list(domain_files) if domain_files else [ontology_path("kitting-domain.ttl")])
+    kb = domain_knowledge(domain_files)
     return read_definitions(kb.graph, locator(kb))
 
 

@@ -19,8 +19,7 @@ from rdflib.namespace import RDF
 
 from kb.core.errors import InputError
 from kb.core.namespaces import SOAP
-from kb.core.resources import ontology_path
-from kb.io import load
+from kb.io.loader import domain_knowledge
 from kb.model.definitions import Formula, Locator, _Malformed, _Reader, _short, locator
 
 PRE, EFF = "precondition", "effect"
@@ -90,7 +89,7 @@ class FailureModel:
 
 def load_failure_model(domain_files: Sequence[str | Path] | None = None) -> FailureModel:
     """The failure model of the domain files (default: the shipped ``kitting-domain.ttl``)."""
-    kb = load(list(domain_files) if domain_files else [ontology_path("kitting-domain.ttl")])
+    kb = domain_knowledge(domain_files)
     return read_failure_model(kb.graph, locator(kb))
 
 

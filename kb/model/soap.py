@@ -20,8 +20,7 @@ from rdflib.namespace import OWL, RDF, RDFS
 
 from kb.core.errors import InputError
 from kb.core.namespaces import KITTING_DOMAIN_ONTOLOGY, SOAP, local_name
-from kb.core.resources import ontology_path
-from kb.io.loader import load
+from kb.io.loader import domain_knowledge
 
 _OPS = {"Equal": "=", "Less": "<", "Greater": ">", "LessOrEqual": "<=", "GreaterOrEqual": ">="}
 _NUMERIC_KINDS = {SOAP.IncreaseEffect: "increase", SOAP.DecreaseEffect: "decrease", SOAP.AssignEffect: "assign"}
@@ -118,7 +117,7 @@ class DomainSpec:
 def load_domain(domain_files: Sequence[str | Path] | None = None) -> tuple[DomainSpec, Graph]:
     """The domain of the SOAP instances in ``domain_files`` (default: the shipped
     ``kitting-domain.ttl``, with its imports), and the graph it was read from."""
-    kb = load(list(domain_files) if domain_files else [ontology_path("kitting-domain.ttl")])
+    kb = domain_knowledge(domain_files)
     return read_domain(kb.graph), kb.graph
 
 

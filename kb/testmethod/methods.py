@@ -37,6 +37,7 @@ import random
 import re
 from dataclasses import dataclass, field
 from functools import lru_cache
+from pathlib import Path
 from typing import Any
 
 from kb.cells.accuracy import KEYS, SensorAccuracy
@@ -69,6 +70,7 @@ class Options:
     sensor_noise: str | None = None  # the sensor's accuracy, as --sensor-noise spells it
     noise_sweep: str | None = None  # errors: KEY=FROM:TO:N, the levels every trial runs at
     cell: str | None = None  # the cell's URL (None: every trial's own simulated cell, sim:)
+    domain: tuple[str, ...] = ()  # --domain: extension files added to the shipped domain
 
     def __post_init__(self) -> None:
         if self.method not in METHODS:
@@ -147,6 +149,8 @@ class Options:
             out["noise_sweep"] = self.noise_sweep
         if self.cell is not None:
             out["cell"] = self.cell
+        if self.domain:
+            out["domain"] = list(self.domain)
         return out
 
 
@@ -256,6 +260,7 @@ class Job:
     noise: str | None = None  # the sensor's accuracy as --sensor-noise spells it (None: the state's sensor)
     sweep: tuple[int, int] | None = None  # in a noise sweep: (trial, level)
     cell: str | None = None  # the URL of the one cell the trial runs on (None: its own simulated cell)
+    domain: tuple[str, ...] = ()  # extension files added to the shipped domain (--domain)
 
     def facts(self) -> dict[str, Any]:
         """The trial's facts known before it runs (its row's ``trial``): index, seed, method,
@@ -302,7 +307,8 @@ def job(options: Options, row: int) -> Job:
     """Row ``row`` of the campaign: its trial (``row`` itself without a sweep) at its noise."""
     trial, level = options.locate(row)
     extra: dict[str, Any] = {"noise": options.noise_of(row), "sweep": None if level is None else (trial, level),
-                             "cell": options.cell if options.cell is not None and not simulated(options.cell) else None}
+                             "cell": options.cell if options.cell is not None and not simulated(options.cell) else None,
+                             "domain": tuple(str(Path(d).resolve()) for d in options.domain)}
     return dataclasses.replace(_job(options, trial), index=row, **extra)
 
 

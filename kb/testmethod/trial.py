@@ -73,18 +73,25 @@ class Prepared:
     domain: DomainSpec
     problem: ProblemSpec
     scene: Scene
+    extensions: tuple[str, ...] = ()  # the domain's extension files (Job.domain)
 
 
-@lru_cache(maxsize=1)
+@lru_cache(maxsize=4)
+def domain_inputs(extensions: tuple[str, ...] = ()) -> DomainInputs:
+    """The domain (the shipped one and the extension files ``extensions``, the campaign's
+    ``--domain``): its files read once per process, its planning domain, predicate definitions
+    and failure modes made once."""
+    return DomainInputs(list(extensions) or None)
+
+
 def shipped_domain() -> DomainInputs:
-    """The shipped domain: its files read once per process, its planning domain, predicate
-    definitions and failure modes made once."""
-    return DomainInputs(None)
+    """The shipped domain alone (:func:`domain_inputs` with no extension)."""
+    return domain_inputs(())
 
 
-def knowledge() -> tuple[Definitions, FailureModel]:
-    """The shipped domain's predicate definitions and failure modes (made once per process)."""
-    return shipped_domain().definitions, shipped_domain().failures
+def knowledge(extensions: tuple[str, ...] = ()) -> tuple[Definitions, FailureModel]:
+    """The domain's predicate definitions and failure modes (made once per process)."""
+    return domain_inputs(extensions).definitions, domain_inputs(extensions).failures
 
 
 #: this process's folder for the nominal state files it writes (removed when the process ends)
@@ -93,28 +100,29 @@ _DESIGNS = itertools.count(1)
 
 
 @lru_cache(maxsize=KEEP)
-def prepared(spec: ScenarioSpec) -> Prepared:
-    """:func:`prepare` once per design and process."""
+def prepared(spec: ScenarioSpec, extensions: tuple[str, ...] = ()) -> Prepared:
+    """:func:`prepare` once per design, domain and process."""
     if not _FOLDER:
         _FOLDER.append(tempfile.TemporaryDirectory(prefix="kitkb-testmethod-"))
-    return prepare(spec, Path(_FOLDER[0].name) / f"design-{next(_DESIGNS)}")
+    return prepare(spec, Path(_FOLDER[0].name) / f"design-{next(_DESIGNS)}", extensions)
 
 
-def prepare(spec: ScenarioSpec, folder: Path) -> Prepared:
+def prepare(spec: ScenarioSpec, folder: Path, extensions: tuple[str, ...] = ()) -> Prepared:
     """Lay out ``spec`` nominally, write its files into ``folder``, plan, and read the problem."""
     sc = layout(spec)
     init, goal = write_spec(sc, folder)
-    return receive(sc, init, goal)
+    return receive(sc, init, goal, extensions)
 
 
-def receive(sc: Scenario, init: Path, goal: Path) -> Prepared:
+def receive(sc: Scenario, init: Path, goal: Path, extensions: tuple[str, ...] = ()) -> Prepared:
     """What the system does with a design's files: read them (once), plan: the closed loop up
     to its plan (:class:`~kb.execution.loop.ClosedLoop`, no validation, geometry or execution)."""
     t = time.perf_counter()
-    inputs = LoopInputs.read(init, goal, imports=False, knowledge=shipped_domain())
+    inputs = LoopInputs.read(init, goal, imports=False, knowledge=domain_inputs(extensions))
     result = ClosedLoop(init, goal, _options(execute=False), inputs=inputs).run()
     plan = list(result.plan.lines)
-    return Prepared(sc, init, goal, plan, time.perf_counter() - t, inputs.domain, inputs.problem, inputs.scene)
+    return Prepared(sc, init, goal, plan, time.perf_counter() - t, inputs.domain, inputs.problem, inputs.scene,
+                    extensions)
 
 
 def _options(**kw: Any) -> LoopOptions:
@@ -207,7 +215,7 @@ def execute(prep: Prepared, cell: WatchedCell, name: str, seed: int, accuracy: S
             on_event: Listener = ignore) -> Run:
     """Carry out the design's plan on ``cell`` from the nominal belief, verifying with the
     sensor ``accuracy``: the closed loop's ``execute`` stage, the plan and inputs given."""
-    defs, failures = knowledge()
+    defs, failures = knowledge(prep.extensions)
     inputs = PlanInputs(prep.domain, prep.problem, prep.scene, defs, failures)
     loop = ClosedLoop(prep.init, prep.goal, _options(cell=cell, seed=seed, sensor_noise=accuracy, name=name),
                       plan=prep.plan, plan_inputs=inputs, plan_time=prep.plan_time, on_event=on_event)
@@ -240,7 +248,7 @@ def _run(job: Job, facts: dict[str, Any]) -> dict[str, Any]:
     if job.deliver:
         with tempfile.TemporaryDirectory(prefix="kitkb-new-variety-") as folder:
             return _delivered(job, Path(folder), facts)
-    prep = prepared(job.spec)
+    prep = prepared(job.spec, job.domain)
     cell, accuracy = _cell(job, prep.scenario, prep.scene, facts)
     try:
         return _report(execute(prep, cell, job.spec.name, job.seed, accuracy), facts)
@@ -277,7 +285,8 @@ def _delivered(job: Job, folder: Path, facts: dict[str, Any]) -> dict[str, Any]:
     received = time.perf_counter()
     try:
         result = ClosedLoop(init, goal, _options(cell=cell, seed=job.seed, sensor_noise=accuracy, name=job.spec.name),
-                            inputs=LoopInputs.read(init, goal, imports=False, knowledge=shipped_domain())).run()
+                            inputs=LoopInputs.read(init, goal, imports=False,
+                                                  knowledge=domain_inputs(job.domain))).run()
     finally:
         cell.close()
     if result.run is None:  # no plan: the planner's error, the row's
