@@ -5,6 +5,9 @@ the Python API (:func:`run_scenario`, :func:`run_plan`) and the test methods
 (:mod:`kb.testmethod.trial`) all run it, each with the stages it wants (:class:`LoopOptions`):
 
 1. ``validate``: the state files, closed world (:func:`kb.validation.validate`); errors end the loop;
+   ``locate`` (only for an initial state that leaves objects unlocated, :mod:`kb.spatial.unlocated`):
+   the cell is opened and its sensor finds them (:mod:`kb.execution.locate`); the loop goes on
+   from the state with them placed (``init-sensed.ttl`` in ``out_dir``);
 2. ``pddl``: the planning model (and ``domain.pddl``, ``problem.pddl`` with ``out_dir``);
 3. ``plan``: a validated plan by a real planner (``plan.txt``); no plan ends the loop;
 4. ``geometry``: the predicates decided from the initial state's boxes equal the PDDL facts
@@ -94,6 +97,7 @@ class LoopResult:
     #: the stage that ended the loop before execution, and why (the report's reason)
     halted: str | None = None
     reason: str | None = None
+    located: Any = None  # the locate stage's kb.execution.locate.Located (None: every object was located)
     error: Exception | None = None  # what the planner raised when there is no plan
     seconds: dict[str, float] = field(default_factory=dict)
 
@@ -114,11 +118,14 @@ class LoopResult:
         """The scenario's report: the run's (``executed`` True, the world model's ``units``
         with a database), or why it was not executed."""
         if self.run is None:
-            return {"scenario": self.scenario, "executed": False, "reason": self.reason, "goal_holds": False,
+            data = {"scenario": self.scenario, "executed": False, "reason": self.reason, "goal_holds": False,
                     "stopped": None, "injected": [], "failures": []}
-        data = {"executed": True, **self.run.report()}
-        if self.units is not None:
+        else:
+            data = {"executed": True, **self.run.report()}
+        if self.units is not None and self.run is not None:
             data["units"] = self.units.as_dict()
+        if self.located is not None:
+            data["located"] = self.located.as_dict()
         return data
 
 
@@ -151,6 +158,7 @@ class ClosedLoop:
         self._frozen = False
         self._model: tuple[Any, float] | None = None  # the planning model made ahead, and its seconds
         self._started: Any = None  # the planner started ahead (kb.planning.planners.Started)
+        self._opened: tuple[Any, bool] | None = None  # the cell opened by the locate stage, kept for execute
 
     # --- the loop ---------------------------------------------------------------------------
     def run(self) -> LoopResult:
@@ -160,6 +168,7 @@ class ClosedLoop:
         with ExitStack() as stack:
             stack.callback(self._thaw)
             stack.callback(self._cancel_planner)
+            stack.callback(self._close_cell)
             if o.db is not None and o.store is None:  # the writer lock from the start: a second run is
                 from kb.world.database import normalize_url  # refused before any work, not after planning
                 from kb.world.lock import hold
@@ -172,8 +181,9 @@ class ClosedLoop:
         if self.inputs is None and self.plan_inputs is None:
             self.inputs = LoopInputs.read(self.init, self.goal, domain_files=o.domain_files,
                                           match_names=o.match_names, imports=o.validate)
+        unknown = self._unlocated()
         self._freeze()
-        if o.validate and self.given_plan is None:
+        if o.validate and self.given_plan is None and not unknown:
             self._start_planner()
         if o.validate:
             # what validation keeps (the shapes graphs, their compiled programs) frozen before the
@@ -183,6 +193,8 @@ class ClosedLoop:
                 self._freeze()
             if not valid:
                 return
+        if unknown:
+            self._locate(unknown)
         plan = self.given_plan
         if plan is None:
             plan = self._plan()
@@ -292,6 +304,53 @@ class ClosedLoop:
             self._started.cancel()
             self._started = None
 
+    def _unlocated(self) -> list[Any]:
+        """The initial state's objects whose location is unknown (one look at its types; none
+        for a state with every object placed, or when the executor's inputs were given)."""
+        if self.inputs is None:
+            return []
+        from kb.spatial.unlocated import unlocated
+        return unlocated(self.inputs.init)
+
+    def _locate(self, unknown: list[Any]) -> None:
+        """The ``locate`` stage: open the cell (kept for the execute stage), sense the unlocated
+        objects (:func:`kb.execution.locate.locate`), write the state with them placed
+        (``init-sensed.ttl`` in ``out_dir``, else a temporary folder kept to the loop's end)
+        and read it as the loop's initial state."""
+        import tempfile
+        from kb.execution.locate import locate, workstation_of
+        from kb.scenario.partial import copy_graph, with_locations, write_state
+        o, inputs = self.options, self.inputs
+        assert inputs is not None
+        t = self._stage("locate", objects=len(unknown))
+        scene = inputs.scene
+        accuracy = sensor_accuracy(scene, o.sensor_noise)
+        self._opened = self._cell(scene, accuracy)
+        located = locate(self._opened[0], scene, unknown, workstation_of(inputs.init))
+        if o.out_dir is not None:
+            folder = Path(o.out_dir)
+            folder.mkdir(parents=True, exist_ok=True)
+        else:
+            self._tmp = tempfile.TemporaryDirectory(prefix="kitkb-sensed-")
+            folder = Path(self._tmp.name)
+        path = write_state(with_locations(copy_graph(inputs.init), located.placements, scene.units),
+                           folder / "init-sensed.ttl")
+        self.init = path
+        self.inputs = LoopInputs.read(path, self.goal, match_names=o.match_names, imports=False,
+                                      knowledge=inputs.knowledge)
+        self.result.located = located
+        self._ended("locate", t, located)
+
+    def _close_cell(self) -> None:
+        opened, self._opened = self._opened, None
+        if opened is not None and opened[1]:
+            from kb.cells import close_cell
+            close_cell(opened[0])
+        tmp = getattr(self, "_tmp", None)
+        if tmp is not None:
+            tmp.cleanup()
+            self._tmp = None
+
     def _geometry(self) -> bool:
         from kb.planning.geometry import agreement
         inputs = self.inputs
@@ -319,7 +378,10 @@ class ClosedLoop:
         pin = self.plan_inputs or self.inputs.plan_inputs()  # type: ignore[union-attr]
         t = self._stage("execute", actions=len(plan))
         accuracy = sensor_accuracy(pin.scene, o.sensor_noise)
-        cell, own = self._cell(pin, accuracy)
+        if self._opened is not None:  # opened by the locate stage (on the state as the cell holds it)
+            (cell, own), self._opened = self._opened, None
+        else:
+            cell, own = self._cell(pin.scene, accuracy)
         if own:  # a simulated cell's own noise (its URL's noise= included) is what is verified with
             from kb.cells import cell_accuracy
             found = cell_accuracy(cell, accuracy)
@@ -347,7 +409,7 @@ class ClosedLoop:
         self.result.run = run
         self._ended("execute", t, run)
 
-    def _cell(self, pin: PlanInputs, accuracy: Any) -> tuple[Any, bool]:
+    def _cell(self, scene: Scene, accuracy: Any) -> tuple[Any, bool]:
         """The cell to execute on (a cell object as given, else opened from its URL by the
         registry of :mod:`kb.cells`: default the in-process simulator of the initial state, or
         of ``truth``), and whether the loop opened it (and closes it)."""
@@ -361,7 +423,7 @@ class ClosedLoop:
             goal = self.inputs.goal if self.inputs is not None else self.goal  # not parsed again
             truth = Scene.from_files([o.truth], declared=[goal], match_names=o.match_names)
         else:
-            truth = pin.scene  # the belief and the cell each copy it
+            truth = scene  # the belief and the cell each copy it
         request = CellRequest(scene=truth, faults=o.faults or None, seed=o.seed or None, accuracy=accuracy,
                               state=self.init, goal=self.goal, match_names=o.match_names)
         return open_cell(o.cell, request), True

@@ -21,6 +21,7 @@ from kb.planning.build import build_problem
 from kb.planning.problem import ProblemSpec, load_world, read_problem, used_types
 from kb.planning.state import ClassTree
 from kb.planning.strips import compile_domain, compile_problem
+from kb.spatial.unlocated import refuse_unlocated
 
 ENCODINGS = ("strips", "numeric")
 
@@ -59,6 +60,7 @@ def read_specs(init: Sequence[str | Path], goal: Sequence[str | Path], encoding:
     domain, graph = load_domain(domain_files)
     tree = ClassTree(graph, used_types(domain))
     start = load_world(init, tree)
+    refuse_unlocated(start.sources, "planning", start.g)  # a partial state: kitkb run senses it first
     spec = read_problem(domain, start, load_world(goal, tree, like=start if match_names else None))
     return encoded(domain, spec, encoding)
 

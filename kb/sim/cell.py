@@ -12,12 +12,15 @@ from kb.core.errors import InputError
 from kb.core.namespaces import KTW, local_name
 from kb.crcl import Command, EndCanon
 from kb.crcl.cell import Observation, Status
+from kb.scenario.partial import Placement
 from kb.sim.faults import FaultSpec, Injected, Injector
 from kb.sim.noise import SensorAccuracy, SensorNoise
 from kb.sim.robot import VIOLATION_KINDS, Robot
 from kb.sim.sensor import Sensor, observe
+from kb.sim.hidden import place_unknown
 from kb.sim.world import KIT_TRAY, SKU, World
 from kb.spatial.scene import Scene, class_ancestors
+from kb.spatial.unlocated import unlocated
 
 
 @dataclass(frozen=True)
@@ -52,6 +55,12 @@ class SimulatedCell:
     their spec). ``sensor`` (:class:`~kb.sim.sensor.Sensor`) keeps what the sensor did wrong
     (``sensor.errors``: misdetections, misclassifications), ground truth like ``injected``.
 
+    A state whose objects are not all located (:mod:`kb.spatial.unlocated`: no primary
+    location, or a relative one) is completed by :func:`ground_truth`: the cell puts each such
+    object, seeded, in a free spot of a container that suits it; ``hidden`` lists where
+    (:class:`kb.scenario.partial.Placement`), ground truth like ``injected`` (empty when every
+    object was located).
+
     ``violations`` lists the constraints the robot broke (:class:`Violation`: an overweight
     grasp, a move out of the work volume, a grasp with an effector the object's SKU does not
     list, a contact along a move; what the robot then does is in :mod:`kb.sim.robot`), as
@@ -66,6 +75,7 @@ class SimulatedCell:
                  noise: SensorNoise | tuple[float, float] = (0.0, 0.0), seed: int = 0,
                  declared: Sequence[str | Path] = ()) -> None:
         scene = init if isinstance(init, Scene) else Scene.from_files([init], declared)
+        scene, self.hidden = ground_truth(scene, seed, declared)
         self.world = World.from_scene(scene)
         self.robot = Robot(self.world, on_violation=self._violated)
         self.violations: list[Violation] = []
@@ -211,17 +221,43 @@ class SimulatedCell:
         w.facts.setdefault(KIT_TRAY, set()).add((kit, tray))
 
 
+def ground_truth(scene: Scene, seed: int = 0, declared: Sequence[str | Path] = (),
+                 match_names: bool = False) -> tuple[Scene, list[Placement]]:
+    """``scene`` as a simulator's ground truth: unchanged when every object of the state file
+    it was read from is located (one look at its types), else that state with each unlocated
+    object placed by :func:`kb.scenario.partial.place_unknown` with ``seed`` (``declared``:
+    the files whose individuals the scene declares besides, the goal), and the placements."""
+    source = scene.source
+    if source is None or not unlocated(source):
+        return scene, []
+    return place_unknown(source, seed, declared, match_names)
+
+
 def open_simulated(url: CellURL, request: CellRequest) -> SimulatedCell:
     """The ``sim:`` cell (:mod:`kb.cells.registry`): a :class:`SimulatedCell` holding
     ``request.scene``, with the faults, seed and sensor accuracy of the request or of the URL's
     ``faults=``, ``seed=`` and ``noise=`` (noise over the request's accuracy); a parameter and a
-    different value of the request at once are refused, as is a request without a scene."""
+    different value of the request at once are refused, as is a request without a scene.
+
+    ``world=FILE``: the cell holds the state of FILE instead (where the objects truly are: the
+    same objects, placed otherwise or where the run's state does not say); objects of a state
+    that are not located (the run's or FILE's) are placed by the cell, seeded
+    (:func:`ground_truth`)."""
     spec, seed, accuracy = check_simulated(url, request)
-    if request.scene is None:
+    declared = [request.goal] if request.goal is not None else []
+    scene = request.scene
+    world = url.params.get("world")
+    if world is not None:
+        if not Path(world).is_file():
+            raise url.refuse(f"world={world}: no such file")
+        scene = Scene.from_files([world], declared, match_names=request.match_names)
+    if scene is None:
         raise url.refuse("a simulated cell needs the initial state it holds (no scene was given)")
     try:
-        cell = SimulatedCell(request.scene, faults=spec, seed=seed,
+        scene, hidden = ground_truth(scene, seed, declared, request.match_names)
+        cell = SimulatedCell(scene, faults=spec, seed=seed,
                              **({"noise": accuracy} if accuracy is not None else {}))
+        cell.hidden = hidden
     except ValueError as exc:
         raise InputError(str(exc)) from None
     cell.url = url.text
@@ -231,7 +267,7 @@ def open_simulated(url: CellURL, request: CellRequest) -> SimulatedCell:
 def check_simulated(url: CellURL, request: CellRequest) -> tuple[FaultSpec | None, int, SensorAccuracy | None]:
     """The faults, seed and accuracy a ``sim:`` cell of ``url`` and ``request`` would have
     (the scene not needed); an InputError naming what is wrong (``reason`` without the URL)."""
-    url.only("faults", "seed", "noise")
+    url.only("faults", "seed", "noise", "world")
     seed = url.number("seed", int)
     if seed is not None and request.seed not in (None, seed):
         raise url.refuse(f"seed={seed} and a seed of {request.seed} given besides")

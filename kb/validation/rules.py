@@ -107,6 +107,9 @@ class RuleContext:
     #: subjects typed nowhere (``unknown-individual``) -> their properties; a class's missing
     #: property stated on a misspelt subject follows from it
     untyped: dict[URIRef, set[Node]] = field(default_factory=dict)
+    #: objects whose location is unknown, to be sensed (kb.spatial.unlocated): a note each, and
+    #: their missing primary location is no min-count error
+    unlocated: set[URIRef] = field(default_factory=set)
 
     def report(self, source: Any, line: int | None, severity: str, message: str, rule: str,
                focus: Node) -> None:

@@ -27,7 +27,7 @@ from kb.core.diagnostics import Diagnostic
 from kb.core.errors import InputError
 from kb.core.memory import gc_paused
 from kb.core.progress import SILENT, Progress, Task
-from kb.core.namespaces import KTW, NIST_KTW_2012
+from kb.core.namespaces import KTW, NIST_KTW_2012, local_name
 from kb.core.resources import ontologies_dir, ontology_path, scenario_dirs, shapes_path
 from kb.io.loader import NIST_2012_TERM, KnowledgeBase, load, load_file, not_read_warning
 from kb.io.views import UnionView
@@ -160,6 +160,7 @@ def _validate(paths: Sequence[str | Path], shapes_files: Sequence[str | Path] | 
         ctx.out.extend(w for w in getattr(src, "warnings", None) or [] if w.rule != NIST_2012_TERM)
         (rules.check_data_source if src in data else rules.check_model_source)(ctx, src)
         if src in data:
+            _unlocated_notes(ctx, src)
             check_geometry(ctx, src, ignore)
         ctx.out.extend(_not_read(src, ctx, ignore))
     step.update(description=f"SHACL shapes on {len(checked)} file(s)")
@@ -184,6 +185,19 @@ def _validate(paths: Sequence[str | Path], shapes_files: Sequence[str | Path] | 
                                        user.graph if user is not None else None)
     diags = _follows(dedupe(ctx.out + shacl_diags), ctx.follows, ignore)
     return ValidationReport(diags, [str(s.path) for s in sources], time.perf_counter() - started)
+
+
+def _unlocated_notes(ctx: rules.RuleContext, src: Any) -> None:
+    """A note (``location-unknown``) at each object of a data file whose location is unknown
+    (:mod:`kb.spatial.unlocated`): valid partial data, sensed by ``kitkb run`` before it plans;
+    its missing primary location is then no ``min-count`` error (docs/validation.md, "Partial
+    data: objects to be sensed")."""
+    from kb.spatial.unlocated import unlocated
+    for u in unlocated(src):
+        ctx.unlocated.add(URIRef(u.name))
+        ctx.report(src, u.line, "info", f"{ctx.name(URIRef(u.name), src)}'s location is unknown ({u.why}): "
+                   f"kitkb run senses it (class {local_name(u.cls)}) before it plans; generate pddl and plan "
+                   "need it placed", "location-unknown", URIRef(u.name))
 
 
 def _not_read(src: Any, ctx: rules.RuleContext, ignore: frozenset[str]) -> list[Diagnostic]:
