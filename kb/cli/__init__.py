@@ -133,6 +133,12 @@ def _add_scenario(sub: Any) -> None:
     g.add_argument("-o", "--output", required=True, metavar="DIR", help="output folder (init.ttl, goal.ttl)")
     g.add_argument("--unit", choices=list(LENGTH), default="meter",
                    help="length unit the files are written in (default meter)")
+    g.add_argument("--unlocated", type=int, default=0, metavar="N",
+                   help="a partial initial state: N parts (chosen with --seed) without a location, which "
+                        "kitkb run senses before it plans (docs/validation.md, 'Partial data')")
+    g.add_argument("--mark-unlocated", action="store_true",
+                   help="with --unlocated: give those parts a ktw:RelativeLocationIn to their tray (pose to be "
+                        "sensed) instead of no location")
     t = _sub(ssub, "transform", "scenario transform",
              "write a state file in another length unit, or turned about z (the same workstation)")
     t.add_argument("file", metavar="FILE", help="a state file (Turtle, OWL functional syntax, RDF/XML)")
@@ -142,6 +148,10 @@ def _add_scenario(sub: Any) -> None:
                    help="turn by DEG degrees about z: the whole workstation about the world's z axis, or "
                         "with --turn each named object about its own")
     t.add_argument("--turn", metavar="OBJ,...", help="objects (local names) to turn about their own z axis")
+    t.add_argument("--unlocate", metavar="OBJ,...",
+                   help="objects (local names) written without their location: a partial state kitkb run "
+                        "senses (with --mark-unlocated: a ktw:RelativeLocationIn to what held them)")
+    t.add_argument("--mark-unlocated", action="store_true", help="with --unlocate: see there")
 
 
 def _add_generate(sub: Any) -> None:

@@ -56,9 +56,8 @@ def run(files: list[str], output: str, faults: str | None, seed: int, db: str | 
             SensorAccuracy.parse(sensor_noise)
         except ValueError as exc:
             raise InputError(f"--sensor-noise: {exc}") from None
-    if cell is not None:  # a URL, scheme or parameter that cannot work is refused before any work
-        from kb.cells import CellRequest, check_cell
-        check_cell(cell, CellRequest(faults=faults or None, seed=seed or None))
+    if cell is not None or faults:  # a URL, scheme, parameter or fault that cannot work is refused before any work
+        _check_cell(cell, faults, seed, domain)
     options = RunOptions(faults, seed, db, cell, match_names, domain, replace, sensor_noise)
     show = _Show(display=out.tracker, problems=_Current("stderr") if out.is_json else None,
                  on_report=(lambda data: print(json.dumps(data, indent=1), file=out.results, flush=True))
@@ -67,6 +66,20 @@ def run(files: list[str], output: str, faults: str | None, seed: int, db: str | 
     if files:
         return run_files(stream, files[0], files[1], output, options, report, quiet=out.quiet, show=show)
     return run_main_job(stream, output, quiet=out.quiet, options=options, report_path=report, show=show)
+
+
+def _check_cell(cell: str | None, faults: str | None, seed: int, domain: list[str] | None) -> None:
+    """``--cell`` and ``--faults`` as the cell's opener will read them (the kinds the faults name:
+    the domain's, ``--domain`` included)."""
+    from kb.cells import DEFAULT_URL, CellRequest, check_cell
+    from kb.model.faults import domain_fault_kinds
+    kinds = domain_fault_kinds(domain) if faults else None
+    try:
+        check_cell(cell or DEFAULT_URL, CellRequest(faults=faults or None, seed=seed or None, fault_kinds=kinds))
+    except InputError as e:
+        if cell is not None:
+            raise
+        raise InputError(f"--faults: {getattr(e, 'reason', e.message)}") from None
 
 
 class _Current:
@@ -239,7 +252,8 @@ class _Drawing:
     actions done of the plan's)."""
 
     _TASKS = {"pddl": "generating the PDDL domain and problem", "plan": "planning",
-              "geometry": "deciding the predicates from geometry", "world": "loading the world model"}
+              "geometry": "deciding the predicates from geometry", "world": "loading the world model",
+              "locate": "sensing the objects the state does not locate"}
 
     def __init__(self, name: str, init: Path, goal: Path, target: Path, progress: _Progress,
                  options: RunOptions) -> None:
@@ -301,6 +315,9 @@ class _Drawing:
         for diag in report.diagnostics:
             self._problem(diag.format())
         self._not_executed(event)
+
+    def _locate(self, event: ev.StageEnded) -> None:
+        self._line(event.result.text(), event)
 
     def _pddl(self, event: ev.StageEnded) -> None:
         self._line(f"pddl: {self.target / 'domain.pddl'}, {self.target / 'problem.pddl'}", event)

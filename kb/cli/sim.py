@@ -62,7 +62,8 @@ def _cell(init: str, goal: str | None, faults: str | None, seed: int, noise: str
     except ValueError as exc:
         raise InputError(f"--sensor-noise: {exc}") from None
     try:
-        return SimulatedCell(scene, faults=spec, noise=sensor or SensorNoise(), seed=seed)
+        return SimulatedCell(scene, faults=spec, noise=sensor or SensorNoise(), seed=seed,
+                             declared=[Path(goal)] if goal else ())  # a partial state's objects placed by the cell
     except ValueError as exc:
         raise InputError(str(exc), init) from None
 

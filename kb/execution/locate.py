@@ -32,6 +32,8 @@ from kb.spatial.unlocated import Unlocated
 #: how far a sensed frame's origin may lie outside a container's box and still be in it
 #: (a part's frame is on the tray's floor, on the face of its box)
 TOLERANCE = 0.002
+#: how many times the sensor is asked for an object it has not reported (then it is refused)
+LOOKS = 3
 _NOT_CONTAINERS = frozenset(STAND_INS) | {str(KTW.Robot)}
 
 
@@ -64,20 +66,23 @@ def locate(cell: Any, scene: Scene, asked: Sequence[Unlocated], workstation: str
     """Sense ``asked`` (the unlocated objects of ``scene``'s state) on ``cell`` by class; each
     found placed in its container (:class:`Located`). ``workstation``: the world frame's object,
     the reference of an object found in no container. An object the sensor does not report is
-    an InputError naming it at its line."""
+    an InputError naming it at its line (after :data:`LOOKS` looks)."""
     require(cell, ["sense"], "sensing the objects the state does not locate")
     queries = sorted({u.cls for u in asked})
     seen: dict[str, Observation] = {}
-    for cls in queries:
-        for obs in cell.sense(local_name(cls), by="class"):
-            seen.setdefault(local_name(obs.name), obs)
+    for _ in range(LOOKS):  # a sensor that misdetects may miss an object on one look
+        for cls in sorted({u.cls for u in asked if local_name(u.name) not in seen}):
+            for obs in cell.sense(local_name(cls), by="class"):
+                seen.setdefault(local_name(obs.name), obs)
+        if all(local_name(u.name) in seen for u in asked):
+            break
     located = Located(list(asked), queries=queries, units=scene.units,
                       truth=list(getattr(cell, "hidden", None) or []))  # a simulated cell's ground truth
     for u in asked:
         obs = seen.get(local_name(u.name))
         if obs is None:
             raise InputError(f"{local_name(u.name)}'s location is unknown and the cell's sensor did not find it "
-                             f"(asked for class {local_name(u.cls)}); the kits cannot be planned without it",
+                             f"(asked {LOOKS} times for class {local_name(u.cls)}); the kits cannot be planned without it",
                              u.path, u.line)
         pose = from_xyz_rpy(*obs.location, *obs.orientation)
         c = container(scene, pose[:3, 3], exclude=u.name)

@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import Iterable, Sequence
 
 import numpy as np
-from rdflib import Graph, URIRef
+from rdflib import Graph, Literal, URIRef
 from rdflib.namespace import OWL, RDF
 
 from kb.core.errors import InputError
@@ -144,7 +144,6 @@ def unlocate(graph: Graph, names: Iterable[str], mark: bool = False) -> list[str
             graph.add((rel, RDF.type, OWL.NamedIndividual))
             graph.add((rel, RDF.type, KTW.RelativeLocationIn))
             graph.add((rel, _REF, ref))
-            from rdflib import Literal
             graph.add((rel, KTW.hasRelativeLocation_Description,
                        Literal(f"in {local_name(ref)}; pose to be sensed")))
         done.append(name)
@@ -158,3 +157,28 @@ def choose_unlocated(graph: Graph, count: int, seed: int) -> list[str]:
         raise InputError(f"--unlocated {count}: the state has {len(parts)} located part(s)")
     rng = np.random.default_rng(seed)
     return sorted((parts[k] for k in rng.choice(len(parts), size=count, replace=False)), key=str)
+
+
+def write_partial(path: str | Path, output: str | Path | None = None, *, count: int | None = None,
+                  names: Sequence[str] = (), seed: int = 0, mark: bool = False) -> list[str]:
+    """Write the state file ``path`` to ``output`` (default: over itself, for a file kitkb just
+    wrote) as a partial state: ``count`` parts chosen with ``seed`` and the objects ``names``
+    (local names or IRIs) without their location (:func:`unlocate`; ``mark``: with a relative
+    location instead). The IRIs taken, in order."""
+    from kb.core.files import command_scope
+    from kb.io import load_file
+    if output is None or Path(output).resolve() == Path(path).resolve():
+        with command_scope():  # the command's own output, rewritten: only its given inputs stay protected
+            source = load_file(path)
+    else:
+        source = load_file(path)
+    graph = copy_graph(source)
+    chosen = choose_unlocated(graph, count, seed) if count else []
+    for name in names:
+        hits = sorted({str(s) for s in graph.subjects(_PRIMARY, None) if str(s) == name or local_name(s) == name})
+        if not hits:
+            raise InputError(f"{name}: no object of that name has a location", file=path)
+        chosen.extend(h for h in hits if h not in chosen)
+    done = unlocate(graph, chosen, mark=mark)
+    write_state(graph, output if output is not None else path)
+    return done
