@@ -5,6 +5,13 @@
   ``Engine.get_configuration_space``. kitkb never asks for configuration spaces, so
   :func:`environment` registers a stand-in module that imports the real ConfigSpace the
   first time anything in it is used. Stock: the plain import.
+- :data:`LEAN_NETWORKX`: ``unified_planning.model.problem`` (and the plan classes) import
+  networkx at module level (about 60 ms, 285 modules) for causal graphs and partial-order
+  plans, which kitkb's paths do not make; :func:`environment` registers a stand-in module that
+  imports the real networkx the first time anything in it is used (an attribute, a submodule
+  import), and from then on holds the real module's names. ``nx.DiGraph`` in the library's
+  annotations is a placeholder class whose instances are real ``DiGraph`` objects. Stock: the
+  plain import.
 - :data:`VALIDATOR`: :func:`validator_speedups` speeds up ``SequentialPlanValidator``
   without changing what it checks. The substituter re-promotes the same parameter -> object
   map for every precondition and effect of an action (about 20 times per plan step); the
@@ -44,10 +51,11 @@ from typing import Any, Iterator
 from kb.patches.gate import Patch
 
 LEAN_IMPORT = Patch("unified-planning", "1.3.0", "1.4", "ConfigSpace imported on first use only")
+LEAN_NETWORKX = Patch("unified-planning", "1.3.0", "1.4", "networkx imported on first use only")
 VALIDATOR = Patch("unified-planning", "1.3.0", "1.4", "plan-validator fast paths")
 LEAN_PROBLEM = Patch("unified-planning", "1.3.0", "1.4", "Problem with explicit initial values, kind kept")
 EARLY_START = Patch("unified-planning", "1.3.0", "1.4", "a PDDL planner's process started ahead, read later")
-PATCHES = [LEAN_IMPORT, VALIDATOR, LEAN_PROBLEM, EARLY_START]
+PATCHES = [LEAN_IMPORT, LEAN_NETWORKX, VALIDATOR, LEAN_PROBLEM, EARLY_START]
 
 
 # --- lean import -----------------------------------------------------------------------------
@@ -82,17 +90,58 @@ def _install_stand_in() -> None:
     sys.modules["ConfigSpace"] = module
 
 
+class _LazyNetworkx(types.ModuleType):
+    """Stand-in for the networkx package (:data:`LEAN_NETWORKX`): loads the real one on first
+    use of any of its names or of its path (a submodule import; not of ``__file__``, which
+    ``inspect.getmodule`` asks of every module), then holds the real names."""
+
+    def __getattr__(self, name: str) -> Any:
+        if name.startswith("__") and name not in ("__path__", "__version__", "__all__"):  # not __file__: inspect asks every module
+            raise AttributeError(name)
+        return getattr(_real_networkx(), name)
+
+
+class _DiGraph:
+    """Placeholder for ``networkx.DiGraph`` (named in unified-planning's annotations at import
+    time); instantiating it returns a real ``DiGraph``."""
+
+    def __new__(cls, *args: Any, **kwargs: Any) -> Any:
+        return _real_networkx().DiGraph(*args, **kwargs)
+
+
+def _real_networkx() -> types.ModuleType:
+    stand_in = sys.modules.get("networkx")
+    if isinstance(stand_in, _LazyNetworkx):
+        del sys.modules["networkx"]
+    real = importlib.import_module("networkx")
+    if isinstance(stand_in, _LazyNetworkx):  # the modules that bound the stand-in see the real names from now on
+        stand_in.__dict__.update(real.__dict__)
+    return real
+
+
+def _install_networkx_stand_in() -> None:
+    if "networkx" in sys.modules or "unified_planning.model" in sys.modules:
+        return
+    module = _LazyNetworkx("networkx")
+    module.DiGraph = _DiGraph  # type: ignore[attr-defined]
+    sys.modules["networkx"] = module
+
+
 def remove_stand_in() -> None:
-    """Undo :func:`environment`'s stand-in if nothing has used it yet."""
+    """Undo :func:`environment`'s stand-ins where nothing has used them yet."""
     if isinstance(sys.modules.get("ConfigSpace"), _LazyConfigSpace):
         del sys.modules["ConfigSpace"]
+    if isinstance(sys.modules.get("networkx"), _LazyNetworkx):  # a used one is out of sys.modules already
+        del sys.modules["networkx"]
 
 
 def environment() -> Any:
     """unified-planning's global environment, credits silenced (imported cheaply when
-    :data:`LEAN_IMPORT` applies)."""
+    :data:`LEAN_IMPORT` and :data:`LEAN_NETWORKX` apply)."""
     if LEAN_IMPORT.active():
         _install_stand_in()
+    if LEAN_NETWORKX.active():
+        _install_networkx_stand_in()
     from unified_planning.environment import get_environment
 
     env = get_environment()
