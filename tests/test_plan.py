@@ -44,8 +44,10 @@ def test_every_shipped_scenario_plans_and_validates(scenario: str) -> None:
     assert len(actions(lines, "take-part")) == len(actions(lines, "put-part")) == parts
     assert len(actions(lines, "put-kit")) == kits
     # the minimum length: 2 per part; per kit tray in, create, kit out (5) and the end-effector
-    # swaps (tray gripper off, part gripper on, off, tray gripper on: 4); the first attach
-    assert len(lines) == 2 * parts + 5 * kits + 4 * kits + 1
+    # swaps (tray gripper off, part gripper on, off, tray gripper on: 4); the first attach; the
+    # last remove (every goal fact is a goal: the goal files put both effectors in their holders)
+    assert len(lines) == 2 * parts + 5 * kits + 4 * kits + 1 + 1
+    assert actions(lines, "remove-endeffector")[-1] == lines[-1][1:-1].split()[1:]
 
 
 def test_shipped_scenario_count() -> None:
@@ -67,14 +69,16 @@ def test_ten_part_five_type_plan_has_the_expected_shape() -> None:
     for part in taken:
         i = lines.index(next(l for l in lines if l.startswith(f"(take-part robot_1 {part} ")))
         assert lines[i + 1].startswith(f"(put-part robot_1 {part} kit_1 work_table_1 ")
-    # the finished kit goes to the finished-kit box last
-    assert lines[-2].startswith("(take-kit robot_1 kit_1 ") and lines[-1] == "(put-kit robot_1 kit_1 finished_kit_receiver_1)"
+    # the finished kit goes to the finished-kit box last, then the tray gripper back in its
+    # holder (every goal fact is a goal: the goal file's robot has no effector)
+    assert lines[-3].startswith("(take-kit robot_1 kit_1 ") and lines[-2] == "(put-kit robot_1 kit_1 finished_kit_receiver_1)"
+    assert lines[-1] == "(remove-endeffector robot_1 tray_gripper tray_gripper_holder changing_station_1)"
     # end effectors change: tray gripper for trays and kits, part gripper for parts
     attached = [a[1] for a in actions(lines, "attach-endeffector")]
     assert attached == ["tray_gripper", "part_gripper", "tray_gripper"]
-    assert len(actions(lines, "remove-endeffector")) == 2
+    assert len(actions(lines, "remove-endeffector")) == 3
     assert all(a[3] == "part_gripper" for a in actions(lines, "take-part"))
-    assert len(lines) == 30  # the minimum: 2 x 10 parts + 10
+    assert len(lines) == 31  # the minimum: 2 x 10 parts + 11
 
 
 def test_pyperplan_solves_the_strips_encoding() -> None:

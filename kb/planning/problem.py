@@ -12,7 +12,7 @@ import sys
 from dataclasses import dataclass, field
 from itertools import product
 from pathlib import Path
-from typing import Sequence
+from typing import TYPE_CHECKING, Sequence
 
 from rdflib import Graph, URIRef
 from rdflib.namespace import RDF
@@ -21,9 +21,13 @@ from kb.core.errors import InputError
 from kb.core.namespaces import local_name
 from kb.io.loader import MODEL_STAND_IN, NOT_READ_RULES, KnowledgeBase, Source, load
 from kb.io.vocabulary import not_understood
+from kb.model.definitions import Definitions, load_definitions
 from kb.model.soap import DomainSpec
 from kb.planning import facts
 from kb.planning.state import ClassTree, World, pddl_name
+
+if TYPE_CHECKING:  # pragma: no cover
+    from kb.spatial.scene import Scene
 
 
 @dataclass
@@ -70,6 +74,7 @@ def world_of(sources: Sequence[Source], tree: ClassTree, like: World | None = No
     world.reading = [w for w in kb.warnings if w.rule in NOT_READ_RULES]
     world.notes = [w.format() for w in world.reading]
     world.matched_names = like is not None
+    world.sources = list(sources)  # the goal's scene is read from them (kb.planning.goal)
     return world
 
 
@@ -117,8 +122,13 @@ def used_types(domain: DomainSpec) -> set[str]:
     return out
 
 
-def read_problem(domain: DomainSpec, init: World, goal: World, name: str = "kitting") -> ProblemSpec:
-    """The problem of going from ``init`` to ``goal`` in ``domain`` (numeric form)."""
+def read_problem(domain: DomainSpec, init: World, goal: World, name: str = "kitting",
+                 definitions: Definitions | None = None, goal_scene: "Scene | None" = None) -> ProblemSpec:
+    """The problem of going from ``init`` to ``goal`` in ``domain`` (numeric form).
+
+    ``definitions``: the domain's predicate definitions (default: the shipped domain's), by
+    which the goal state's atoms are decided on ``goal_scene`` (default: read from ``goal``'s
+    files); see :mod:`kb.planning.goal`."""
     spec = ProblemSpec(name, notes=_notes(init, goal))
     if not init.kind:
         raise not_understood("the initial state has no object kitkb reads (no individual of a class of "
@@ -140,7 +150,28 @@ def read_problem(domain: DomainSpec, init: World, goal: World, name: str = "kitt
             spec.values[(fn.name, *(_named(names, a, goal, fn.name) for a in args))] = value
         _zero_fill(spec, domain, fn.name, fn.arg_types)
     _goal(spec, domain, init, goal, names)
+    _goal_facts(spec, domain, goal, definitions, goal_scene)
     return spec
+
+
+def _goal_facts(spec: ProblemSpec, domain: DomainSpec, goal: World, definitions: Definitions | None,
+                scene: "Scene | None") -> None:
+    """Every goal fact of the goal state (:mod:`kb.planning.goal`) into ``spec.goal``; an
+    InputError at the goal file's line when one cannot be brought about. (numpy and the
+    geometry imported here, not with this module: ``kitkb plan`` reads the files in a child
+    process while it imports the planner.)"""
+    from kb.planning import goal as goals
+    from kb.spatial.scene import Scene
+
+    defs = definitions if definitions is not None else load_definitions()
+    if scene is None:
+        sources = getattr(goal, "sources", None)
+        scene = Scene.from_sources(sources) if sources else Scene.from_files([goal.path])
+    counted = goals.counted_objects(defs, scene, [t for pair in spec.goal_equal for t in pair])
+    found = goals.goal_facts(domain, goals.state_atoms(defs, scene), counted, spec.objects)
+    line_of = scene.source.line_of if scene.source is not None else goal.line_of
+    goals.check_reachable(domain, spec.objects, spec.facts, found, scene, goal.path, line_of)
+    spec.goal[:] = sorted(set(spec.goal) | set(found.atoms))
 
 
 def _named(names: dict[URIRef, str], node: URIRef, goal: World, used_by: str) -> str:
@@ -226,10 +257,6 @@ def _goal(spec: ProblemSpec, domain: DomainSpec, init: World, goal: World,
     if not kits:
         raise not_understood("the goal state has no kit kitkb reads (nothing to build: no individual of "
                              "ktw:Kit)", goal.g, goal.path)
-    for pred in ("kit-location-lbwk", "kit-location-worktable"):
-        if pred in domain.predicates:
-            for kit, where in facts.PREDICATES[pred](goal, goal):
-                spec.goal.append((pred, names[kit], names[where]))
     counted = [f for f in domain.functions.values() if f.kind == "CountExpression"]
     designs = [f for f in domain.functions.values() if f.kind == "DesignCountExpression"]
     free, used = _free_parts(init), set()
