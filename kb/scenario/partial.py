@@ -26,10 +26,10 @@ from rdflib import Graph, Literal, URIRef
 from rdflib.namespace import OWL, RDF
 
 from kb.core.errors import InputError
-from kb.core.files import write_atomic
+from kb.core.files import command_scope, write_atomic
 from kb.core.namespaces import KTW, local_name
 from kb.core.units import SI, Units
-from kb.io.loader import Source
+from kb.io.loader import Source, load_file
 from kb.io.turtle import turtle
 from kb.scenario.variants import number
 
@@ -165,8 +165,6 @@ def write_partial(path: str | Path, output: str | Path | None = None, *, count: 
     wrote) as a partial state: ``count`` parts chosen with ``seed`` and the objects ``names``
     (local names or IRIs) without their location (:func:`unlocate`; ``mark``: with a relative
     location instead). The IRIs taken, in order."""
-    from kb.core.files import command_scope
-    from kb.io import load_file
     if output is None or Path(output).resolve() == Path(path).resolve():
         with command_scope():  # the command's own output, rewritten: only its given inputs stay protected
             source = load_file(path)

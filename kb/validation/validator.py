@@ -34,6 +34,7 @@ from kb.io.views import UnionView
 from kb.io.vocabulary import no_model
 from kb.model.owl import OwlModel
 from kb.shacl import ShaclResult
+from kb.spatial.unlocated import unlocated
 from kb.validation import rules, user_shapes
 from kb.validation.geometry import check_geometry
 from kb.validation.report import Namer, dedupe, diagnostics, line_of
@@ -192,7 +193,6 @@ def _unlocated_notes(ctx: rules.RuleContext, src: Any) -> None:
     (:mod:`kb.spatial.unlocated`): valid partial data, sensed by ``kitkb run`` before it plans;
     its missing primary location is then no ``min-count`` error (docs/validation.md, "Partial
     data: objects to be sensed")."""
-    from kb.spatial.unlocated import unlocated
     for u in unlocated(src):
         ctx.unlocated.add(URIRef(u.name))
         ctx.report(src, u.line, "info", f"{ctx.name(URIRef(u.name), src)}'s location is unknown ({u.why}): "
