@@ -27,7 +27,7 @@ from kb.core.errors import InputError
 from kb.crcl.cell import CellInterface, has, require
 from kb.execution.belief import Belief
 from kb.execution.events import Event
-from kb.execution.executor import Executor, log_notifier, needs
+from kb.execution.executor import Executor, log_notifier
 from kb.execution.inputs import PlanInputs
 from kb.execution.records import ActionRecord, FailureRecord, RunRecord, local
 from kb.metrics.kits import KitScore
@@ -135,7 +135,7 @@ def execute_plan(plan: Sequence[str], cell: CellInterface, inputs: PlanInputs, r
     executor = Executor(cell, inputs.domain, inputs.problem, inputs.definitions, inputs.failures,
                         Belief(inputs.scene), store=store, notifier=notifier, progress=progress, planner=planner,
                         record=record, accuracy=accuracy, on_event=on_event)
-    require(cell, needs(executor.parse_plan(list(plan))), "the plan")  # refused before the store hears of it
+    require(cell, executor.needs(executor.parse_plan(list(plan))), "the plan")  # refused before the store hears of it
     if store is not None:
         store.begin_run(record, *paths)
     try:

@@ -1,7 +1,8 @@
 """The executor: a plan carried out on a cell, every action checked from geometry.
 
 Before the first, the cell is asked for the capabilities the plan needs (:func:`needs`: to move
-and to sense; to inspect for a ``look-for-part``) and refused without them.
+and to sense; to inspect for an action whose effect is an inspection's, :func:`inspecting_actions`)
+and refused without them.
 
 For each plan action (seed 004 §4, seed 002 §4-5):
 
@@ -11,9 +12,11 @@ For each plan action (seed 004 §4, seed 002 §4-5):
    predicates' quantified variables can be, the objects touching those) is sensed, or, for an
    action whose definitions do not allow it, the classes its predicates search; the belief is
    updated (:mod:`kb.execution.belief`) and the world-model store told the new poses;
-3. late binding: a part to take is inspected (a defective part never goes into a kit) and, if
-   it is missing or defective, another part of the same SKU lying in a tray is bound instead,
-   in this step and the rest of the plan, before replanning is considered;
+3. late binding: the object an action takes (its program's ``grasp`` target) is inspected where
+   the domain has an action inspecting it (:meth:`Executor._inspector`: kitkb's take-part's part,
+   by look-for-part; a defective part never goes into a kit) and, if it is missing or defective,
+   another of the same SKU is bound instead, in this step and the rest of the plan, before
+   replanning is considered;
 4. preconditions are evaluated from geometry (:mod:`kb.spatial.predicates`), on the
    neighbourhood's scene (the same truth as the whole cell's);
 5. the action's CRCL commands come from its program in the ontology
@@ -47,7 +50,7 @@ import logging
 import time
 from collections import deque
 from dataclasses import dataclass, field
-from typing import Callable
+from typing import Callable, Collection
 
 import numpy as np
 
@@ -67,7 +70,7 @@ from kb.execution.recovery import Recovery
 from kb.execution.scoring import crcl_lines, kit_goals, scene_data
 from kb.execution.steps import Fields, Step, Stop, parse_plan
 from kb.execution.targets import TargetError, Targets, parse as parse_target, raised
-from kb.model.definitions import Definitions, variable_classes
+from kb.model.definitions import Definitions, Sensor, subformulas, variable_classes
 from kb.model.failures import EFF, PRE, FailureModel
 from kb.metrics.kits import KitGoal, score_kits
 from kb.model.soap import ActionSpec, DomainSpec
@@ -126,6 +129,9 @@ class Executor(Recovery):
         self.index = 0
         self.taken_from: dict[str, np.ndarray] = {}  # part -> tip pose it was grasped at
         self._classes: dict[str, set[str]] = {}  # action -> classes its predicates search
+        self._grasps: dict[str, tuple[str, ...]] = {}  # action -> parameters its program grasps
+        self._inspecting = inspecting_actions(self.domain, self.defs)  # action -> (parameter, predicate)
+        self._inspectors: dict[str, tuple[str, str, str] | None] = {}  # action -> how what it takes is inspected
         self.belief.use_noise(self.accuracy)
         self.looks = Looks(self.cell, self.belief, self.accuracy, self.tolerance)
         self.noisy = self.looks.poses  # poses are not exact: filtered, looked at again, wider tolerances
@@ -143,12 +149,16 @@ class Executor(Recovery):
     def parse_plan(self, lines: list[str]) -> list[Step]:
         return parse_plan(lines, self.actions, self.by_name)
 
+    def needs(self, steps: list[Step]) -> tuple[str, ...]:
+        """The capabilities the plan ``steps`` needs of the cell (:func:`needs`)."""
+        return needs(steps, self._inspecting)
+
     def run(self, plan: list[str]) -> RunRecord:
         """Carry out ``plan`` (PDDL action lines); the record says what happened."""
         rec = self.record
         rec.started = rec.started or time.perf_counter()  # a caller's clock (since planning) is kept
         steps = self.parse_plan(plan)
-        require(self.cell, needs(steps), "the plan")  # before anything is sent: a cell that cannot do it
+        require(self.cell, self.needs(steps), "the plan")  # before anything is sent: a cell that cannot do it
         queue = deque(steps)
         self._queue = queue
         try:
@@ -194,10 +204,11 @@ class Executor(Recovery):
 
     # --- one action -----------------------------------------------------------------
     def _do(self, step: Step, queue: deque) -> None:
-        part = step.args.get("part") if step.action == "take-part" else None
-        if part is not None and not self.belief.usable(part):  # a diagnosis found it unusable: no new one
-            self._rebind_or_replan(step, self.index, queue, None, f"{self.belief.unusable[part]} already")
-            return
+        for param in self._grasped(step.action):  # an object to take a diagnosis found unusable: no new one
+            obj = step.args.get(param)
+            if obj is not None and not self.belief.usable(obj):
+                self._rebind_or_replan(step, self.index, queue, None, f"{self.belief.unusable[obj]} already", param)
+                return
         while True:
             i = self.index
             self.index += 1
@@ -221,7 +232,7 @@ class Executor(Recovery):
 
     def _attempt(self, step: Step, act: ActionRecord, queue: deque) -> str:
         i = act.index
-        if step.action == "take-part":
+        if self._inspector(step.action) is not None:
             rebound = self._inspect(step, i, queue)
             if rebound is not None:
                 act.status = "rebound"
@@ -261,8 +272,9 @@ class Executor(Recovery):
                     continue
                 classes.update(c for c in (p.reference_type, p.target_type) if c)
                 classes.update(variable_classes(p.formula))
-            if action == "take-part":
-                classes.add(str(KTW.Part))
+            inspector = self._inspector(action)
+            if inspector is not None:  # the objects that may be bound instead of the one to take
+                classes.add(spec.param_type(inspector[0]))
             self._classes[action] = classes
         return self._classes[action]
 
@@ -450,23 +462,63 @@ class Executor(Recovery):
             self._target_args[action] = tuple(params)
         return self._target_args[action]
 
+    # --- what an action takes: inspected before it is grasped, rebound when unusable ------
+    def _grasped(self, action: str) -> tuple[str, ...]:
+        """The parameters whose object the action's program grasps (its ``grasp`` targets)."""
+        if action not in self._grasps:
+            program = self.failures.programs.get(action)
+            params: dict[str, None] = {}
+            for s in program.steps if program is not None else ():
+                if s.target is None:
+                    continue
+                try:
+                    name, args = parse_target(s.target)
+                except ValueError:
+                    continue
+                if name == "grasp" and args and not _number(args[0]):
+                    params[args[0]] = None
+            self._grasps[action] = tuple(params)
+        return self._grasps[action]
+
+    def _inspector(self, action: str) -> tuple[str, str, str] | None:
+        """How the object ``action`` takes is inspected before it is grasped: (its parameter,
+        the inspecting action, the inspection's predicate), or None. The inspecting action is a
+        domain action whose effect is a predicate decided by an inspection (a sensor atom) of
+        that parameter's object, and whose parameters ``action`` has too, by name and class
+        (kitkb's domain: take-part's part, by look-for-part and part-quality-ok). An action
+        without one takes what it was planned with."""
+        if action not in self._inspectors:
+            params = dict(self.actions[action].params)
+            found = None
+            for param in self._grasped(action):
+                for other, (on, predicate) in self._inspecting.items():
+                    if on == param and all(params.get(n) == t for n, t in self.actions[other].params):
+                        found = (param, other, predicate)
+                        break
+                if found is not None:
+                    break
+            self._inspectors[action] = found
+        return self._inspectors[action]
+
     def _inspect(self, step: Step, i: int, queue: deque) -> str | None:
-        """Inspect the part to take (look-for-part): a defective one is replaced, never taken."""
-        part = step.args["part"]
-        if not self.belief.placed(part) or not has(self.cell, "inspect"):  # a cell that cannot: not inspected
+        """Inspect the object the step takes (:meth:`_inspector`): a defective one is
+        replaced, never taken; its failure is diagnosed as the inspecting action's."""
+        param, action, predicate = self._inspector(step.action)  # type: ignore[misc]
+        obj = step.args[param]
+        if not self.belief.placed(obj) or not has(self.cell, "inspect"):  # a cell that cannot: not inspected
             return None
-        ok = self.cell.inspect(part)
-        self.belief.passed_inspection(part, ok)
+        ok = self.cell.inspect(obj)
+        self.belief.passed_inspection(obj, ok)
         if ok:
             return None
-        args = {"robot": step.args["robot"], "part": part, "partstray": step.args["partstray"]}
-        atom = AtomCheck("part-quality-ok", (part,), False, False)
+        args = {n: step.args[n] for n, _ in self.actions[action].params}
+        atom = AtomCheck(predicate, (obj,), False, False)
         self.record.checks.append(Check(i, EFF, [atom], time.perf_counter()))
         self._emit_check(self.record.checks[-1])
         if self._near is not None:
             self._sense_classes(step)
-        diag = diagnose(self.failures, self.evaluator(), "look-for-part", EFF, {"part-quality-ok"}, args)
-        failure = self._record_failure(i, Step("look-for-part", args), EFF, [atom], diag)
+        diag = diagnose(self.failures, self.evaluator(), action, EFF, {predicate}, args)
+        failure = self._record_failure(i, Step(action, args), EFF, [atom], diag)
         return self._recover(step, i, queue, failure, diag.mode)
 
     # --- commands -------------------------------------------------------------------
@@ -507,8 +559,10 @@ class Executor(Recovery):
                     pose = raised(pose, RELEASE)
                 out.append(COMMANDS[s.command](Pose.from_matrix(pose)))
                 self.targets.tip = pose
-                if s.target.startswith("grasp(") and step.action == "take-part":
-                    self.taken_from[step.args["part"]] = pose
+                if s.target.lstrip().startswith("grasp("):  # where the object was taken (to put it back)
+                    grasped = parse_target(s.target)[1][0]
+                    if grasped in step.args:
+                        self.taken_from[step.args[grasped]] = pose
             else:
                 out.append(COMMANDS[s.command]())
                 self._tool_changed(s.command)
@@ -595,12 +649,27 @@ class Executor(Recovery):
             self.progress(text)
 
 
-def needs(steps: list[Step]) -> tuple[str, ...]:
+def needs(steps: list[Step], inspecting: Collection[str] = ()) -> tuple[str, ...]:
     """The capabilities (:mod:`kb.crcl.cell`) a plan needs of its cell: to move and to sense
-    always; to inspect for a ``look-for-part`` (its effect, the part's quality, is an
-    inspection's). The executor's own inspection before a grasp and of the finished kits is
-    left out on a cell that cannot inspect (no part is then found good)."""
-    return RUN_NEEDS + (("inspect",) if any(s.action == "look-for-part" for s in steps) else ())
+    always; to inspect for an action of ``inspecting`` (its effect is an inspection's:
+    :func:`inspecting_actions`; kitkb's domain: ``look-for-part``). The executor's own
+    inspection before a grasp and of the finished kits is left out on a cell that cannot
+    inspect (no part is then found good)."""
+    return RUN_NEEDS + (("inspect",) if any(s.action in inspecting for s in steps) else ())
+
+
+def inspecting_actions(domain: DomainSpec, defs: Definitions) -> dict[str, tuple[str, str]]:
+    """The actions whose effect is a predicate decided by an inspection (a sensor atom, docs/soap.md)
+    of one of their parameters' objects: action -> (that parameter, the predicate)."""
+    out: dict[str, tuple[str, str]] = {}
+    for spec in domain.actions:
+        for atom in spec.effects:
+            p = defs.predicates.get(atom.predicate)
+            if atom.negated or p is None or len(atom.args) != 1:
+                continue
+            if any(isinstance(f, Sensor) for f in subformulas(p.formula)):
+                out.setdefault(spec.name, (atom.args[0], atom.predicate))
+    return out
 
 
 def _number(text: str) -> bool:
