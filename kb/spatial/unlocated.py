@@ -10,8 +10,10 @@ to be sensed"):
   tray, pose to be sensed".
 
 Only a stock-keeping-unit object (``ktw:SkuObject``: parts, trays, kit trays...) can be left
-unlocated: a sensor recognises it by its class and SKU. Any other solid object without a
-location stays what the shapes say it is (a missing value). :func:`unlocated` lists them,
+unlocated: a sensor recognises it by its class and SKU. Nor can an object that another
+object's location refers to (a tray whose parts are posed in its frame: their poses would have
+no frame until it is sensed). Any other solid object without a location stays what the shapes
+say it is (a missing value). :func:`unlocated` lists them,
 cheaply (one pass over the file's ``rdf:type`` statements: ``kitkb run`` asks it on every state,
 and a state with every object placed goes on as before); :func:`refuse_unlocated` is what a
 command that needs every pose (``generate pddl``, ``plan``, ``predicates``...) says of one.
@@ -95,6 +97,10 @@ def unlocated(source: Source, graph: Any = None) -> list[Unlocated]:
         if loc is not None and not relative:
             continue
         out.append((s, cs, loc if relative else None))
+    if not out:
+        return []
+    frames = set(view.objects(None, _REF))  # other objects' poses are given in their frame: not to be sensed
+    out = [t for t in out if t[0] not in frames]
     if not out:
         return []
     held = _containers(view)
