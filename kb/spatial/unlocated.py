@@ -14,7 +14,7 @@ unlocated: a sensor recognises it by its class and SKU. Nor can an object that a
 object's location refers to (a tray whose parts are posed in its frame: their poses would have
 no frame until it is sensed). Any other solid object without a location stays what the shapes
 say it is (a missing value). :func:`unlocated` lists them,
-cheaply (one pass over the file's ``rdf:type`` statements: ``kitkb run`` asks it on every state,
+cheaply (one pass over the file's SKU objects: ``kitkb run`` and planning ask it of every state,
 and a state with every object placed goes on as before); :func:`refuse_unlocated` is what a
 command that needs every pose (``generate pddl``, ``plan``, ``predicates``...) says of one.
 """
@@ -37,6 +37,7 @@ _SKU_OBJECT = str(KTW.SkuObject)
 _SOLID = str(KTW.SolidObject)
 _RELATIVE = str(KTW.RelativeLocation)
 _PRIMARY, _REF = KTW.hasSolidObject_PrimaryLocation, KTW.hasPhysicalLocation_RefObject
+_POINT = KTW.hasPoseLocation_Point
 #: containment the kitting model states besides locations: container property, and the
 #: property of the container whose value stands for it (a large box's container)
 CONTAINMENT = ((KTW.hasPartsVessel_Part, None),
@@ -78,25 +79,28 @@ class Unlocated:
 
 def unlocated(source: Source, graph: Any = None) -> list[Unlocated]:
     """The SKU objects ``source`` declares whose pose is unknown, in name order (empty for a
-    state with every object placed: the common case, one pass over its types). ``graph``: the
-    statements to look in when the caller holds them already (an rdflib graph; default the
-    source's triple view)."""
+    state with every object placed: the common case, one pass over the objects with a SKU,
+    without the model's class tree). ``graph``: the statements to look in when the caller
+    holds them already (an rdflib graph; default the source's triple view)."""
     view = source.view() if graph is None else graph
-    anc = class_ancestors()
-    classes: dict[URIRef, list[str]] = {}
-    for s, c in view.subject_objects(RDF.type):
-        cs = str(c)
-        if isinstance(s, URIRef) and cs in anc and _SKU_OBJECT in anc[cs]:
-            classes.setdefault(s, []).append(cs)
-    if not classes:
-        return []
-    out = []
-    for s, cs in classes.items():
+    # the common case without the class tree: every object with a SKU has a primary location with a point
+    open_ = []
+    for s, _ in view.subject_objects(KTW.hasSkuObject_Sku):
         loc = view.value(s, _PRIMARY)
+        if loc is None or view.value(loc, _POINT) is None:
+            open_.append((s, loc))
+    if not open_:
+        return []
+    anc = class_ancestors()
+    out = []
+    for s, loc in open_:
+        cs = [str(c) for c in view.objects(s, RDF.type) if str(c) in anc and _SKU_OBJECT in anc[str(c)]]
+        if not isinstance(s, URIRef) or not cs:
+            continue
         relative = loc is not None and any(_RELATIVE in anc.get(str(t), ()) for t in view.objects(loc, RDF.type))
         if loc is not None and not relative:
             continue
-        out.append((s, cs, loc if relative else None))
+        out.append((s, cs, loc))
     if not out:
         return []
     frames = set(view.objects(None, _REF))  # other objects' poses are given in their frame: not to be sensed
