@@ -338,9 +338,27 @@ def _highest_top(box: tuple[FloatArray, FloatArray], blo: FloatArray, bhi: Float
     return float(np.max(bhi[near, 2])) - float(lo[2]) if near.any() else -math.inf
 
 
+#: the last pieces placed in the world by :func:`_piece_boxes`: (pieces, their owners' poses' bytes, result)
+_placed: list[tuple[Pieces, bytes, tuple]] = []
+
+
 def _piece_boxes(poses: FloatArray, pieces: Pieces) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
-    """Pieces in the world: (axes (P, 3, 3), half sizes, centres, world box lo, hi)."""
+    """Pieces in the world: (axes (P, 3, 3), half sizes, centres, world box lo, hi). The last
+    result is kept while the pieces are the same object and their owners' poses the same to the
+    bit (a robot's moves sweep the same solids, which stand still, leg after leg); the arrays
+    returned are not to be written to."""
     g = poses[pieces.owner]
+    key = g.tobytes()
+    if _placed and _placed[0][0] is pieces and _placed[0][1] == key:
+        return _placed[0][2]
+    found = _place(g, pieces)
+    for array in found:
+        array.flags.writeable = False
+    _placed[:] = [(pieces, key, found)]
+    return found
+
+
+def _place(g: FloatArray, pieces: Pieces) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
     vb = g[:, :3, :3]
     half_b = (pieces.hi - pieces.lo) / 2.0
     cb = np.einsum("pij,pj->pi", vb, (pieces.lo + pieces.hi) / 2.0) + g[:, :3, 3]
