@@ -44,6 +44,7 @@ from kb.execution.events import Event, Listener, Notified, StageEnded, StageStar
 from kb.execution.executor import log_notifier
 from kb.execution.inputs import LoopInputs, PlanInputs
 from kb.execution.records import RunRecord
+from kb.model.faults import fault_kinds
 from kb.spatial.scene import Scene
 
 
@@ -159,6 +160,7 @@ class ClosedLoop:
         self._model: tuple[Any, float] | None = None  # the planning model made ahead, and its seconds
         self._started: Any = None  # the planner started ahead (kb.planning.planners.Started)
         self._opened: tuple[Any, bool] | None = None  # the cell opened by the locate stage, kept for execute
+        self._tmp: Any = None  # the folder of the sensed state when there is no out_dir
 
     # --- the loop ---------------------------------------------------------------------------
     def run(self) -> LoopResult:
@@ -346,9 +348,8 @@ class ClosedLoop:
         if opened is not None and opened[1]:
             from kb.cells import close_cell
             close_cell(opened[0])
-        tmp = getattr(self, "_tmp", None)
-        if tmp is not None:
-            tmp.cleanup()
+        if self._tmp is not None:
+            self._tmp.cleanup()
             self._tmp = None
 
     def _geometry(self) -> bool:
@@ -424,8 +425,9 @@ class ClosedLoop:
             truth = Scene.from_files([o.truth], declared=[goal], match_names=o.match_names)
         else:
             truth = scene  # the belief and the cell each copy it
-        request = CellRequest(scene=truth, faults=o.faults or None, seed=o.seed or None, accuracy=accuracy,
-                              state=self.init, goal=self.goal, match_names=o.match_names)
+        kinds = fault_kinds(self.inputs.knowledge.kb) if self.inputs is not None else None
+        request = CellRequest(scene=truth, faults=o.faults or None, fault_kinds=kinds, seed=o.seed or None,
+                              accuracy=accuracy, state=self.init, goal=self.goal, match_names=o.match_names)
         return open_cell(o.cell, request), True
 
 

@@ -248,8 +248,6 @@ def open_simulated(url: CellURL, request: CellRequest) -> SimulatedCell:
     scene = request.scene
     world = url.params.get("world")
     if world is not None:
-        if not Path(world).is_file():
-            raise url.refuse(f"world={world}: no such file")
         scene = Scene.from_files([world], declared, match_names=request.match_names)
     if scene is None:
         raise url.refuse("a simulated cell needs the initial state it holds (no scene was given)")
@@ -268,6 +266,9 @@ def check_simulated(url: CellURL, request: CellRequest) -> tuple[FaultSpec | Non
     """The faults, seed and accuracy a ``sim:`` cell of ``url`` and ``request`` would have
     (the scene not needed); an InputError naming what is wrong (``reason`` without the URL)."""
     url.only("faults", "seed", "noise", "world")
+    world = url.params.get("world")
+    if world is not None and not Path(world).is_file():
+        raise url.refuse(f"world={world}: no such file")
     seed = url.number("seed", int)
     if seed is not None and request.seed not in (None, seed):
         raise url.refuse(f"seed={seed} and a seed of {request.seed} given besides")
@@ -279,7 +280,8 @@ def check_simulated(url: CellURL, request: CellRequest) -> tuple[FaultSpec | Non
     faults = text if text is not None else faults
     accuracy = request.accuracy
     try:
-        spec = FaultSpec.parse(faults, seed=seed) if isinstance(faults, str) and faults.strip() else faults
+        spec = (FaultSpec.parse(faults, seed=seed, kinds=request.fault_kinds)
+                if isinstance(faults, str) and faults.strip() else faults)
         if "noise" in url.params:
             accuracy = SensorAccuracy.parse(url.params["noise"], accuracy)
     except ValueError as exc:
