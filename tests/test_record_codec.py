@@ -70,7 +70,8 @@ def runs(draw: st.DrawFn) -> RunRecord:
         draw(st.lists(failures, max_size=3)), draw(INTS), draw(st.none() | st.booleans()), draw(st.none() | texts()),
         draw(st.lists(OBJECTS, max_size=2)), draw(FLOATS), draw(FLOATS), None, draw(st.none() | FLOATS),
         draw(FLOATS), draw(st.none() | st.lists(OBJECTS, max_size=2)), draw(st.lists(kits, max_size=2)),
-        draw(POINTS), draw(st.none() | OBJECTS), draw(st.none() | OBJECTS), draw(st.none() | st.lists(OBJECTS, max_size=2)))
+        draw(POINTS), draw(st.none() | OBJECTS), draw(st.none() | OBJECTS), draw(st.none() | st.lists(OBJECTS, max_size=2)),
+        draw(NAMES))
 
 
 def same(a: Any, b: Any, path: str = "") -> None:

@@ -74,8 +74,8 @@ from kb.model.definitions import Definitions, Sensor, subformulas, variable_clas
 from kb.model.failures import EFF, PRE, FailureModel
 from kb.metrics.kits import KitGoal, score_kits
 from kb.model.soap import ActionSpec, DomainSpec
+from kb.planning.goal import unmet as unmet_goal
 from kb.planning.problem import ProblemSpec
-from kb.planning.state import pddl_name
 from kb.spatial.predicates import Evaluator
 from kb.spatial.rcc8 import DEFAULT_TOLERANCE
 
@@ -609,20 +609,12 @@ class Executor(Recovery):
             self.looks.confirm()
 
     def goal_holds(self) -> bool:
-        """The goal of the problem, checked from the sensed geometry now."""
+        """The goal of the problem — every goal atom and count (:mod:`kb.planning.goal`) —
+        checked from the sensed geometry now; the record keeps what does not hold
+        (``goal_unmet``)."""
         self._sense_all()
-        ev = self.evaluator()
-        true = {(n, *map(pddl_name, a)) for n, a in ev.facts({g[0] for g in self.spec.goal})}
-        if not all(tuple(g) in true for g in self.spec.goal):
-            return False
-        counts: dict[str, dict] = {}
-        for left, right in self.spec.goal_equal:
-            for term in (left, right):
-                if term[0] not in counts:
-                    counts[term[0]] = {tuple(map(pddl_name, a)): v for a, v in ev.function_values(term[0]).items()}
-            if counts[left[0]].get(tuple(left[1:]), 0) != counts[right[0]].get(tuple(right[1:]), 0):
-                return False
-        return True
+        self.record.goal_unmet = unmet_goal(self.spec.goal, self.spec.goal_equal, self.evaluator())
+        return not self.record.goal_unmet
 
     def inspect_kits(self, goals: list[KitGoal]) -> None:
         """Inspect, through the cell, every part that lies in a goal kit as sensed now (after

@@ -151,7 +151,7 @@ def relaxed_closure(domain: DomainSpec, objects: dict[str, tuple[str, Any]], ini
     first = True
     while delta:
         old, reached = _Index(reached), reached | delta
-        if targets <= reached:
+        if targets and targets <= reached:
             break
         every, fresh = _Index(reached), _Index(delta)
         new: set[Atom] = set()

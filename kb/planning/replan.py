@@ -15,6 +15,7 @@ from typing import Iterable
 
 from kb.model.soap import DomainSpec
 from kb.planning.build import build_problem
+from kb.planning.goal import unreachable
 from kb.planning.planners import PlanResult, run
 from kb.planning.problem import ProblemSpec
 from kb.planning.strips import compile_domain, compile_problem
@@ -59,7 +60,16 @@ def restated(spec: ProblemSpec, facts: Iterable[Atom], values: dict[Atom, float]
 def replan(domain: DomainSpec, spec: ProblemSpec, facts: Iterable[Atom], values: dict[Atom, float],
            excluded: Iterable[str] = (), planner: str | None = None, timeout: float | None = None) -> PlanResult:
     """A validated plan from the state ``facts``/``values`` to ``spec``'s goal (STRIPS encoding);
-    NotSolvableError when no plan exists (e.g. no usable part of a SKU is left)."""
+    NotSolvableError when no plan exists (e.g. no usable part of a SKU is left).
+
+    A goal atom no action can bring about from this state any more (:func:`kb.planning.goal.unreachable`:
+    a part left on the work table, which no action takes from there, keeps ``worktable-empty``
+    false) is left out of this plan's goal, so that the rest of the goal (the kits) is still
+    reached; the run's end says it does not hold (``goal_unmet``)."""
     strips_domain, quotas = compile_domain(domain)
-    problem = compile_problem(restated(spec, facts, values, excluded), quotas)
+    state = restated(spec, facts, values, excluded)
+    lost = {atom for atom, _why in unreachable(domain, state.objects, state.facts, state.goal)}
+    if lost:
+        state = replace(state, goal=[g for g in state.goal if g not in lost])
+    problem = compile_problem(state, quotas)
     return run(build_problem(strips_domain, problem), None, planner, timeout)
