@@ -171,3 +171,23 @@ def test_an_object_the_sensor_does_not_find_is_refused(tmp_path: Path) -> None:
     with pytest.raises(InputError) as e:
         ClosedLoop(path, SMALL_GOAL, LoopOptions(cell=Blind(), validate=False)).run()
     assert e.value.line == line and "did not find it" in str(e.value)
+
+
+@pytest.mark.parametrize("scheme", ["kitkb", "crcl"])
+def test_a_cell_server_of_the_partial_state_is_sensed_by_url(partial: Path, tmp_path: Path, scheme: str) -> None:
+    """``kitkb sim serve`` of the partial file: the served cell places the parts itself; the run
+    senses them through the cell's URL (the USARTruth port) and builds the kits."""
+    from kb.sim import CellServer, SimulatedCell
+    init, goal = partial / "init.ttl", partial / "goal.ttl"
+    cell = SimulatedCell(init, seed=9, declared=[goal])
+    assert len(cell.hidden) == 2
+    with CellServer(cell, sensor_port=0, command_port=0) as server:
+        url = (f"kitkb://127.0.0.1:{server.sensor_port}?command={server.command_port}" if scheme == "kitkb" else
+               f"crcl://127.0.0.1:{server.command_port}?sensor=127.0.0.1:{server.sensor_port}")
+        result = ClosedLoop(init, goal, LoopOptions(cell=url, validate=False, out_dir=tmp_path)).run()
+    assert result.goal_holds, result.reason
+    data = result.report()["located"]
+    assert [(s["object"], s["container"]) for s in data["sensed"]] == [
+        (p.name.rsplit("#")[-1], p.container.rsplit("#")[-1]) for p in cell.hidden]
+    for s, p in zip(data["sensed"], cell.hidden):
+        assert np.allclose(s["position"], p.pose[:3, 3], atol=1e-6)
