@@ -25,10 +25,11 @@ from typing import Any, Sequence
 
 from kb.core.memory import gc_paused
 from kb.core.resources import ontology_path
+from kb.execution.programs import check_programs
 from kb.io.loader import KnowledgeBase, Source, domain_knowledge, load
 from kb.model.definitions import Definitions, locator, read_definitions
 from kb.model.failures import FailureModel, read_failure_model
-from kb.model.soap import DomainSpec, read_domain
+from kb.model.soap import DomainSpec, read_domain, statements
 from kb.planning.model import KittingModel, encoded, model_of
 from kb.planning.problem import ProblemSpec, read_problem, used_types, world_of
 from kb.planning.state import ClassTree, World
@@ -79,8 +80,12 @@ class DomainInputs:
 
     @cached_property
     def domain(self) -> DomainSpec:
-        """The planning domain (numeric) of the SOAP actions."""
-        return read_domain(self.kb.graph)
+        """The planning domain (numeric) of the SOAP actions; an action program step the
+        executor could not send is an InputError at its line, before anything is planned
+        (:func:`kb.execution.programs.check_programs`)."""
+        domain = read_domain(self.kb.graph, locate=statements(self.kb))
+        check_programs(self.kb, domain)
+        return domain
 
     @cached_property
     def definitions(self) -> Definitions:

@@ -13,14 +13,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Sequence
+from typing import Callable, Sequence
 
 from rdflib import Graph, URIRef
 from rdflib.namespace import OWL, RDF, RDFS
 
 from kb.core.errors import InputError
 from kb.core.namespaces import KITTING_DOMAIN_ONTOLOGY, SOAP, local_name
-from kb.io.loader import domain_knowledge
+from kb.io.loader import KnowledgeBase, domain_knowledge
 
 _OPS = {"Equal": "=", "Less": "<", "Greater": ">", "LessOrEqual": "<=", "GreaterOrEqual": ">="}
 _NUMERIC_KINDS = {SOAP.IncreaseEffect: "increase", SOAP.DecreaseEffect: "decrease", SOAP.AssignEffect: "assign"}
@@ -118,12 +118,25 @@ def load_domain(domain_files: Sequence[str | Path] | None = None) -> tuple[Domai
     """The domain of the SOAP instances in ``domain_files`` (default: the shipped
     ``kitting-domain.ttl``, with its imports), and the graph it was read from."""
     kb = domain_knowledge(domain_files)
-    return read_domain(kb.graph), kb.graph
+    return read_domain(kb.graph, locate=statements(kb)), kb.graph
 
 
-def read_domain(graph: Graph, name: str = "kitting-domain") -> DomainSpec:
-    """The domain stated by the ``soap:Action`` individuals of ``graph``."""
-    reader = _Reader(graph)
+#: where a statement (subject, property, value; the last two may be None) is written: (file, line)
+StatementLocator = Callable[..., "tuple[str | None, int | None]"]
+
+
+def statements(kb: KnowledgeBase) -> StatementLocator:
+    """Where a statement is written in ``kb``'s files: ``(file, line)``, else ``(None, None)``."""
+    def locate(s, p=None, o=None) -> tuple[str | None, int | None]:  # noqa: ANN001
+        found = kb.source_of(s, p, o) or (kb.source_of(s) if p is not None else None)
+        return (str(found[0].path), found[1]) if found else (None, None)
+    return locate
+
+
+def read_domain(graph: Graph, name: str = "kitting-domain", locate: StatementLocator | None = None) -> DomainSpec:
+    """The domain stated by the ``soap:Action`` individuals of ``graph``; a malformed one is an
+    InputError at its file and line when ``locate`` (:func:`statements`) says where it is."""
+    reader = _Reader(graph, locate)
     actions = sorted(graph.subjects(RDF.type, SOAP.Action), key=str)
     if not actions:
         raise InputError("no soap:Action individuals found: is kitting-domain.ttl loaded?")
@@ -134,8 +147,9 @@ def read_domain(graph: Graph, name: str = "kitting-domain") -> DomainSpec:
 
 
 class _Reader:
-    def __init__(self, graph: Graph):
+    def __init__(self, graph: Graph, locate: StatementLocator | None = None):
         self.g = graph
+        self.locate = locate or (lambda s, p=None, o=None: (None, None))
         self.predicates: dict[str, Signature] = {}
         self.functions: dict[str, FunctionSpec] = {}
         self.used_types: set[str] = set()
@@ -144,8 +158,18 @@ class _Reader:
     def one(self, s, p, what: str):  # noqa: ANN001, ANN201
         value = self.g.value(s, p)
         if value is None:
-            raise InputError(f"{local_name(s)}: missing {local_name(p)} ({what})")
+            raise InputError(f"{local_name(s)}: missing {local_name(p)} ({what})", *self.locate(s))
         return value
+
+    def named(self, atom, prop, cls, name_prop, what: str, action: str):  # noqa: ANN001, ANN201
+        """The ``cls`` individual an atom or term names by ``prop``: an InputError at that
+        statement when it names something that is not one (no ``name_prop``: undefined)."""
+        node = self.one(atom, prop, what)
+        if self.g.value(node, name_prop) is None:
+            raise InputError(f"action {action}: {local_name(atom)} names {local_name(node)}, which is not a "
+                             f"soap:{local_name(cls)} of the domain (no {local_name(name_prop)}: undefined or "
+                             "misspelt?)", *self.locate(atom, prop, node))
+        return node
 
     def types_of(self, node) -> set:  # noqa: ANN001
         return set(self.g.objects(node, RDF.type))
@@ -210,14 +234,15 @@ class _Reader:
                 continue
             if term not in names:
                 raise InputError(f"action {action}: {local_name(node)} refers to {local_name(term)}, "
-                                 "which is not one of the action's parameters")
+                                 "which is not one of the action's parameters", *self.locate(node, prop, term))
             out.append(names[term])
         return tuple(out)
 
     def atoms(self, holder, prop, names: dict, action: str) -> list[Atom]:  # noqa: ANN001
         out = []
         for atom in sorted(self.g.objects(holder, prop), key=str):
-            pred = self.predicate(self.one(atom, SOAP.hasPredicateAtom_Predicate, "predicate"))
+            pred = self.predicate(self.named(atom, SOAP.hasPredicateAtom_Predicate, SOAP.Predicate,
+                                             SOAP.hasPredicate_Name, "predicate", action))
             args = self.args(atom, SOAP.hasPredicateAtom_ReferenceParameter,
                              SOAP.hasPredicateAtom_TargetParameter, names, action)
             negated = bool(self.g.value(atom, SOAP.hasAtom_IsNegated, default=False).toPython()) \
@@ -226,7 +251,8 @@ class _Reader:
         return out
 
     def term(self, node, names: dict, action: str) -> FTerm:  # noqa: ANN001
-        fn = self.function(self.one(node, SOAP.hasFunctionTerm_Function, "function"))
+        fn = self.function(self.named(node, SOAP.hasFunctionTerm_Function, SOAP.Function, SOAP.hasFunction_Name,
+                                      "function", action))
         return FTerm(fn, self.args(node, SOAP.hasFunctionTerm_ReferenceParameter,
                                    SOAP.hasFunctionTerm_TargetParameter, names, action))
 
@@ -236,7 +262,7 @@ class _Reader:
                    for k in kinds if k.removeprefix("FunctionToFunction").removeprefix("FunctionToDecimal") in _OPS
                    and k.startswith("FunctionTo")), None)
         if op is None:
-            raise InputError(f"action {action}: comparison {local_name(node)} has no operator class")
+            raise InputError(f"action {action}: comparison {local_name(node)} has no operator class", *self.locate(node))
         left = self.term(self.one(node, SOAP.hasFunctionComparison_FirstOperand, "first operand"), names, action)
         second = self.g.value(node, SOAP.hasFunctionToFunction_SecondOperand)
         if second is not None:
@@ -249,7 +275,7 @@ class _Reader:
         kind = next((k for t, k in _NUMERIC_KINDS.items() if t in self.types_of(node)), None)
         if kind is None:
             raise InputError(f"action {action}: numeric effect {local_name(node)} is not an "
-                             "Increase/Decrease/AssignEffect")
+                             "Increase/Decrease/AssignEffect", *self.locate(node))
         term = self.term(self.one(node, SOAP.hasNumericEffect_Function, "function term"), names, action)
         amount_fn = self.g.value(node, SOAP.hasNumericEffect_AmountFunction)
         amount: FTerm | float = (self.term(amount_fn, names, action) if amount_fn is not None
