@@ -171,3 +171,14 @@ def test_goal_holds_checks_every_goal_fact_and_the_record_says_which_fail(tmp_pa
     assert read_run(db).goal_unmet == unmet
     full = run_plan(plan, INIT, GOAL, seed=1, notifier=_quiet)
     assert full.goal_holds and full.record.goal_unmet == [] and full.report()["goal_unmet"] == []
+
+
+def test_a_campaign_says_which_goal_facts_its_trials_left_unmet() -> None:
+    from kb.testmethod.summary import brief, goal_unmet
+    rows = [{"goal_holds": True, "goal_unmet": []},
+            {"goal_holds": False, "goal_unmet": ["worktable-empty(work_table_1)", "robot-with-no-endeffector(robot_1)"]},
+            {"goal_holds": False, "goal_unmet": ["worktable-empty(work_table_1)",
+                                                 "quantity-kit(kit_1, sku_a) = capacity-kit(kit_1, sku_a) (1, not 2)"]},
+            {"goal_holds": False}]  # an older report: no goal_unmet
+    assert goal_unmet(rows) == {"quantity-kit": 1, "robot-with-no-endeffector": 1, "worktable-empty": 2}
+    assert brief(rows[1])["goal_unmet"] == rows[1]["goal_unmet"] and brief(rows[3])["goal_unmet"] == []

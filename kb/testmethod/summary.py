@@ -100,6 +100,7 @@ def summarize(rows: Iterable[dict[str, Any]], *, sweep: str | None = None, base:
     return {
         "trials": len(rows),
         "goal_holds": sum(1 for r in rows if r.get("goal_holds")),
+        "goal_unmet": goal_unmet(rows),
         "kits_built": built, "kits": asked,
         "errors": sum(1 for r in rows if r.get("trial", {}).get("error")),
         "metrics": {name: _stats(values) for name, values in sorted(series.items())},
@@ -143,6 +144,16 @@ def sweep_summary(rows: list[dict[str, Any]], sweep: str, base: str | None = Non
     return {"key": name, "unit": unit, "sweep": sweep, "base": base, "levels": levels}
 
 
+def goal_unmet(rows: Iterable[dict[str, Any]]) -> dict[str, int]:
+    """Per goal predicate (or goal count's function), the number of trials whose run ended with
+    an atom of it not holding (the reports' ``goal_unmet``: every goal fact is a goal, so a
+    trial may build its kits and still leave, say, a part on the work table)."""
+    out: Counter[str] = Counter()
+    for row in rows:
+        out.update({str(atom).split("(", 1)[0] for atom in row.get("goal_unmet") or []})
+    return dict(sorted(out.items()))
+
+
 def brief(row: dict[str, Any]) -> dict[str, Any]:
     """A trial's row as the command prints it (one line of the table, one object of the JSON)."""
     trial = row.get("trial", {})
@@ -151,7 +162,8 @@ def brief(row: dict[str, Any]) -> dict[str, Any]:
     kits = row.get("kits") or []
     return {
         "index": trial.get("index"), "seed": trial.get("seed"), "design": trial.get("design"),
-        "goal_holds": bool(row.get("goal_holds")), "kits_built": built, "kits": asked,
+        "goal_holds": bool(row.get("goal_holds")), "goal_unmet": list(row.get("goal_unmet") or []),
+        "kits_built": built, "kits": asked,
         "score": sum(k.get("score", 0) for k in kits) if kits else None,
         "max_score": sum(k.get("max_score", 0) for k in kits) if kits else None,
         "actions": row.get("actions"), "failures": len(row.get("failures") or []),
@@ -176,7 +188,7 @@ def write_table(rows: list[dict[str, Any]], summary: dict[str, Any], stream: Tex
                 f"{_n(b['actions']):>7} {b['failures']:>4} {_n(b['recovered']):>5}")
         if receipt:
             line += f" {_n(b['receipt_to_first_command_s'], '.3f'):>9}"
-        outcome = b["error"] or b["stopped"] or ""
+        outcome = b["error"] or b["stopped"] or (f"goal unmet: {', '.join(b['goal_unmet'])}" if b["goal_unmet"] else "")
         line += f" {_n(b['time_s'], '.2f'):>7}  {b['design']}" + (f" @ {b['noise']}" if "noise" in b else "")
         line += f": {outcome}" if outcome else ""
         print(line, file=stream)
@@ -184,8 +196,9 @@ def write_table(rows: list[dict[str, Any]], summary: dict[str, Any], stream: Tex
 
 
 def _summary(s: dict[str, Any], stream: TextIO) -> None:
-    print(f"\n{s['trials']} trials: kits built {s['kits_built']} of {s['kits']}, goal held in {s['goal_holds']}, "
-          f"errors {s['errors']}", file=stream)
+    unmet = ", ".join(f"{name} {n}" for name, n in (s.get("goal_unmet") or {}).items())
+    print(f"\n{s['trials']} trials: kits built {s['kits_built']} of {s['kits']}, goal held in {s['goal_holds']}"
+          + (f" (unmet: {unmet})" if unmet else "") + f", errors {s['errors']}", file=stream)
     if s["metrics"]:
         width = max(len(n) for n in s["metrics"])
         print(f"{'metric':<{width}} {'mean':>12} {'median':>12} {'p95':>12}", file=stream)
