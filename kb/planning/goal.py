@@ -58,6 +58,13 @@ class GoalFacts:
     static: list[Atom]
 
 
+def goal_scene(goal: Any) -> Scene:
+    """The scene of a goal state read as a :class:`kb.planning.state.World`: from the files it
+    was loaded from (``kb.planning.problem.world_of`` keeps them), else its path."""
+    sources = getattr(goal, "sources", None)
+    return Scene.from_sources(sources) if sources else Scene.from_files([goal.path])
+
+
 def state_atoms(defs: Definitions, scene: Scene) -> set[Atom]:
     """Every atom true in ``scene`` by the definitions, with PDDL object names."""
     return {(n, *map(pddl_name, a)) for n, a in Evaluator(defs, scene).facts()}
@@ -306,4 +313,4 @@ def unmet(goal: Iterable[Atom], goal_equal: Iterable[tuple[Atom, Atom]], ev: Eva
 
 
 __all__ = ["GoalFacts", "atom_text", "changed_predicates", "check_reachable", "counted_objects", "goal_facts",
-           "relaxed_closure", "state_atoms", "unmet", "unreachable"]
+           "goal_scene", "relaxed_closure", "state_atoms", "unmet", "unreachable"]

@@ -24,6 +24,7 @@ from kb.io.vocabulary import not_understood
 from kb.model.definitions import Definitions, load_definitions
 from kb.model.soap import DomainSpec
 from kb.planning import facts
+from kb.planning import goal as goals
 from kb.planning.state import ClassTree, World, pddl_name
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -157,16 +158,9 @@ def read_problem(domain: DomainSpec, init: World, goal: World, name: str = "kitt
 def _goal_facts(spec: ProblemSpec, domain: DomainSpec, goal: World, definitions: Definitions | None,
                 scene: "Scene | None") -> None:
     """Every goal fact of the goal state (:mod:`kb.planning.goal`) into ``spec.goal``; an
-    InputError at the goal file's line when one cannot be brought about. (numpy and the
-    geometry imported here, not with this module: ``kitkb plan`` reads the files in a child
-    process while it imports the planner.)"""
-    from kb.planning import goal as goals
-    from kb.spatial.scene import Scene
-
+    InputError at the goal file's line when one cannot be brought about."""
     defs = definitions if definitions is not None else load_definitions()
-    if scene is None:
-        sources = getattr(goal, "sources", None)
-        scene = Scene.from_sources(sources) if sources else Scene.from_files([goal.path])
+    scene = scene if scene is not None else goals.goal_scene(goal)
     counted = goals.counted_objects(defs, scene, [t for pair in spec.goal_equal for t in pair])
     found = goals.goal_facts(domain, goals.state_atoms(defs, scene), counted, spec.objects)
     line_of = scene.source.line_of if scene.source is not None else goal.line_of
