@@ -115,9 +115,8 @@ def test_bin_fault_is_diagnosed_as_the_new_mode_and_its_recovery_plan_runs(tmp_p
     from kb.model.faults import fault_kinds
 
     kinds = fault_kinds(DomainInputs([BIN / "extension.ttl"]).kb)
-    quality = score_detection([report], kinds).as_dict()
-    row = quality["kinds"]["empty-bin-grasp"] if "kinds" in quality else quality["empty-bin-grasp"]
-    assert row["injected"] == 1 and row["right"] == 1 and row["missed"] == 0
+    row = score_detection([report], kinds).as_dict()["kinds"]["empty-bin-grasp"]
+    assert row["injected"] == 1 and row["diagnosed_right"] == 1 and row["missed"] == 0
 
 
 def test_buffer_runs_and_parks_the_stray_part_before_the_kit_tray_goes_on_the_table(tmp_path: Path) -> None:

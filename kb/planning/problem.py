@@ -313,9 +313,18 @@ def _goal_parts(goal: World, kit: URIRef) -> dict[URIRef, list[URIRef]]:
 
 
 def _free_parts(init: World) -> dict[URIRef, list[URIRef]]:
-    """SKU -> parts lying in parts trays in the initial state, in tray and name order."""
+    """SKU -> the parts the plan may put in a kit: those lying in parts trays in the initial
+    state first (in tray and name order), then every other part that no kit or kit tray holds
+    (in name order: a part in a bin, on a table or in a box, which a domain extension's action
+    may take; whether one can is the planner's to find)."""
     free: dict[URIRef, list[URIRef]] = {}
     for tray in init.of(facts.TRAY):
         for p in facts.parts_in(init, tray):
+            free.setdefault(init.value(p, facts.KTW.hasSkuObject_Sku), []).append(p)
+    taken = {p for parts in free.values() for p in parts}
+    taken.update(p for holder in (*init.of(facts.KIT), *init.of(str(facts.KTW.KitTray)))
+                 for p in facts.parts_in(init, holder))
+    for p in sorted(init.of(facts.PART), key=str):
+        if p not in taken:
             free.setdefault(init.value(p, facts.KTW.hasSkuObject_Sku), []).append(p)
     return free
