@@ -181,8 +181,9 @@ class ClosedLoop:
     def _stages(self) -> None:
         o = self.options
         if self.inputs is None and self.plan_inputs is None:
-            self.inputs = LoopInputs.read(self.init, self.goal, domain_files=o.domain_files,
-                                          match_names=o.match_names, imports=o.validate)
+            with gc_paused():  # what is read lives to the loop's end: frozen next, never walked
+                self.inputs = LoopInputs.read(self.init, self.goal, domain_files=o.domain_files,
+                                              match_names=o.match_names, imports=o.validate)
         unknown = self._unlocated()
         self._freeze()
         if o.validate and self.given_plan is None and not unknown:
