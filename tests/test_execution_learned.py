@@ -18,13 +18,16 @@ from collections import Counter
 import pytest
 
 from kb.execution import Executor, run_plan
-from kb.execution.recovery import LEARNED
+from kb.model.failures import load_failure_model
 from kb.planning.model import read_specs
 from kb.planning.replan import restated
 from kb.scenario import write_scenario
 from kb.sim import FAULT_KINDS
 from test_execution import (ALLOWED, MOVED, SMALL, assert_built, assert_diagnoses_match_the_faults, execute, files,
                             first, local, plan_of)
+
+#: the modes that say something about their part (soap:hasFailureMode_ObjectConsequence), as data
+LEARNED = {m.name: m for m in load_failure_model().modes.values() if m.consequences}
 
 
 pytestmark = pytest.mark.usefixtures("own_directory")
@@ -75,8 +78,11 @@ def learned_parts_used_again(run) -> list[str]:  # noqa: ANN001
 
 
 def test_the_learned_modes_are_the_part_faults_of_the_domain() -> None:
-    assert set(LEARNED) == {"part-missing-from-tray", "parts-tray-empty", "defective-part", "wrong-sku",
-                            "dropped-part", "dropped-part-in-transit"}
+    assert {n: [(c.parameter, c.kind.rsplit("#", 1)[-1], c.reason) for c in m.consequences]
+            for n, m in LEARNED.items()} == {
+        "part-missing-from-tray": [("part", "Missing", "missing")], "parts-tray-empty": [("part", "Missing", "missing")],
+        "defective-part": [("part", "Condemned", "defective")], "wrong-sku": [("part", "Condemned", "wrong-sku")],
+        "dropped-part": [("part", "Condemned", "dropped")], "dropped-part-in-transit": [("part", "Condemned", "dropped")]}
 
 
 @pytest.mark.parametrize("kind", FAULT_KINDS)

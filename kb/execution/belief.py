@@ -52,6 +52,8 @@ class Belief:
         #: what diagnoses learned: part -> why it must not be used again ("missing", "defective",
         #: "wrong-sku", "dropped"); no later rebinding, replan or plan takes such a part
         self.unusable: dict[str, str] = {}
+        #: the unusable objects an inspection that passes them makes usable again
+        self.reinspect: set[str] = set()
         self.initial = self.poses.copy()
         #: object -> local name of its SKU as believed (the model's, or what the sensor recognised)
         self._sku_local = {n: sku.rsplit("#", 1)[-1] for n, sku in self.facts.get(SKU_OF, ())}
@@ -289,15 +291,28 @@ class Belief:
     def passed_inspection(self, name: str, ok: bool) -> None:
         if ok:
             self.inspections["quality-inspection"].add(name)
+            if name in self.reinspect:  # kept out until an inspection passed it: usable again
+                self.reinspect.discard(name)
+                self.unusable.pop(name, None)
         else:
+            self.reinspect.discard(name)
             self.inspections["quality-inspection"].discard(name)
             self.learn(name, "defective")
         self._scene = None
 
-    def learn(self, part: str, what: str) -> None:
-        """A diagnosis found ``part`` unusable (``what``: missing, defective, wrong-sku, dropped);
-        the first reason is kept."""
+    def learn(self, part: str, what: str, until_inspected: bool = False) -> None:
+        """A diagnosis found ``part`` unusable (``what``: the reason its failure mode gives, e.g.
+        missing, defective, wrong-sku, dropped); the first reason is kept. ``until_inspected``:
+        an inspection that passes it makes it usable again (unless it was unusable already)."""
+        if until_inspected and part not in self.unusable:
+            self.reinspect.add(part)
+        elif not until_inspected:
+            self.reinspect.discard(part)
         self.unusable.setdefault(part, what)
+
+    def awaits_inspection(self, part: str) -> bool:
+        """Unusable until an inspection passes it."""
+        return part in self.reinspect
 
     def usable(self, part: str) -> bool:
         return part not in self.unusable

@@ -124,8 +124,9 @@ class FailureFound(Event):
 
 @dataclass(frozen=True)
 class Recovered(Event):
-    """A recovery step: ``kind`` ``retry``, ``rebind`` (``old`` -> ``new`` part, ``why``) or
-    ``reject`` (the held part ``old`` put back where it was taken)."""
+    """A recovery step: ``kind`` ``retry``, ``rebind`` (``old`` -> ``new`` part, ``why``),
+    ``reject`` (the held part ``old`` put back where it was taken) or ``recovery-plan`` (its
+    actions queued, ``why``: their lines)."""
 
     index: int
     kind: str
@@ -138,6 +139,8 @@ class Recovered(Event):
             return f"  rebound {self.old} -> {self.new} ({self.why})"
         if self.kind == "reject":
             return f"  rejected {self.old}: put back where it was taken"
+        if self.kind == "recovery-plan":
+            return f"  recovery plan: {self.why}"
         return None
 
 

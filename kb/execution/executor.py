@@ -24,9 +24,10 @@ For each plan action (seed 004 §4, seed 002 §4-5):
    to the cell; the effects are evaluated from geometry;
 6. all hold: the stable state is committed to the store. A violated check is diagnosed
    (:mod:`kb.diagnosis`), recorded with the objects' expected and seen positions, notified,
-   and recovered as its remediation says: retry (up to its limit), rebind, replan from the
-   current state with the same goal (:mod:`kb.planning.replan`), or stop — the executor's
-   base :class:`kb.execution.recovery.Recovery`.
+   and recovered as its remediation's strategy says (retry up to its limit, rebind, reject the
+   held part, run the mode's recovery plan, replan from the current state with the same goal:
+   :mod:`kb.planning.replan`, or stop), read from the ontology — the executor's base
+   :class:`kb.execution.recovery.Recovery`.
 
 At the end of a run the goal is checked from the whole cell sensed anew, every part lying in a
 goal kit is inspected through the cell (:meth:`Executor.inspect_kits`), and each kit is scored
@@ -128,6 +129,7 @@ class Executor(Recovery):
         self.stable = self.belief.poses.copy()
         self.index = 0
         self.taken_from: dict[str, np.ndarray] = {}  # part -> tip pose it was grasped at
+        self.remember_skus()  # the SKUs the plan was made for (a rebinding keeps to them)
         self._classes: dict[str, set[str]] = {}  # action -> classes its predicates search
         self._grasps: dict[str, tuple[str, ...]] = {}  # action -> parameters its program grasps
         self._inspecting = inspecting_actions(self.domain, self.defs)  # action -> (parameter, predicate)
@@ -226,6 +228,7 @@ class Executor(Recovery):
                     self.store.record_action(act)
                 self._emit(ActionEnded(i, step.action, act.args, step.line(), act.status))
             if outcome == "done":
+                self._after_recovery_step(step, queue)  # the last step of a recovery plan that replans
                 return
             if outcome == "next":  # the queue was rewritten: its head is what to do now
                 return

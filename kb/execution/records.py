@@ -73,6 +73,18 @@ class Sighting(Record):
 
 
 @dataclass
+class Notice(Record):
+    """A notification sent about a failure: its recipient, its message, and what it carries as
+    data (:meth:`kb.execution.recovery.Recovery._attachments`: the failed action and its
+    arguments, the violated atoms, where the objects were expected and seen, what the check
+    found, the poses the step's objects were grasped at)."""
+
+    recipient: str
+    message: str
+    attachments: dict[str, Any] = field(default_factory=dict)
+
+
+@dataclass
 class FailureRecord(Record):
     """An action failure: the check that found it, its diagnosis and what was done."""
 
@@ -96,6 +108,8 @@ class FailureRecord(Record):
     #: the objects that decided an existential atom violated (``worktable-empty(table)``
     #: false: what rests on the table), found when the failure was diagnosed
     witnesses: list[str] = field(default_factory=list)
+    #: the notifications the remediation sent, each with its attachments
+    notifications: list[Notice] = field(default_factory=list)
 
     @property
     def objects(self) -> list[str]:
@@ -239,6 +253,7 @@ class RunRecord(Record):
                           "objects": [local(o) for o in f.objects], "phase": f.phase,
                           "violated": [a.text() for a in f.violated], "recovery": f.recovery,
                           "outcome": f.outcome, **({"certainty": f.certainty} if f.certainty else {}),
+                          **({"notifications": [n.to_dict() for n in f.notifications]} if f.notifications else {}),
                           **({"where": [round(v, 4) for v in f.where]} if f.where is not None else {})}
                          for f in self.failures],
             "time_s": round(self.ended - self.started, 3),

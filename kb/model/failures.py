@@ -3,9 +3,15 @@
 Read from a SOAP domain (``kitting-domain.ttl``): a :class:`FailureModeDef` says for which
 action and check phase it applies, which predicates its signal violates, the condition on where
 the objects really are that tells it from the others (a formula over the action's parameters,
-read by :mod:`kb.model.definitions`), and its :class:`Remediation` (notifications, recovery
-strategy, retries, operator). An :class:`ActionProgram` is the list of CRCL command steps of an
+read by :mod:`kb.model.definitions`), what it implies about its objects
+(:class:`ObjectConsequence`: condemned, missing, reusable after inspection, moved) and its
+:class:`Remediation` (notifications, the recovery strategy's IRI, retries, operator, the object a
+strategy acts on, a recovery plan of :class:`RecoveryStepDef` with its parameter bindings, and
+whether to replan after it). An :class:`ActionProgram` is the list of CRCL command steps of an
 action (command name, late-bound target expression, duration, message text).
+
+Nothing here knows a mode, strategy or consequence by name: the executor dispatches on the
+strategy's and the consequence kind's IRIs (:mod:`kb.execution.recovery`).
 """
 
 from __future__ import annotations
@@ -32,8 +38,29 @@ class Notification:
 
 
 @dataclass(frozen=True)
+class RecoveryStepDef:
+    """One action of a recovery plan: its name and how its parameters are bound (parameter
+    name -> ``("failed", failed action's parameter name)`` or ``("object", IRI)``); a parameter
+    without one is bound by name, else chosen by the action's preconditions."""
+
+    action: str
+    bindings: tuple[tuple[str, tuple[str, str]], ...] = ()
+
+
+@dataclass(frozen=True)
+class ObjectConsequence:
+    """What a mode implies about the object of one parameter of its action: ``kind`` is a
+    soap:ConsequenceKind IRI, ``reason`` the word the run keeps for it."""
+
+    parameter: str
+    kind: str
+    reason: str
+
+
+@dataclass(frozen=True)
 class Remediation:
-    """What to do about a failure: ``recovery`` is RetryAction, Replan, ExecuteRecoveryPlan or Abort."""
+    """What to do about a failure: ``strategy`` is the soap:RecoveryStrategy individual's IRI
+    (``recovery`` its local name, as the run reports it)."""
 
     iri: str
     recovery: str
@@ -41,6 +68,10 @@ class Remediation:
     operator: bool = False
     notifications: tuple[Notification, ...] = ()
     plan: tuple[str, ...] = ()  # action names of a recovery plan, in order
+    strategy: str = ""
+    obj: str | None = None  # the failed action's parameter a strategy acts on (rebind, reject)
+    then_replan: bool = False  # after a recovery plan or a rejection: plan again
+    steps: tuple[RecoveryStepDef, ...] = ()  # the recovery plan, in order
 
 
 @dataclass(frozen=True)
@@ -55,6 +86,7 @@ class FailureModeDef:
     severity: int
     likelihood: float
     remediation: Remediation
+    consequences: tuple[ObjectConsequence, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -142,25 +174,65 @@ def _mode(r: _Reader, node) -> FailureModeDef:  # noqa: ANN001
     cons = r.optional(node, SOAP.hasFailureMode_Consequence)
     return FailureModeDef(str(node), name, _name(r, action), PRE if phase_node == SOAP.PreconditionCheck else EFF,
                           violated, condition, str(cons or ""), int(sev.toPython()) if sev is not None else 0,
-                          float(lik.toPython()) if lik is not None else 0.0, _remediation(r, rem))
+                          float(lik.toPython()) if lik is not None else 0.0, _remediation(r, rem, action),
+                          tuple(_consequence(r, c, action) for c in sorted(r.values(node, SOAP.hasFailureMode_ObjectConsequence),
+                                                                            key=str)))
 
 
-def _remediation(r: _Reader, node) -> Remediation:  # noqa: ANN001
+def _parameter(r: _Reader, param, action, owner, what: str) -> str:  # noqa: ANN001
+    """The name of ``param``, which must be a parameter of ``action``."""
+    if param not in set(r.values(action, SOAP.hasAction_Parameter)):
+        raise _Malformed(owner, f"{what} {_short(param)} is not a parameter of {_short(action)}")
+    return str(r.one(param, SOAP.hasParameter_Name, "parameter"))
+
+
+def _consequence(r: _Reader, node, action) -> ObjectConsequence:  # noqa: ANN001
+    kind = r.one(node, SOAP.hasObjectConsequence_Kind, "object consequence")
+    if not isinstance(kind, URIRef):
+        raise _Malformed(node, f"consequence kind {_short(kind)} is not a soap:ConsequenceKind individual")
+    reason = r.optional(node, SOAP.hasObjectConsequence_Reason)
+    param = _parameter(r, r.one(node, SOAP.hasObjectConsequence_Parameter, "object consequence"), action, node,
+                       "consequence parameter")
+    return ObjectConsequence(param, str(kind), str(reason) if reason is not None else _short(kind).lower())
+
+
+def _remediation(r: _Reader, node, action) -> Remediation:  # noqa: ANN001
     recovery = r.one(node, SOAP.hasFailureRemediation_Recovery, "remediation")
+    if not isinstance(recovery, URIRef):
+        raise _Malformed(node, f"recovery {recovery} is not a soap:RecoveryStrategy individual")
     retries = r.optional(node, SOAP.hasFailureRemediation_MaxRetries)
     operator = r.optional(node, SOAP.hasFailureRemediation_OperatorIntervention)
     notes = tuple(Notification(str(r.one(n, SOAP.hasNotification_Recipient, "notification")),
                                str(r.one(n, SOAP.hasNotification_Message, "notification")))
                   for n in r.values(node, SOAP.hasFailureRemediation_Notification))
-    plan: tuple[str, ...] = ()
+    steps: tuple[RecoveryStepDef, ...] = ()
     plan_node = r.optional(node, SOAP.hasFailureRemediation_RecoveryPlan)
     if plan_node is not None:
-        steps = sorted(r.values(plan_node, SOAP.hasRecoveryPlan_Step),
+        nodes = sorted(r.values(plan_node, SOAP.hasRecoveryPlan_Step),
                        key=lambda s: int(r.one(s, SOAP.hasRecoveryStep_Position, "recovery step").toPython()))
-        plan = tuple(_name(r, r.one(s, SOAP.hasRecoveryStep_Action, "recovery step")) for s in steps)
-    return Remediation(str(node), _short(recovery) if isinstance(recovery, URIRef) else str(recovery),
-                       int(retries.toPython()) if retries is not None else 0,
-                       bool(operator.toPython()) if operator is not None else False, notes, plan)
+        steps = tuple(_step(r, s, action) for s in nodes)
+    obj = r.optional(node, SOAP.hasFailureRemediation_Object)
+    then = r.optional(node, SOAP.hasFailureRemediation_ThenReplan)
+    return Remediation(str(node), _short(recovery), int(retries.toPython()) if retries is not None else 0,
+                       bool(operator.toPython()) if operator is not None else False, notes,
+                       tuple(s.action for s in steps), str(recovery),
+                       _parameter(r, obj, action, node, "object") if obj is not None else None,
+                       bool(then.toPython()) if then is not None else False, steps)
+
+
+def _step(r: _Reader, node, failed) -> RecoveryStepDef:  # noqa: ANN001
+    action = r.one(node, SOAP.hasRecoveryStep_Action, "recovery step")
+    bindings = []
+    for b in sorted(r.values(node, SOAP.hasRecoveryStep_Binding), key=str):
+        param = _parameter(r, r.one(b, SOAP.hasParameterBinding_Parameter, "parameter binding"), action, b,
+                           "bound parameter")
+        source, obj = r.optional(b, SOAP.hasParameterBinding_FailedParameter), r.optional(b, SOAP.hasParameterBinding_Object)
+        if (source is None) == (obj is None):
+            raise _Malformed(b, "a parameter binding needs one of hasParameterBinding_FailedParameter, "
+                                "hasParameterBinding_Object")
+        bindings.append((param, ("failed", _parameter(r, source, failed, b, "failed parameter")) if source is not None
+                         else ("object", str(obj))))
+    return RecoveryStepDef(_name(r, action), tuple(bindings))
 
 
 def _program(r: _Reader, node) -> ActionProgram:  # noqa: ANN001

@@ -15,7 +15,7 @@ from sqlalchemy.dialects import mysql
 from sqlalchemy.orm import DeclarativeBase, Mapped, foreign, mapped_column, relationship, remote
 
 #: Fingerprint of the schema; a database stamped with another one is refused.
-SCHEMA_VERSION = 'e80ca7bc7faa21c5'
+SCHEMA_VERSION = 'f9e29eda957d392f'
 #: (ontology IRI, owl:versionInfo) of the ontologies the schema was made from.
 ONTOLOGIES = (('https://w3id.org/kitkb/kitting', '0.1.0'), ('https://w3id.org/kitkb/soap', '0.1.0'))
 
@@ -571,6 +571,13 @@ soap_has_failure_mode_consequence_atom = Table(
     info={'iri': 'https://w3id.org/kitkb/soap#hasFailureMode_ConsequenceAtom', 'kind': 'object', 'link': True},
 )
 
+soap_has_failure_mode_object_consequence = Table(
+    'soap_has_failure_mode_object_consequence', Base.metadata,
+    Column("subject_id", Integer, _ref('soap_failure_mode'), primary_key=True, autoincrement=False),
+    Column("value_id", Integer, _ref('soap_object_consequence'), primary_key=True),
+    info={'iri': 'https://w3id.org/kitkb/soap#hasFailureMode_ObjectConsequence', 'kind': 'object', 'link': True},
+)
+
 soap_has_failure_mode_violated_predicate = Table(
     'soap_has_failure_mode_violated_predicate', Base.metadata,
     Column("subject_id", Integer, _ref('soap_failure_mode'), primary_key=True, autoincrement=False),
@@ -604,6 +611,13 @@ soap_has_recovery_plan_step = Table(
     Column("subject_id", Integer, _ref('soap_recovery_plan'), primary_key=True, autoincrement=False),
     Column("value_id", Integer, _ref('soap_recovery_step'), primary_key=True),
     info={'iri': 'https://w3id.org/kitkb/soap#hasRecoveryPlan_Step', 'kind': 'object', 'link': True},
+)
+
+soap_has_recovery_step_binding = Table(
+    'soap_has_recovery_step_binding', Base.metadata,
+    Column("subject_id", Integer, _ref('soap_recovery_step'), primary_key=True, autoincrement=False),
+    Column("value_id", Integer, _ref('soap_parameter_binding'), primary_key=True),
+    info={'iri': 'https://w3id.org/kitkb/soap#hasRecoveryStep_Binding', 'kind': 'object', 'link': True},
 )
 
 
@@ -733,6 +747,19 @@ class CommandStep(Thing):
     text: Mapped[str | None] = mapped_column(Text(), nullable=True, info={'iri': 'https://w3id.org/kitkb/soap#hasCommandStep_Text', 'kind': 'data', 'value': 'text'})
 
 
+class ConsequenceKind(Thing):
+    """What a failure implies about an object; the individuals are soap:Condemned, soap:Missing, soap:ReusableAfterInspection and soap:Moved.
+
+    Class <https://w3id.org/kitkb/soap#ConsequenceKind>.
+    """
+
+    __tablename__ = 'soap_consequence_kind'
+    __table_args__ = {'info': {'iri': 'https://w3id.org/kitkb/soap#ConsequenceKind', 'parent': 'kitkb_thing'}, 'comment': 'What a failure implies about an object; the individuals are soap:Condemned, soap:Missing, soap:ReusableAfterInspection and soap:Moved.'}
+
+    id: Mapped[int] = mapped_column(ForeignKey('kitkb_thing.id', deferrable=True, initially="DEFERRED"), primary_key=True, autoincrement=False)
+    __mapper_args__ = {"polymorphic_identity": 'https://w3id.org/kitkb/soap#ConsequenceKind', "inherit_condition": id.column == Thing.__table__.c.id}
+
+
 class Effect(Thing):
     """What an action changes: predicate atoms it makes true (add) or, when negated, false (delete), and numeric updates of functions.
 
@@ -778,6 +805,7 @@ class FailureMode(Thing):
     remediation: Mapped[FailureRemediation] = relationship('FailureRemediation', primaryjoin=lambda: foreign(FailureMode.__table__.c.remediation_id) == remote(FailureRemediation.__table__.c.id), foreign_keys=lambda: [FailureMode.__table__.c.remediation_id])
     severity: Mapped[int] = mapped_column(Integer(), nullable=False, info={'iri': 'https://w3id.org/kitkb/soap#hasFailureMode_Severity', 'kind': 'data', 'value': 'integer', 'datatype': 'http://www.w3.org/2001/XMLSchema#integer'})
     consequence_atom: Mapped[list[PredicateAtom]] = relationship('PredicateAtom', secondary=lambda: soap_has_failure_mode_consequence_atom, primaryjoin=lambda: FailureMode.__table__.c.id == soap_has_failure_mode_consequence_atom.c.subject_id, secondaryjoin=lambda: PredicateAtom.__table__.c.id == soap_has_failure_mode_consequence_atom.c.value_id, info={'iri': 'https://w3id.org/kitkb/soap#hasFailureMode_ConsequenceAtom'})
+    object_consequence: Mapped[list[ObjectConsequence]] = relationship('ObjectConsequence', secondary=lambda: soap_has_failure_mode_object_consequence, primaryjoin=lambda: FailureMode.__table__.c.id == soap_has_failure_mode_object_consequence.c.subject_id, secondaryjoin=lambda: ObjectConsequence.__table__.c.id == soap_has_failure_mode_object_consequence.c.value_id, info={'iri': 'https://w3id.org/kitkb/soap#hasFailureMode_ObjectConsequence'})
     violated_predicate: Mapped[list[Predicate]] = relationship('Predicate', secondary=lambda: soap_has_failure_mode_violated_predicate, primaryjoin=lambda: FailureMode.__table__.c.id == soap_has_failure_mode_violated_predicate.c.subject_id, secondaryjoin=lambda: Predicate.__table__.c.id == soap_has_failure_mode_violated_predicate.c.value_id, info={'iri': 'https://w3id.org/kitkb/soap#hasFailureMode_ViolatedPredicate'})
 
 
@@ -796,11 +824,14 @@ class FailureRemediation(Thing):
     id: Mapped[int] = mapped_column(ForeignKey('kitkb_thing.id', deferrable=True, initially="DEFERRED"), primary_key=True, autoincrement=False)
     __mapper_args__ = {"polymorphic_identity": 'https://w3id.org/kitkb/soap#FailureRemediation', "inherit_condition": id.column == Thing.__table__.c.id}
     max_retries: Mapped[int | None] = mapped_column(Integer(), nullable=True, info={'iri': 'https://w3id.org/kitkb/soap#hasFailureRemediation_MaxRetries', 'kind': 'data', 'value': 'integer', 'datatype': 'http://www.w3.org/2001/XMLSchema#nonNegativeInteger'})
+    object_id: Mapped[int | None] = mapped_column(Integer, _ref('soap_parameter'), index=True, info={'iri': 'https://w3id.org/kitkb/soap#hasFailureRemediation_Object', 'kind': 'object'})
+    object: Mapped[Parameter | None] = relationship('Parameter', primaryjoin=lambda: foreign(FailureRemediation.__table__.c.object_id) == remote(Parameter.__table__.c.id), foreign_keys=lambda: [FailureRemediation.__table__.c.object_id])
     operator_intervention: Mapped[bool] = mapped_column(Boolean(), nullable=False, info={'iri': 'https://w3id.org/kitkb/soap#hasFailureRemediation_OperatorIntervention', 'kind': 'data', 'value': 'boolean', 'datatype': 'http://www.w3.org/2001/XMLSchema#boolean'})
     recovery_id: Mapped[int] = mapped_column(Integer, _ref('soap_recovery_strategy'), index=True, info={'iri': 'https://w3id.org/kitkb/soap#hasFailureRemediation_Recovery', 'kind': 'object'})
     recovery: Mapped[RecoveryStrategy] = relationship('RecoveryStrategy', primaryjoin=lambda: foreign(FailureRemediation.__table__.c.recovery_id) == remote(RecoveryStrategy.__table__.c.id), foreign_keys=lambda: [FailureRemediation.__table__.c.recovery_id])
     recovery_plan_id: Mapped[int | None] = mapped_column(Integer, _ref('soap_recovery_plan'), index=True, info={'iri': 'https://w3id.org/kitkb/soap#hasFailureRemediation_RecoveryPlan', 'kind': 'object'})
     recovery_plan: Mapped[RecoveryPlan | None] = relationship('RecoveryPlan', primaryjoin=lambda: foreign(FailureRemediation.__table__.c.recovery_plan_id) == remote(RecoveryPlan.__table__.c.id), foreign_keys=lambda: [FailureRemediation.__table__.c.recovery_plan_id])
+    then_replan: Mapped[bool | None] = mapped_column(Boolean(), nullable=True, info={'iri': 'https://w3id.org/kitkb/soap#hasFailureRemediation_ThenReplan', 'kind': 'data', 'value': 'boolean', 'datatype': 'http://www.w3.org/2001/XMLSchema#boolean'})
     notification: Mapped[list[Notification]] = relationship('Notification', secondary=lambda: soap_has_failure_remediation_notification, primaryjoin=lambda: FailureRemediation.__table__.c.id == soap_has_failure_remediation_notification.c.subject_id, secondaryjoin=lambda: Notification.__table__.c.id == soap_has_failure_remediation_notification.c.value_id, info={'iri': 'https://w3id.org/kitkb/soap#hasFailureRemediation_Notification'})
 
 
@@ -915,6 +946,42 @@ class NumericExpression(Thing):
     __mapper_args__ = {"polymorphic_identity": 'https://w3id.org/kitkb/soap#NumericExpression', "inherit_condition": id.column == Thing.__table__.c.id}
 
 
+class ObjectConsequence(Thing):
+    """What a failure mode implies about the object bound to one parameter of the failed action: its kind (soap:ConsequenceKind) and, optionally, the reason word the run reports (default: the kind's local name in lower case).
+
+    Class <https://w3id.org/kitkb/soap#ObjectConsequence>.
+    """
+
+    __tablename__ = 'soap_object_consequence'
+    __table_args__ = {'info': {'iri': 'https://w3id.org/kitkb/soap#ObjectConsequence', 'parent': 'kitkb_thing'}, 'comment': "What a failure mode implies about the object bound to one parameter of the failed action: its kind (soap:ConsequenceKind) and, optionally, the reason word the run reports (default: the kind's local name in lower case)."}
+
+    id: Mapped[int] = mapped_column(ForeignKey('kitkb_thing.id', deferrable=True, initially="DEFERRED"), primary_key=True, autoincrement=False)
+    __mapper_args__ = {"polymorphic_identity": 'https://w3id.org/kitkb/soap#ObjectConsequence', "inherit_condition": id.column == Thing.__table__.c.id}
+    kind_id: Mapped[int] = mapped_column(Integer, _ref('soap_consequence_kind'), index=True, info={'iri': 'https://w3id.org/kitkb/soap#hasObjectConsequence_Kind', 'kind': 'object'})
+    object_consequence_kind: Mapped[ConsequenceKind] = relationship('ConsequenceKind', primaryjoin=lambda: foreign(ObjectConsequence.__table__.c.kind_id) == remote(ConsequenceKind.__table__.c.id), foreign_keys=lambda: [ObjectConsequence.__table__.c.kind_id])
+    parameter_id: Mapped[int] = mapped_column(Integer, _ref('soap_parameter'), index=True, info={'iri': 'https://w3id.org/kitkb/soap#hasObjectConsequence_Parameter', 'kind': 'object'})
+    parameter: Mapped[Parameter] = relationship('Parameter', primaryjoin=lambda: foreign(ObjectConsequence.__table__.c.parameter_id) == remote(Parameter.__table__.c.id), foreign_keys=lambda: [ObjectConsequence.__table__.c.parameter_id])
+    reason: Mapped[str | None] = mapped_column(Text(), nullable=True, info={'iri': 'https://w3id.org/kitkb/soap#hasObjectConsequence_Reason', 'kind': 'data', 'value': 'text'})
+
+
+class ParameterBinding(Thing):
+    """Binds a parameter of a recovery step's action to the object of a parameter of the failed action, or to a named object of the cell (a reject place, say).
+
+    Class <https://w3id.org/kitkb/soap#ParameterBinding>.
+    """
+
+    __tablename__ = 'soap_parameter_binding'
+    __table_args__ = {'info': {'iri': 'https://w3id.org/kitkb/soap#ParameterBinding', 'parent': 'kitkb_thing'}, 'comment': "Binds a parameter of a recovery step's action to the object of a parameter of the failed action, or to a named object of the cell (a reject place, say)."}
+
+    id: Mapped[int] = mapped_column(ForeignKey('kitkb_thing.id', deferrable=True, initially="DEFERRED"), primary_key=True, autoincrement=False)
+    __mapper_args__ = {"polymorphic_identity": 'https://w3id.org/kitkb/soap#ParameterBinding', "inherit_condition": id.column == Thing.__table__.c.id}
+    failed_parameter_id: Mapped[int | None] = mapped_column(Integer, _ref('soap_parameter'), index=True, info={'iri': 'https://w3id.org/kitkb/soap#hasParameterBinding_FailedParameter', 'kind': 'object'})
+    failed_parameter: Mapped[Parameter | None] = relationship('Parameter', primaryjoin=lambda: foreign(ParameterBinding.__table__.c.failed_parameter_id) == remote(Parameter.__table__.c.id), foreign_keys=lambda: [ParameterBinding.__table__.c.failed_parameter_id])
+    object: Mapped[str | None] = mapped_column(_IRI, nullable=True, info={'iri': 'https://w3id.org/kitkb/soap#hasParameterBinding_Object', 'kind': 'iri'})
+    parameter_id: Mapped[int] = mapped_column(Integer, _ref('soap_parameter'), index=True, info={'iri': 'https://w3id.org/kitkb/soap#hasParameterBinding_Parameter', 'kind': 'object'})
+    parameter: Mapped[Parameter] = relationship('Parameter', primaryjoin=lambda: foreign(ParameterBinding.__table__.c.parameter_id) == remote(Parameter.__table__.c.id), foreign_keys=lambda: [ParameterBinding.__table__.c.parameter_id])
+
+
 class Precondition(Thing):
     """The conjunction of predicate atoms (each possibly negated) and numeric comparisons that must all hold before an action starts.
 
@@ -949,13 +1016,13 @@ class Predicate(Thing):
 
 
 class RecoveryPlan(Thing):
-    """An ordered list of actions to run; the arguments are bound by name to the failed action's parameters where names match, the rest are chosen by the executor.
+    """An ordered list of domain actions to run. A step's parameter is bound by its soap:ParameterBinding if it has one, else by name to the failed action's parameter of that name (or to an earlier step's), else to an object of the parameter's class for which the step action's preconditions over the parameters bound so far hold (the first by name).
 
     Class <https://w3id.org/kitkb/soap#RecoveryPlan>.
     """
 
     __tablename__ = 'soap_recovery_plan'
-    __table_args__ = {'info': {'iri': 'https://w3id.org/kitkb/soap#RecoveryPlan', 'parent': 'kitkb_thing'}, 'comment': "An ordered list of actions to run; the arguments are bound by name to the failed action's parameters where names match, the rest are chosen by the executor."}
+    __table_args__ = {'info': {'iri': 'https://w3id.org/kitkb/soap#RecoveryPlan', 'parent': 'kitkb_thing'}, 'comment': "An ordered list of domain actions to run. A step's parameter is bound by its soap:ParameterBinding if it has one, else by name to the failed action's parameter of that name (or to an earlier step's), else to an object of the parameter's class for which the step action's preconditions over the parameters bound so far hold (the first by name)."}
 
     id: Mapped[int] = mapped_column(ForeignKey('kitkb_thing.id', deferrable=True, initially="DEFERRED"), primary_key=True, autoincrement=False)
     __mapper_args__ = {"polymorphic_identity": 'https://w3id.org/kitkb/soap#RecoveryPlan', "inherit_condition": id.column == Thing.__table__.c.id}
@@ -979,16 +1046,17 @@ class RecoveryStep(Thing):
     action_id: Mapped[int] = mapped_column(Integer, _ref('soap_action'), index=True, info={'iri': 'https://w3id.org/kitkb/soap#hasRecoveryStep_Action', 'kind': 'object'})
     action: Mapped[Action] = relationship('Action', primaryjoin=lambda: foreign(RecoveryStep.__table__.c.action_id) == remote(Action.__table__.c.id), foreign_keys=lambda: [RecoveryStep.__table__.c.action_id])
     position: Mapped[int] = mapped_column(Integer(), nullable=False, info={'iri': 'https://w3id.org/kitkb/soap#hasRecoveryStep_Position', 'kind': 'data', 'value': 'integer', 'datatype': 'http://www.w3.org/2001/XMLSchema#positiveInteger'})
+    binding: Mapped[list[ParameterBinding]] = relationship('ParameterBinding', secondary=lambda: soap_has_recovery_step_binding, primaryjoin=lambda: RecoveryStep.__table__.c.id == soap_has_recovery_step_binding.c.subject_id, secondaryjoin=lambda: ParameterBinding.__table__.c.id == soap_has_recovery_step_binding.c.value_id, info={'iri': 'https://w3id.org/kitkb/soap#hasRecoveryStep_Binding'})
 
 
 class RecoveryStrategy(Thing):
-    """How to continue after a failure; the four individuals are soap:RetryAction, soap:Replan, soap:ExecuteRecoveryPlan and soap:Abort.
+    """How to continue after a failure; the individuals are soap:RetryAction, soap:Replan, soap:ExecuteRecoveryPlan, soap:RebindObject, soap:RejectHeldObject and soap:Abort. The executor has one handler per individual (kb/execution/recovery.py).
 
     Class <https://w3id.org/kitkb/soap#RecoveryStrategy>.
     """
 
     __tablename__ = 'soap_recovery_strategy'
-    __table_args__ = {'info': {'iri': 'https://w3id.org/kitkb/soap#RecoveryStrategy', 'parent': 'kitkb_thing'}, 'comment': 'How to continue after a failure; the four individuals are soap:RetryAction, soap:Replan, soap:ExecuteRecoveryPlan and soap:Abort.'}
+    __table_args__ = {'info': {'iri': 'https://w3id.org/kitkb/soap#RecoveryStrategy', 'parent': 'kitkb_thing'}, 'comment': 'How to continue after a failure; the individuals are soap:RetryAction, soap:Replan, soap:ExecuteRecoveryPlan, soap:RebindObject, soap:RejectHeldObject and soap:Abort. The executor has one handler per individual (kb/execution/recovery.py).'}
 
     id: Mapped[int] = mapped_column(ForeignKey('kitkb_thing.id', deferrable=True, initially="DEFERRED"), primary_key=True, autoincrement=False)
     __mapper_args__ = {"polymorphic_identity": 'https://w3id.org/kitkb/soap#RecoveryStrategy', "inherit_condition": id.column == Thing.__table__.c.id}
@@ -2861,6 +2929,7 @@ CLASSES: dict[str, type[Base]] = {
     'soap_action_program': ActionProgram,
     'soap_check_phase': CheckPhase,
     'soap_command_step': CommandStep,
+    'soap_consequence_kind': ConsequenceKind,
     'soap_effect': Effect,
     'soap_failure_mode': FailureMode,
     'soap_failure_remediation': FailureRemediation,
@@ -2871,6 +2940,8 @@ CLASSES: dict[str, type[Base]] = {
     'soap_notification': Notification,
     'soap_numeric_effect': NumericEffect,
     'soap_numeric_expression': NumericExpression,
+    'soap_object_consequence': ObjectConsequence,
+    'soap_parameter_binding': ParameterBinding,
     'soap_precondition': Precondition,
     'soap_predicate': Predicate,
     'soap_recovery_plan': RecoveryPlan,
