@@ -36,6 +36,7 @@ from kb.core.progress import SILENT, Progress
 from kb.core.resources import ontologies_dir, scenario_dirs
 from kb.execution import events as ev
 from kb.execution.loop import ClosedLoop, LoopOptions
+from kb.execution.scoring import delivered_kits
 from kb.validation import validate
 
 
@@ -320,6 +321,7 @@ class _Drawing:
         self._line(event.result.text(), event)
 
     def _pddl(self, event: ev.StageEnded) -> None:
+        self.model = event.result  # the planning model: which goal atoms an action's effects make true
         self._line(f"pddl: {self.target / 'domain.pddl'}, {self.target / 'problem.pddl'}", event)
 
     def _plan(self, event: ev.StageEnded) -> None:
@@ -355,7 +357,7 @@ class _Drawing:
         data = event.result.report()
         modes = Counter(f.mode for f in rec.failures)
         recoveries = Counter(f.recovery for f in rec.failures if f.recovery)
-        kits = sorted(_kits(rec))
+        kits = sorted(set(_kits(rec, getattr(self, "model", None))))
         summary = (f"execute: goal {'holds' if rec.goal_holds else 'DOES NOT hold'} (from geometry); kits "
                    f"{', '.join(kits) or '-'}; {data['actions']} actions, {data['checks']} checks; failures "
                    f"{', '.join(f'{m} {n}' for m, n in sorted(modes.items())) or 'none'}; recoveries "
@@ -387,6 +389,10 @@ class _Drawing:
             self.task.update(total=self.done + event.actions)
 
 
-def _kits(rec) -> set[str]:  # noqa: ANN001
-    return {local_name(a) for act in rec.actions if act.status == "done" and act.action == "put-kit"
-            for a in act.args[1:2]}
+def _kits(rec, model) -> list[str]:  # noqa: ANN001
+    """The goal's kits the run delivered (:func:`kb.execution.scoring.delivered_kits`: an action
+    done whose effects make a goal atom about the kit true), by the planning ``model``."""
+    if model is None or getattr(model, "problem", None) is None:
+        return []
+    done = ((act.action, act.args) for act in rec.actions if act.status == "done")
+    return delivered_kits(done, model.domain, model.problem)

@@ -4,7 +4,7 @@ program sent (kept per action: :attr:`kb.execution.records.ActionRecord.programs
 
 from __future__ import annotations
 
-from typing import Any, Iterable
+from typing import Any, Iterable, Sequence
 
 import numpy as np
 
@@ -13,7 +13,9 @@ from kb.crcl import Command, Program, write_text
 from kb.execution.belief import SKU_OF, Belief
 from kb.execution.records import local
 from kb.metrics.kits import KitGoal, Slot
+from kb.model.soap import DomainSpec
 from kb.planning.problem import ProblemSpec
+from kb.planning.state import pddl_name
 
 #: the class a report names an object by: the first of these it is of (else its first class)
 SHOWN_CLASSES = ("Kit", "KitTray", "Part", "PartsTray", "EndEffector", "EndEffectorHolder", "EndEffectorChangingStation",
@@ -75,3 +77,28 @@ def scene_data(belief: Belief) -> dict[str, Any]:
 
 def _r(values: Iterable[float]) -> list[float]:
     return [round(float(v), 6) for v in values]
+
+
+def delivered_kits(actions: Iterable[tuple[str, Sequence[str]]], domain: DomainSpec,
+                   spec: ProblemSpec) -> list[str]:
+    """The goal's kits the done ``actions`` (each its name and arguments: IRIs or local names)
+    brought where the goal wants them, one entry per delivering action, in order. An action
+    delivers a kit when one of its effects, read from the domain, makes true a goal atom whose
+    first argument is that kit (kitkb's domain: put-kit's ``kit-location-lbwk``; an extension's
+    own delivering action the same way). What ``kitkb run`` lists as the kits of a run and a
+    test method's trial as the kits built."""
+    goal = {tuple(g) for g in spec.goal}
+    kits = {name for name, (kind, _iri) in spec.objects.items() if kind == str(KTW.Kit)}
+    specs = {a.name: a for a in domain.actions}
+    out: list[str] = []
+    for name, args in actions:
+        action = specs.get(name)
+        if action is None:
+            continue
+        bound = dict(zip((p for p, _ in action.params), (pddl_name(a) for a in args)))
+        for atom in action.effects:
+            ground = (atom.predicate, *(bound.get(a, "") for a in atom.args))
+            if not atom.negated and len(ground) > 1 and ground[1] in kits and ground in goal:
+                out.append(ground[1])
+                break
+    return out

@@ -42,6 +42,7 @@ from kb.execution.api import sensor_accuracy
 from kb.execution.events import Listener, ignore
 from kb.execution.inputs import DomainInputs, LoopInputs, PlanInputs
 from kb.execution.loop import ClosedLoop, LoopOptions
+from kb.execution.scoring import delivered_kits
 from kb.io.loader import Source
 from kb.model.definitions import Definitions
 from kb.model.failures import FailureModel
@@ -251,7 +252,7 @@ def _run(job: Job, facts: dict[str, Any]) -> dict[str, Any]:
     prep = prepared(job.spec, job.domain)
     cell, accuracy = _cell(job, prep.scenario, prep.scene, facts)
     try:
-        return _report(execute(prep, cell, job.spec.name, job.seed, accuracy), facts)
+        return _report(execute(prep, cell, job.spec.name, job.seed, accuracy), facts, prep.domain, prep.problem)
     finally:
         cell.close()
 
@@ -284,9 +285,9 @@ def _delivered(job: Job, folder: Path, facts: dict[str, Any]) -> dict[str, Any]:
     cell, accuracy = _cell(job, sc, Scene.from_files([init], declared=[goal]), facts)
     received = time.perf_counter()
     try:
+        inputs = LoopInputs.read(init, goal, imports=False, knowledge=domain_inputs(job.domain))
         result = ClosedLoop(init, goal, _options(cell=cell, seed=job.seed, sensor_noise=accuracy, name=job.spec.name),
-                            inputs=LoopInputs.read(init, goal, imports=False,
-                                                  knowledge=domain_inputs(job.domain))).run()
+                            inputs=inputs).run()
     finally:
         cell.close()
     if result.run is None:  # no plan: the planner's error, the row's
@@ -294,14 +295,15 @@ def _delivered(job: Job, folder: Path, facts: dict[str, Any]) -> dict[str, Any]:
     run = result.run
     facts["receipt_to_first_command_s"] = (round(cell.first_command - received, 4)
                                            if cell.first_command is not None else None)
-    return _report(run, facts)
+    return _report(run, facts, inputs.domain, inputs.problem)
 
 
-def _report(run: Run, facts: dict[str, Any]) -> dict[str, Any]:
+def _report(run: Run, facts: dict[str, Any], domain: DomainSpec, problem: ProblemSpec) -> dict[str, Any]:
     """The run's report; ``facts`` gets ``built``: the designs of the kits in the order they
-    went into their boxes."""
+    were delivered where the goal wants them (:func:`kb.execution.scoring.delivered_kits`)."""
     report = {"executed": True, **run.report()}
     design = {k.get("kit"): k.get("design") for k in report.get("kits") or []}
-    facts["built"] = [design.get(e["args"][1], e["args"][1]) for e in report.get("timeline") or []
-                      if e.get("kind") == "action" and e.get("action") == "put-kit" and e.get("status") == "done"]
+    done = ((e["action"], e["args"]) for e in report.get("timeline") or []
+            if e.get("kind") == "action" and e.get("status") == "done")
+    facts["built"] = [design.get(kit, kit) for kit in delivered_kits(done, domain, problem)]
     return report
