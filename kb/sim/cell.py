@@ -109,8 +109,8 @@ class SimulatedCell:
         return self.robot.time
 
     def execute(self, command: Command) -> Status:
-        """Carry out one CRCL command (:mod:`kb.sim.robot`); the EndCanon of a create-kit action
-        is when the kit comes into being at its tray."""
+        """Carry out one CRCL command (:mod:`kb.sim.robot`); the EndCanon of an action that starts
+        a kit (create-kit) is when the kit comes into being at its tray."""
         self.commands += 1
         status = self.robot.execute(command)
         if isinstance(command, EndCanon) and self._pending_kit is not None:
@@ -188,11 +188,27 @@ class SimulatedCell:
         return True
 
     def begin_action(self, index: int, action: str, args: tuple[str, ...]) -> None:
-        """Plan action ``index`` starts: faults are chosen and applied or armed; create-kit is done."""
+        """Plan action ``index`` starts: faults are chosen and applied or armed; a kit the action
+        starts comes into being when its program ends (:meth:`_kit_started`)."""
         self.action = (index, action, tuple(args))
         self.sensor.action = index
-        self._pending_kit = (args[0], args[1]) if action == "create-kit" and len(args) >= 2 else None
+        self._pending_kit = self._kit_started(tuple(args))
         self.faults.begin_action(index, action, tuple(args))
+
+    def _kit_started(self, args: tuple[str, ...]) -> tuple[str, str] | None:
+        """(kit, kit tray) when the action names a kit the cell does not have yet (an object of
+        the goal only, which only a kit may be, or a kit not placed) and a placed kit tray: the
+        kit is made on that tray when the action's program ends (kitkb's create-kit, or any
+        domain action that starts a kit so; the cell reads no action by name)."""
+        w = self.world
+        kit = tray = None
+        for a in args:
+            i = w.index.get(a)
+            if kit is None and (i is None or (w.is_a(i, "Kit") and not w.placed(i))):
+                kit = a
+            elif tray is None and i is not None and w.placed(i) and w.is_a(i, "KitTray"):
+                tray = a
+        return (kit, tray) if kit is not None and tray is not None else None
 
     def scene(self) -> Scene:
         """Ground truth now (simulation only: for tests and scoring, never for the executor)."""
