@@ -182,3 +182,18 @@ def test_a_campaign_says_which_goal_facts_its_trials_left_unmet() -> None:
             {"goal_holds": False}]  # an older report: no goal_unmet
     assert goal_unmet(rows) == {"quantity-kit": 1, "robot-with-no-endeffector": 1, "worktable-empty": 2}
     assert brief(rows[1])["goal_unmet"] == rows[1]["goal_unmet"] and brief(rows[3])["goal_unmet"] == []
+
+
+def test_kitkb_run_names_the_goal_facts_that_do_not_hold(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                                                          capsys: pytest.CaptureFixture) -> None:
+    from kb.cli import main
+    from kb.execution.executor import Executor
+    real = Executor.run
+    monkeypatch.setattr(Executor, "run", lambda self, plan: real(self, list(plan)[:-1]))  # the last step left out
+    code = main(["run", str(INIT), str(GOAL), "-o", str(tmp_path), "--report", str(tmp_path / "run.json")])
+    out = capsys.readouterr()
+    assert code == 1
+    assert ("execute: goal DOES NOT hold (from geometry) (unmet: endeffector-location-endeffectorholder(tray_gripper, "
+            "tray_gripper_holder), robot-with-no-endeffector(robot_1)); kits kit_1") in out.out + out.err
+    assert json.loads((tmp_path / "run.json").read_text())["goal_unmet"] == [
+        "endeffector-location-endeffectorholder(tray_gripper, tray_gripper_holder)", "robot-with-no-endeffector(robot_1)"]

@@ -358,7 +358,8 @@ class _Drawing:
         modes = Counter(f.mode for f in rec.failures)
         recoveries = Counter(f.recovery for f in rec.failures if f.recovery)
         kits = sorted(set(_kits(rec, getattr(self, "model", None))))
-        summary = (f"execute: goal {'holds' if rec.goal_holds else 'DOES NOT hold'} (from geometry); kits "
+        unmet = f" (unmet: {', '.join(rec.goal_unmet)})" if rec.goal_unmet else ""
+        summary = (f"execute: goal {'holds' if rec.goal_holds else 'DOES NOT hold'} (from geometry){unmet}; kits "
                    f"{', '.join(kits) or '-'}; {data['actions']} actions, {data['checks']} checks; failures "
                    f"{', '.join(f'{m} {n}' for m, n in sorted(modes.items())) or 'none'}; recoveries "
                    f"{', '.join(f'{m} {n}' for m, n in sorted(recoveries.items())) or 'none'}; replans {rec.replans}")
