@@ -1,5 +1,6 @@
 """The tables of a run's page: the run's facts, its metrics (with their names and units), the
-kit scores with every lost point, the failures and the injected faults."""
+kit scores with every lost point, the failures (and the notifications they sent, with their
+attachments) and the injected faults."""
 
 from __future__ import annotations
 
@@ -101,7 +102,19 @@ def failures_table(report: dict[str, Any]) -> str:
              f.get("outcome")) for n, f in enumerate(failures, 1)]
     raw = [False] * 7 + [True, False, False]
     return table(["", "mode", "action", "name", "kit", "check", "objects", "violated", "recovery", "outcome"], rows,
-                 raw=raw, tid="failures-table")
+                 raw=raw, tid="failures-table") + notifications_table(report)
+
+
+def notifications_table(report: dict[str, Any]) -> str:
+    """The notifications the failures' remediations sent: the failure (F1, ...), recipient,
+    message and the data they carry (violated atoms, sightings, grasp poses); "" when none."""
+    failures = [f for f in report.get("failures") or [] if isinstance(f, dict)]
+    rows = [(f"F{n}", x.get("recipient"), x.get("message"), x.get("attachments"))
+            for n, f in enumerate(failures, 1) for x in f.get("notifications") or [] if isinstance(x, dict)]
+    if not rows:
+        return ""
+    return table(["failure", "recipient", "message", "attachments"], rows, caption="Notifications",
+                 tid="notifications-table")
 
 
 def injected_table(report: dict[str, Any]) -> str:
