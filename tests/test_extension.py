@@ -119,6 +119,28 @@ def test_bin_fault_is_diagnosed_as_the_new_mode_and_its_recovery_plan_runs(tmp_p
     assert row["injected"] == 1 and row["diagnosed_right"] == 1 and row["missed"] == 0
 
 
+def test_a_defective_part_in_the_bin_is_found_by_the_extension_s_inspection_and_replaced(tmp_path: Path) -> None:
+    """look-in-bin's effect is an inspection (a sensor atom) of take-part-from-bin's part: the
+    executor inspects the part before taking it, as it does for kitkb's take-part, and the
+    extension's mode condemns it and binds another of its SKU from the bin."""
+    report = _run(BIN, tmp_path, "--faults", "defective-part@0")
+    assert [x["kind"] for x in report["injected"]] == ["defective-part"]
+    [failure] = report["failures"]
+    assert (failure["mode"], failure["action"], failure["recovery"]) == ("defective-bin-part", "look-in-bin", "rebind")
+    taken = [e["args"][1] for e in report["timeline"] if e.get("kind") == "action"
+             and e.get("action") == "take-part-from-bin" and e.get("status") == "done"]
+    assert taken == ["part_b_2"]  # part_b_1 failed inspection: never taken
+    assert report["goal_holds"] and report["kits"][0]["score"] == 6
+
+
+def test_the_numeric_domain_has_the_extension_s_function_and_numeric_effect(tmp_path: Path) -> None:
+    assert main(["-q", "generate", "pddl", *_args(BIN), "--encoding", "numeric", "-o", str(tmp_path)]) == 0
+    domain = re.sub(r"\s+", " ", (tmp_path / "domain.pddl").read_text())
+    problem = re.sub(r"\s+", " ", (tmp_path / "problem.pddl").read_text())
+    assert "(quantity-partsbin ?" in domain and "(decrease (quantity-partsbin ?partsbin) 1)" in domain
+    assert "(= (quantity-partsbin inspection_bin) 3)" in problem  # counted by its definition
+
+
 def test_buffer_runs_and_parks_the_stray_part_before_the_kit_tray_goes_on_the_table(tmp_path: Path) -> None:
     report = _run(BUFFER, tmp_path)
     done = _done(report)
