@@ -29,9 +29,12 @@ from __future__ import annotations
 import re
 import threading
 from collections.abc import Collection, Iterator
+from pathlib import Path
 from typing import Any
 
 import pyoxigraph as ox
+import pyparsing
+import rdflib
 from rdflib import Graph, Literal, URIRef, Variable
 from rdflib.paths import AlternativePath, InvPath, MulPath, SequencePath
 from rdflib.plugins.sparql import prepareQuery
@@ -40,8 +43,9 @@ from rdflib.plugins.sparql.parser import parseQuery
 from rdflib.plugins.sparql.parserutils import CompValue
 from rdflib.term import Node
 
+from kb.core.cache import JsonCache, digest
 from kb.core.namespaces import SH
-from kb.shacl import paths
+from kb.shacl import paths, prebind
 from kb.shacl.prebind import (CONSTRAINT_VARIABLES, Template, for_blank_nodes, forbidden, groupable, hands_on,
                                mentions, nullable)
 from kb.shacl.reorder import predicates_in, reorder
@@ -172,10 +176,32 @@ def _path_predicates(p: Any, out: set[str]) -> bool:
     return False
 
 
+#: what an analysis found, kept between runs (:mod:`kb.core.cache`), keyed by the source of the
+#: code that decides it and the parser's versions: rdflib's SPARQL grammar (pyparsing) takes
+#: about 25 ms per query, most of compiling the shipped shapes
+_ANALYSES = JsonCache("sparql-analysis", [Path(__file__).read_bytes(), Path(prebind.__file__).read_bytes(),
+                                          rdflib.__version__, pyparsing.__version__])
+
+
 def _analyse(c: SparqlC) -> None:
-    """Check the query (it parses, the specification allows it) and decide how it runs.
+    """Check the query (it parses, the specification allows it) and decide how it runs; the
+    decisions are kept for the same query with the same pre-bound variables (a query that does
+    not pass is not kept: it is checked again, and refused again, every time).
 
     Raises :class:`ShapeError` for a query that does not parse or that SHACL forbids."""
+    key = digest([c.text, *c.VARIABLES, "\1", *c.fixed, "\1", *sorted(CONSTRAINT_VARIABLES)])
+    found = _ANALYSES.get(key)
+    if not (isinstance(found, list) and len(found) == 5):
+        found = _analysis(c)
+        _ANALYSES.put(key, found)
+    predicates, projected, c.once, c.substitutable, c.blank_bindable = found
+    c.predicates = None if predicates is None else set(predicates)
+    c.projected = set(projected)
+
+
+def _analysis(c: SparqlC) -> list:
+    """:func:`_analyse`'s decisions, as JSON: [predicates or None, projected, once, substitutable,
+    blank_bindable]."""
     query = checked_query(c.text, c.shape.node, c.node, CONSTRAINT_VARIABLES | set(c.VARIABLES))
     triples: list[tuple[Any, Any, Any]] = []
     _walk(query.algebra, triples)
@@ -186,12 +212,12 @@ def _analyse(c: SparqlC) -> None:
             every = True
         elif nullable(p) and isinstance(subj, Variable) and isinstance(obj, Variable):
             every = True  # a zero-length match binds every node of the graph
-    c.predicates = None if every else preds
     pv = dict.get(query.algebra, "PV") or []
-    c.projected = {str(v) for v in pv}
-    c.once = c.VARIABLES == ("this",) and groupable(query.algebra) and not c.fixed
-    c.substitutable = c.once or _substitutes(c.text, (*c.VARIABLES, *c.fixed))
-    c.blank_bindable = "this" in c.projected and not c.fixed and not hands_on(query.algebra)
+    projected = sorted({str(v) for v in pv})
+    once = bool(c.VARIABLES == ("this",) and groupable(query.algebra) and not c.fixed)
+    substitutable = bool(once or _substitutes(c.text, (*c.VARIABLES, *c.fixed)))
+    blank_bindable = bool("this" in projected and not c.fixed and not hands_on(query.algebra))
+    return [None if every else sorted(preds), projected, once, substitutable, blank_bindable]
 
 
 def checked_query(text: str, shape: Node, node: Node, prebound: Collection[str] = CONSTRAINT_VARIABLES,
