@@ -9,9 +9,10 @@ Which of them become goals is decided by one general rule, never by a predicate'
   capacity-kit``) fixes how many objects of a kind the goal wants, not which: every object the
   count could count — of the class its ``soap:CountExpression`` counts, satisfying the count
   condition's non-spatial atoms (model and SKU atoms) for the count's arguments, i.e. a part of
-  a SKU the kit's design asks for — is interchangeable, and no goal atom names it (the parts a
-  plan picks may be others than those the goal file shows in the kit, and those left in the
-  trays then differ too);
+  a SKU the kit's design asks for — is interchangeable, and no goal atom names it or holds
+  because of it (a quantified atom one of whose witnesses it is: ``partstray-not-empty``); the
+  parts a plan picks may be others than those the goal file shows in the kit, and those left
+  in the trays then differ too;
 * **static atoms are not goals.** An atom of a predicate no action changes (in no action's add
   or delete effects: ``part-sku``, ``endeffector-type-part``) holds in the goal if and only if it
   holds initially; one that does not hold initially can never be brought about (below);
@@ -35,7 +36,7 @@ from rdflib import URIRef
 
 from kb.core.errors import InputError
 from kb.core.namespaces import KTW
-from kb.model.definitions import REFERENCE, TARGET, And, CountOf, Definitions, Model, Sku
+from kb.model.definitions import REFERENCE, TARGET, And, Count, CountOf, Definitions, Exists, Model, Not, Sku
 from kb.model.soap import DomainSpec
 from kb.planning.state import pddl_name
 from kb.spatial.predicates import Axis, Evaluator
@@ -112,6 +113,35 @@ def _fixed_conjuncts(condition: Any, terms: set) -> list[Any]:
     ``terms`` only (the spatial atoms are what a plan changes)."""
     parts = condition.operands if isinstance(condition, And) else (condition,)
     return [p for p in parts if isinstance(p, (Model, Sku)) and {p.subject, p.object} <= terms]
+
+
+def decide(domain: DomainSpec, defs: Definitions, scene: Scene, counts: Iterable[Atom],
+           objects: Iterable[str]) -> GoalFacts:
+    """The goal facts of the goal state ``scene``: its atoms by ``defs``, less those about the
+    objects the goal counts ``counts`` could count (naming one, or holding because of one),
+    chosen by :func:`goal_facts` among the problem's ``objects``."""
+    counted = counted_objects(defs, scene, counts)
+    atoms = state_atoms(defs, scene)
+    return goal_facts(domain, atoms - held_by(defs, scene, atoms, counted), counted, objects)
+
+
+def held_by(defs: Definitions, scene: Scene, atoms: Iterable[Atom], counted: set[str]) -> set[Atom]:
+    """The ``atoms`` that hold because of ``counted`` objects: those of a quantified definition
+    (``∃x``, ``¬∃x``, a count of ``x``: :meth:`kb.spatial.predicates.Evaluator.witnesses`) one of
+    whose witnesses is counted (``partstray-not-empty(tray)``: the parts in the tray, which
+    the goal counts, not names)."""
+    if not counted:
+        return set()
+    ev = Evaluator(defs, scene)
+    iri = {pddl_name(n): n for n in scene.names}
+    quantified = {name for name, p in defs.predicates.items()
+                  if isinstance(p.formula.operand if isinstance(p.formula, Not) else p.formula, (Exists, Count))}
+    out = set()
+    for atom in atoms:
+        if atom[0] in quantified and all(a in iri for a in atom[1:]):
+            if counted.intersection(map(pddl_name, ev.witnesses(atom[0], *(iri[a] for a in atom[1:])))):
+                out.add(atom)
+    return out
 
 
 def goal_facts(domain: DomainSpec, reached: Iterable[Atom], counted: set[str], objects: Iterable[str]) -> GoalFacts:
@@ -312,5 +342,5 @@ def unmet(goal: Iterable[Atom], goal_equal: Iterable[tuple[Atom, Atom]], ev: Eva
     return out
 
 
-__all__ = ["GoalFacts", "atom_text", "changed_predicates", "check_reachable", "counted_objects", "goal_facts",
-           "goal_scene", "relaxed_closure", "state_atoms", "unmet", "unreachable"]
+__all__ = ["GoalFacts", "atom_text", "changed_predicates", "check_reachable", "counted_objects", "decide",
+           "goal_facts", "goal_scene", "held_by", "relaxed_closure", "state_atoms", "unmet", "unreachable"]

@@ -161,8 +161,7 @@ def _goal_facts(spec: ProblemSpec, domain: DomainSpec, goal: World, definitions:
     InputError at the goal file's line when one cannot be brought about."""
     defs = definitions if definitions is not None else load_definitions()
     scene = scene if scene is not None else goals.goal_scene(goal)
-    counted = goals.counted_objects(defs, scene, [t for pair in spec.goal_equal for t in pair])
-    found = goals.goal_facts(domain, goals.state_atoms(defs, scene), counted, spec.objects)
+    found = goals.decide(domain, defs, scene, [t for pair in spec.goal_equal for t in pair], spec.objects)
     line_of = scene.source.line_of if scene.source is not None else goal.line_of
     goals.check_reachable(domain, spec.objects, spec.facts, found, scene, goal.path, line_of)
     spec.goal[:] = sorted(set(spec.goal) | set(found.atoms))

@@ -95,7 +95,11 @@
               (= (quantity-partstray part_b_tray) 3)
  )
  (:goal (and 
+           (endeffector-location-endeffectorholder part_gripper part_gripper_holder)
+           (endeffector-location-endeffectorholder tray_gripper tray_gripper_holder)
            (kit-location-lbwk kit_1 finished_kit_receiver_1)
+           (robot-with-no-endeffector robot_1)
+           (worktable-empty work_table_1)
            (= (quantity-kit kit_1 sku_part_a) (capacity-kit kit_1 sku_part_a))
            (= (quantity-kit kit_1 sku_part_b) (capacity-kit kit_1 sku_part_b))
         )

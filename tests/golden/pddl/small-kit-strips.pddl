@@ -84,7 +84,11 @@
               (worktable-empty work_table_1)
  )
  (:goal (and 
+           (endeffector-location-endeffectorholder part_gripper part_gripper_holder)
+           (endeffector-location-endeffectorholder tray_gripper tray_gripper_holder)
            (kit-location-lbwk kit_1 finished_kit_receiver_1)
+           (robot-with-no-endeffector robot_1)
+           (worktable-empty work_table_1)
            (quantity-kit-counted kit_1 sku_part_a part_a_1)
            (quantity-kit-counted kit_1 sku_part_a part_a_2)
            (quantity-kit-counted kit_1 sku_part_b part_b_1)

@@ -155,8 +155,12 @@
               (= (quantity-partstray part_d_tray) 3)
  )
  (:goal (and 
+           (endeffector-location-endeffectorholder part_gripper part_gripper_holder)
+           (endeffector-location-endeffectorholder tray_gripper tray_gripper_holder)
            (kit-location-lbwk kit_1 finished_kit_receiver_1)
            (kit-location-lbwk kit_2 finished_kit_receiver_2)
+           (robot-with-no-endeffector robot_1)
+           (worktable-empty work_table_1)
            (= (quantity-kit kit_1 sku_part_a) (capacity-kit kit_1 sku_part_a))
            (= (quantity-kit kit_1 sku_part_b) (capacity-kit kit_1 sku_part_b))
            (= (quantity-kit kit_1 sku_part_c) (capacity-kit kit_1 sku_part_c))
