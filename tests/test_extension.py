@@ -237,3 +237,25 @@ def test_an_unknown_target_function_is_refused_at_its_line(tmp_path: Path, capsy
                  "-o", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith(f"{ext}:{_line_of(ext, 'hover(')}: "), err
+
+
+# --- the docs quote these files -------------------------------------------------------------
+
+def test_the_docs_extension_examples_name_what_the_extension_files_state() -> None:
+    """docs/soap.md, "Extending the domain in Turtle": every individual of the test extensions
+    it names (xb:..., xp:...) is stated in their files, and each full statement line it quotes
+    is in them verbatim, so the worked examples stay those of the tested files."""
+    doc = (Path(__file__).resolve().parents[1] / "docs" / "soap.md").read_text()
+    section = doc[doc.index("## Extending the domain in Turtle"):]
+    files = {"xb": (BIN / "extension.ttl").read_text() + (BIN / "relations.ttl").read_text(),
+             "xp": (BUFFER / "extension.ttl").read_text()}
+    names = set(re.findall(r"\b(x[bp]):([A-Za-z][\w-]*)", section))
+    assert len(names) > 40
+    for prefix, local in names:
+        assert re.search(rf"^{prefix}:{re.escape(local)} ", files[prefix], re.M), f"{prefix}:{local}"
+    quoted = [ln for ln in re.findall(r"^(    soap:has\w+ .+[;.])$", section, re.M) if "..." not in ln]
+    assert len(quoted) > 60
+    text = re.sub(r"\s+", " ", "\n".join(files.values()))
+    pieces = [p.strip() for ln in quoted for p in ln.strip().rstrip(";.").split(" ; ")]
+    missing = [p for p in pieces if p not in text]
+    assert not missing, missing
