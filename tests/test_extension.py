@@ -259,3 +259,20 @@ def test_the_docs_extension_examples_name_what_the_extension_files_state() -> No
     pieces = [p.strip() for ln in quoted for p in ln.strip().rstrip(";.").split(" ; ")]
     missing = [p for p in pieces if p not in text]
     assert not missing, missing
+
+
+def test_a_replan_takes_parts_from_the_bin_too(tmp_path: Path) -> None:
+    """A part of the bin dropped in transit (the shipped dropped-part fault, extended to the new
+    action by one more statement) is diagnosed by the shipped mode, which replans: the new plan
+    takes another part from the bin (the replan's candidates are not parts trays only)."""
+    for name in ("init.ttl", "goal.ttl", "relations.ttl"):
+        (tmp_path / name).write_text((BIN / name).read_text())
+    (tmp_path / "extension.ttl").write_text((BIN / "extension.ttl").read_text() +
+                                            "\nkd:fault_dropped-part soap:hasFaultKind_Action xb:take-part-from-bin .\n")
+    report = _run(tmp_path, tmp_path, "--faults", "dropped-part@0")
+    [failure] = report["failures"]
+    assert failure["recovery"] == "replan" and report["replans"] == 1
+    taken = [e["args"][1] for e in report["timeline"] if e.get("kind") == "action"
+             and e.get("action") == "take-part-from-bin" and e.get("status") == "done"]
+    assert taken[0] == "part_b_1" and len(taken) == 2 and taken[1] != "part_b_1"
+    assert report["goal_holds"] and report["kits"][0]["score"] == 6

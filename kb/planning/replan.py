@@ -4,8 +4,8 @@ The executor knows the current state as the predicates and counts that hold in i
 the cell (``kb.spatial.predicates``), which equal the facts the generator would read from a
 state file (tests/test_predicates.py). :func:`restated` turns them into the numeric problem
 of the original objects and goal; :func:`replan` compiles it to STRIPS (quota tokens: the
-parts now lying in parts trays, minus those the executor's diagnoses found unusable, which are
-not in any tray for the planner) and plans.
+parts now lying in parts trays, then the other parts in no kit and no gripper, minus those the
+executor's diagnoses found unusable, which are not in any tray for the planner) and plans.
 """
 
 from __future__ import annotations
@@ -44,16 +44,34 @@ def restated(spec: ProblemSpec, facts: Iterable[Atom], values: dict[Atom, float]
     for a in sorted(new_facts):
         if a[0] == "part-location-partstray" and a[1] not in bad:
             in_trays.setdefault(sku_of.get(a[1], ""), []).append(a[1])
+    others = _other_parts(out, sku_of, in_trays, bad)
     used: set[str] = set()
     for left, right in spec.goal_equal:
         kit_sku = left[1:]
         need = int(new_values.get(right, 0) - new_values.get(left, 0))
-        tokens = [p for p in in_trays.get(kit_sku[-1], []) if p not in used][:max(need, 0)]
+        tokens = [p for p in in_trays.get(kit_sku[-1], []) + others.get(kit_sku[-1], []) if p not in used][:max(need, 0)]
         used.update(tokens)
         out.quota[left] = tokens
         if len(tokens) < need:
             out.shortage.append(f"kit {kit_sku[0]} needs {need} more part(s) of {kit_sku[-1]}; only "
                                 f"{len(tokens)} usable one(s) lie in parts trays")
+    return out
+
+
+def _other_parts(spec: ProblemSpec, sku_of: dict[str, str], in_trays: dict[str, list[str]],
+                 bad: set[str]) -> dict[str, list[str]]:
+    """SKU -> the usable parts of the SKU that lie in no parts tray, no kit and no robot's
+    gripper (no fact relates them to a kit or a robot), in name order: after the parts in trays,
+    the candidates a domain extension's action may take from elsewhere (a bin, a table); the
+    planner finds whether one can."""
+    kinds = ("Robot", "Kit")
+    holders = {n for n, (kind, _iri) in spec.objects.items() if kind.rsplit("#", 1)[-1].rsplit("/", 1)[-1] in kinds}
+    taken = {x for a in spec.facts if holders & set(a[1:]) for x in a[1:]}
+    trays = {p for parts in in_trays.values() for p in parts}
+    out: dict[str, list[str]] = {}
+    for part, sku in sorted(sku_of.items()):
+        if part not in trays and part not in bad and part not in taken:
+            out.setdefault(sku, []).append(part)
     return out
 
 
