@@ -63,10 +63,7 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 import common  # noqa: E402
-from bench_execution import checkout, machine, score, stop_reason  # noqa: E402
-
-from kb.sim import FAULT_KINDS  # noqa: E402
-from kb.sim.faults import ELIGIBLE  # noqa: E402
+from bench_execution import ELIGIBLE, FAULT_KINDS, checkout, machine, score, stop_reason  # noqa: E402
 
 SECTION = "Fault campaign"
 RESULTS = ROOT / "benchmarks" / "results" / "campaign.json"

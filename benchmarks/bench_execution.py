@@ -4,13 +4,13 @@ cost per action, and a 160-part kit built end to end.
 One run, three parts (and a comparison):
 
 * ``campaign``: ``--runs-per-kind`` seeded runs (default 30) for each of the seven fault kinds of
-  :data:`kb.sim.FAULT_KINDS`, spread over the shipped scenarios (``ontologies/scenarios/*``) and
+  the domain (``kitkb faults``), spread over the shipped scenarios (``ontologies/scenarios/*``) and
   a generated scenario with spare parts (so that late binding has parts to rebind to). Run
   ``s`` of a kind uses scenario ``s mod 4`` and fault seed ``s``; even runs inject the kind at
   ``--rate`` per eligible action, odd runs once, at an eligible plan action drawn from the seed.
   Each scenario is planned once (``kb.planning``) and every run is ``kb.execution.run_plan``
   on that plan, in ``--workers`` processes. Every run is scored from its JSON report alone
-  (:func:`score`) against the simulator's ground truth (:data:`ALLOWED`);
+  (:func:`score`) against the simulator's ground truth (:data:`ALLOWED`, the kinds' right diagnoses);
 * ``cost``: the verification cost per action on fault-free generated kits (``--cost-parts``):
   the executor's time split by what it does (sensor, belief/pose updates, predicate checks,
   commit, targets, the simulated robot ...; see :class:`Timers`), in memory and, when
@@ -71,8 +71,16 @@ sys.path.insert(0, str(TREE))
 
 import common  # noqa: E402
 
-from kb.sim import FAULT_KINDS  # noqa: E402
-from kb.sim.faults import ELIGIBLE  # noqa: E402
+try:  # the fault kinds as data (kitting-domain.ttl); a --baseline tree from before them has kb.sim's tables
+    from kb.model.faults import shipped_fault_kinds  # noqa: E402
+except ImportError:
+    from kb.sim import FAULT_KINDS  # noqa: E402
+    from kb.sim.faults import ELIGIBLE  # noqa: E402
+else:
+    _KINDS = shipped_fault_kinds()
+    FAULT_KINDS = _KINDS.names
+    #: action -> the fault kinds that strike it
+    ELIGIBLE = {a: tuple(k.name for k in _KINDS.eligible(a)) for a in _KINDS.actions}
 
 SECTION = "Execution and failure recovery"
 RESULTS = ROOT / "benchmarks" / "results" / "execution.json"
@@ -80,11 +88,18 @@ KITKB = ROOT / ".venv" / "bin" / "kitkb"
 
 #: Ground truth and the scoring of a run's report: kb.execution.quality of this checkout (bench_noise.py
 #: scores with it too; bench_campaign.py imports ``score`` from here), read from its file so that a
-#: --baseline tree without it still runs.
+#: --baseline tree without it still runs (it scores nothing: the campaign runs in this checkout only);
+#: the ground truth is the fault kinds' data (kb.model.faults).
 _spec = importlib.util.spec_from_file_location("kitkb_quality", ROOT / "kb" / "execution" / "quality.py")
 _quality = sys.modules["kitkb_quality"] = importlib.util.module_from_spec(_spec)  # type: ignore[arg-type]
-_spec.loader.exec_module(_quality)  # type: ignore[union-attr]
-ALLOWED, MUST_DETECT, REJECTING, score = _quality.ALLOWED, _quality.MUST_DETECT, _quality.REJECTING, _quality.score
+try:
+    _spec.loader.exec_module(_quality)  # type: ignore[union-attr]
+    score = _quality.score
+    ALLOWED = {k.name: k.diagnosed_by for k in _KINDS}
+    MUST_DETECT = frozenset(k.name for k in _KINDS if k.must_detect)
+    REJECTING = _KINDS.rejecting_modes()
+except (ImportError, NameError):  # a --baseline tree from before the fault kinds were data
+    score, ALLOWED, MUST_DETECT, REJECTING = None, {}, frozenset(), frozenset()  # type: ignore[assignment]
 
 
 # --- machine --------------------------------------------------------------------------------------

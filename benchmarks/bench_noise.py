@@ -5,7 +5,7 @@ Three parts:
 * ``goal``: the issue's goal, at the documented accuracy (``--noise``, default
   ``position=1mm,orientation=0.5deg,misdetection=1%,misclass=0.5%``) on generated 40-part kits
   (``kb.scenario.write_scenario(parts=40, kits=1, seed=L)``, ``--layouts`` of them): a fault
-  campaign of ``--runs-per-kind`` seeded runs of each fault kind of :data:`kb.sim.FAULT_KINDS`
+  campaign of ``--runs-per-kind`` seeded runs of each fault kind of the domain (``kitkb faults``)
   and as many fault-free runs. Run ``s`` of a kind uses layout ``s mod layouts`` and seed ``s``
   (the faults' and the sensor's); even runs inject the kind at ``--rate`` per eligible action,
   odd runs once, at an eligible plan action drawn from the seed, as ``bench_execution.py``'s
@@ -51,10 +51,9 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 import common  # noqa: E402
-from bench_execution import Timers, checkout, eligible_indices, machine, plan_of, private_cwd  # noqa: E402
+from bench_execution import FAULT_KINDS, Timers, checkout, eligible_indices, machine, plan_of, private_cwd  # noqa: E402
 
 from kb.execution.quality import DetectionQuality, score_detection  # noqa: E402
-from kb.sim import FAULT_KINDS  # noqa: E402
 from kb.sim.noise import SensorNoise  # noqa: E402
 
 SECTION = "Sensor noise: detection quality"

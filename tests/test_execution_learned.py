@@ -22,7 +22,7 @@ from kb.model.failures import load_failure_model
 from kb.planning.model import read_specs
 from kb.planning.replan import restated
 from kb.scenario import write_scenario
-from kb.sim import FAULT_KINDS
+from kb.model.faults import shipped_fault_kinds
 from test_execution import (ALLOWED, MOVED, SMALL, assert_built, assert_diagnoses_match_the_faults, execute, files,
                             first, local, plan_of)
 
@@ -85,7 +85,7 @@ def test_the_learned_modes_are_the_part_faults_of_the_domain() -> None:
         "dropped-part": [("part", "Condemned", "dropped")], "dropped-part-in-transit": [("part", "Condemned", "dropped")]}
 
 
-@pytest.mark.parametrize("kind", FAULT_KINDS)
+@pytest.mark.parametrize("kind", shipped_fault_kinds().names)
 def test_a_replan_after_each_fault_kind_never_diagnoses_it_again(kind: str, replanning: list[int]) -> None:
     init, goal = files(SMALL)
     plan = plan_of(init, goal)

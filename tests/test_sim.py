@@ -12,7 +12,8 @@ from kb import crcl
 from kb.core.resources import ontology_path
 from kb.model.definitions import Definitions, read_definitions
 from kb.model.soap import load_domain
-from kb.sim import (FAULT_KINDS, CellInterface, FaultSpec, Injected, Observation, SimulatedCell, Status,
+from kb.model.faults import shipped_fault_kinds
+from kb.sim import (CellInterface, FaultSpec, Injected, Observation, SimulatedCell, Status,
                     parse_truth_line, truth_line)
 from kb.spatial.predicates import Evaluator, compile_relation
 from kb.spatial.rcc8 import relate
@@ -351,7 +352,7 @@ def test_a_fault_named_for_an_ineligible_action_waits_for_an_eligible_one() -> N
 def test_fault_spec_parsing_and_checks() -> None:
     spec = FaultSpec.parse("missed-grasp=0.2, part-missing=0.1, dropped-part@3", seed=7)
     assert spec == FaultSpec({"missed-grasp": 0.2, "part-missing": 0.1}, {3: ("dropped-part",)}, 7)
-    assert set(FAULT_KINDS) == {"missed-grasp", "dropped-part", "part-moved", "part-missing", "kit-tray-moved",
+    assert set(shipped_fault_kinds().names) == {"missed-grasp", "dropped-part", "part-moved", "part-missing", "kit-tray-moved",
                                 "defective-part", "wrong-sku"}
     with pytest.raises(ValueError, match="unknown fault kind 'lost-part'"):
         FaultSpec.parse("lost-part=0.1")

@@ -35,8 +35,8 @@ from hypothesis import strategies as st
 
 from kb import crcl
 from kb.core.resources import ontology_path
-from kb.sim import FAULT_KINDS, FaultSpec, SimulatedCell
-from kb.sim.faults import ELIGIBLE
+from kb.model.faults import shipped_fault_kinds
+from kb.sim import FaultSpec, SimulatedCell
 from kb.sim.world import KIT_TRAY, World
 from kb.spatial.scene import Scene
 
@@ -58,11 +58,16 @@ def scene_of(which: str) -> Scene:
 
 # --- strategies -----------------------------------------------------------------------------
 
+KINDS = shipped_fault_kinds()
+FAULT_KINDS = KINDS.names
+
+
 def fault_specs() -> st.SearchStrategy[FaultSpec]:
     """Rates for every kind (those of one action adding up to at most 1) and a seed."""
     def spec(weights: list[float], scale: float, seed: int) -> FaultSpec:
         rates = {}
-        for kinds in ELIGIBLE.values():
+        for action in KINDS.actions:
+            kinds = [k.name for k in KINDS.eligible(action)]
             total = sum(weights[FAULT_KINDS.index(k)] for k in kinds) or 1.0
             rates.update({k: scale * weights[FAULT_KINDS.index(k)] / total for k in kinds})
         return FaultSpec(rates, seed=seed)

@@ -77,7 +77,9 @@ class CellRequest:
     ``scene``: the state the cell holds, as :class:`~kb.spatial.scene.Scene` (built with the
     declared goal and ``match_names``; for a simulated cell, its ground truth: the initial
     state, or the real placement when it differs from the nominal one); ``faults``: what a
-    simulated cell injects (a ``FaultSpec`` or its text); ``seed``: of its faults and sensor
+    simulated cell injects (a ``FaultSpec`` or its text); ``fault_kinds``: the kinds that text
+    names (the run's domain's :class:`kb.model.faults.FaultKinds`; None: the shipped domain's);
+    ``seed``: of its faults and sensor
     noise (None: not given, 0); ``accuracy``: the sensor's accuracy (a simulated sensor has
     it; with a real cell what the executor assumes); ``state`` / ``goal``: the files the run's
     inputs came from (for messages, and for a cell of another package that wants paths);
@@ -86,6 +88,7 @@ class CellRequest:
 
     scene: Scene | None = None
     faults: Any = None
+    fault_kinds: Any = None
     seed: int | None = None
     accuracy: SensorAccuracy | None = None
     state: Path | None = None

@@ -51,6 +51,7 @@ HANDLERS = {
     "crcl send": "kb.cli.crcl:send",
     "metrics": "kb.cli.metrics:metrics",
     "predicates": "kb.cli.predicates:predicates",
+    "faults": "kb.cli.faults:faults",
     "sim serve": "kb.cli.sim:serve",
     "testmethod": "kb.cli.testmethod:testmethod",
     "report": "kb.cli.report:report",
@@ -60,6 +61,8 @@ SENSOR_NOISE_HELP = ("the pose sensor's errors per look, over the state file's s
                      "position=1mm,orientation=0.5deg (Gaussian sigmas, with units m, cm, mm, in, deg, rad), "
                      "bias=0.5mm (a per-object offset), misdetection=0.01 and misclass=0.5%% (chances per object "
                      "and look); docs/execution.md")
+#: the fault kinds are the domain's (soap:FaultKind individuals), listed by a command of their own
+FAULT_KINDS_HELP = "kinds: the domain's, with --domain an extension's too; kitkb faults lists them"
 DB_HELP = "SQLite file or SQLAlchemy URL such as postgresql://user@host/db (default kitkb.sqlite)"
 DEFAULT_DB = "kitkb.sqlite"
 
@@ -238,8 +241,7 @@ def _add_run(sub: Any) -> None:
     p.add_argument("-o", "--output", default="out", metavar="DIR", help="output folder (default out/)")
     p.add_argument("--faults", metavar="KIND=RATE,...",
                    help="faults to inject in the simulated cell: KIND=RATE (chance per eligible action) or "
-                        "KIND@ACTION (at that action), comma separated; kinds: missed-grasp, dropped-part, "
-                        "part-moved, part-missing, kit-tray-moved, defective-part, wrong-sku")
+                        "KIND@ACTION (at that action), comma separated; " + FAULT_KINDS_HELP)
     p.add_argument("--seed", type=int, default=0, help="seed of the simulated cell's faults (default 0)")
     p.add_argument("--db", metavar="URL", help="world-model database that gets the initial state, the domain, "
                                                "the stable states and the run's records (with INIT GOAL; default: "
@@ -366,6 +368,17 @@ def _add_predicates(sub: Any) -> None:
                    help="contact and equality tolerance in metres (default 0.001)")
 
 
+def _add_faults(sub: Any) -> None:
+    p = _sub(sub, "faults", "faults", "the fault kinds a simulated cell can inject, as the domain declares them",
+             format_help="text: a line per kind; json: one object with kinds and default_mix (default text)",
+             description="List the fault kinds (soap:FaultKind individuals of the shipped kitting-domain.ttl and "
+                         "of --domain extensions) that --faults names: the actions each strikes, the simulator "
+                         "mechanism that carries it out, the failure modes that diagnose it right, whether it must "
+                         "be detected or may be absorbed, whether its diagnosis rejects the object, and its rate "
+                         "in the errors test method's default mix. docs/soap.md explains how to declare one.")
+    _domain_option(p)
+
+
 def _add_sim(sub: Any) -> None:
     p = sub.add_parser("sim", help="the simulated workcell", description="The simulated workcell.")
     ssub = p.add_subparsers(dest="sim_command", required=True, metavar="SUBCOMMAND")
@@ -383,8 +396,7 @@ def _add_sim(sub: Any) -> None:
                    help="goal state file: its individuals that INIT lacks (a kit to create) exist, unplaced")
     g.add_argument("--faults", metavar="KIND=RATE,...",
                    help="faults to inject: kind=probability per eligible action or kind@action_index, "
-                        "comma-separated (kinds: missed-grasp, dropped-part, part-moved, part-missing, "
-                        "defective-part, wrong-sku, kit-tray-moved)")
+                        "comma-separated (kinds: the shipped domain's; kitkb faults lists them)")
     g.add_argument("--seed", type=int, default=0, help="seed of the faults and the sensor noise (default 0)")
     g.add_argument("--sensor-noise", metavar="KEY=VALUE,...", help=SENSOR_NOISE_HELP)
     g.add_argument("--noise", metavar="POS_SIGMA,ANGLE_SIGMA",
@@ -418,8 +430,8 @@ def _add_testmethod(sub: Any) -> None:
                                                         "default 10, multi 4,6)")
     p.add_argument("--kits", type=int, help="multi: kits built in a trial, of the designs in a seeded order (default 3)")
     p.add_argument("--faults", metavar="KIND=RATE,...",
-                   help="errors: the faults injected (default dropped-part=0.1,defective-part=0.1,missed-grasp=0.05,"
-                        "part-moved=0.05; kinds as kitkb run --faults)")
+                   help="errors: the faults injected (default: each fault kind at its test-method rate, as "
+                        "kitkb faults lists them; " + FAULT_KINDS_HELP + ")")
     p.add_argument("--sensor-noise", metavar="KEY=VALUE,...",
                    help=SENSOR_NOISE_HELP + "; every trial's simulated sensor has it and its checks allow for it")
     p.add_argument("--noise-sweep", metavar="KEY=FROM:TO:N",
@@ -459,7 +471,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--traceback", action="store_true", help="show the Python traceback of an error")
     sub = parser.add_subparsers(dest="subcommand", required=True, metavar="COMMAND")
     for add in (_add_files, _add_scenario, _add_generate, _add_plan, _add_db, _add_run, _add_crcl, _add_metrics,
-                _add_predicates, _add_sim, _add_testmethod, _add_report):
+                _add_predicates, _add_faults, _add_sim, _add_testmethod, _add_report):
         add(sub)
     return parser
 

@@ -3,20 +3,24 @@
 A verification system is judged by two numbers, the faults it catches and the false alarms it
 raises. Scored from run reports alone (:meth:`RunRecord.report
 <kb.execution.records.RunRecord.report>`: ``injected`` is the simulator's ground truth,
-``failures`` the executor's diagnoses), against :data:`ALLOWED`, the failure modes a fault of
-each kind may be diagnosed as:
+``failures`` the executor's diagnoses), against the fault kinds of the domain
+(:class:`kb.model.faults.FaultKinds`, default the shipped domain's): the failure modes a fault
+of each kind may be diagnosed as (``soap:hasFaultKind_DiagnosedBy``), whether every injection
+of it must be detected, and whether its right diagnosis rejects the object:
 
 * :func:`score` matches every failure of one report to an injected fault (an object named in
   both, the failure at or after the injection: the latest such injection) and judges its mode
   (correct, wrong, or unmatched: no fault behind it);
 * :func:`score_detection` adds up reports per fault kind: injected, detected, diagnosed right,
-  diagnosed wrong, missed, absorbed (a moved part or kit found where it now is, no failure
-  needed) and moot (a fault on a part already rejected), and the false alarms (diagnoses with
-  no fault behind them) per failure mode, over the actions checked;
+  diagnosed wrong, missed, absorbed (a fault of a kind that need not be detected, e.g. a moved
+  object late binding found where it now is) and moot (a fault on an object already rejected),
+  and the false alarms (diagnoses with no fault behind them) per failure mode, over the actions
+  checked;
 * :func:`by_noise` does it per sensor accuracy (the report's ``sensor``), for a sweep.
 
-``benchmarks/bench_execution.py`` (the fault campaign) and ``benchmarks/bench_noise.py`` (the
-same under sensor noise) score with these.
+A report naming a kind the domain does not declare is an :class:`~kb.core.errors.InputError`
+(score it with the domain it ran in). ``benchmarks/bench_execution.py`` (the fault campaign) and
+``benchmarks/bench_noise.py`` (the same under sensor noise) score with these.
 """
 
 from __future__ import annotations
@@ -26,32 +30,26 @@ from dataclasses import dataclass, field
 from typing import Any, Iterable
 
 from kb.cells.accuracy import SensorAccuracy
-
-#: Ground truth: the failure modes a fault of each kind may be diagnosed as. part-moved and
-#: kit-tray-moved need no diagnosis while late binding finds the object where it now is; a
-#: failure they cause must name one of these.
-ALLOWED: dict[str, frozenset[str]] = {
-    "missed-grasp": frozenset({"missed-grasp"}),
-    # a part dropped on the work table is still there when the kit is taken from it
-    "dropped-part": frozenset({"dropped-part", "dropped-part-in-transit", "object-left-on-worktable"}),
-    "part-missing": frozenset({"part-missing-from-tray", "parts-tray-empty"}),
-    "wrong-sku": frozenset({"wrong-sku"}),
-    "defective-part": frozenset({"defective-part"}),
-    "part-moved": frozenset({"part-missing-from-tray", "kit-not-on-worktable", "kittray-not-on-worktable"}),
-    "kit-tray-moved": frozenset({"part-missing-from-tray", "kit-not-on-worktable", "kittray-not-on-worktable"}),
-}
-#: kinds whose every injection must be detected (the others may be absorbed by late binding)
-MUST_DETECT = frozenset({"missed-grasp", "dropped-part", "part-missing", "wrong-sku", "defective-part"})
-#: failure modes after which the part is rejected: never put into a kit
-REJECTING = frozenset({"defective-part", "wrong-sku"})
+from kb.core.errors import InputError
+from kb.model.faults import FaultKind, FaultKinds, shipped_fault_kinds
 
 
-def score(rep: dict) -> dict:
+def _kind(kinds: FaultKinds, name: str) -> FaultKind:
+    kind = kinds.get(name)
+    if kind is None:
+        raise InputError(f"a run report names fault kind {name!r}, which the domain does not declare "
+                         f"(known: {', '.join(kinds.names) or 'none'}); score it with the domain it ran in")
+    return kind
+
+
+def score(rep: dict, kinds: FaultKinds | None = None) -> dict:
     """Match every failure of a run's report to an injected fault (an object named in both, and
-    the failure at or after the injection: the latest such injection) and judge its mode.
+    the failure at or after the injection: the latest such injection) and judge its mode against
+    the right diagnoses of its kind (``kinds``: the domain's; None: the shipped domain's).
 
     Returns ``verdicts`` (per failure: correct, wrong, unmatched), ``matched_to`` (per failure:
     the injection's index or None), ``detected`` and ``moot`` (per injection)."""
+    kinds = kinds if kinds is not None else shipped_fault_kinds()
     injected = rep.get("injected", [])
     matched_to: list[int | None] = []
     verdicts = []
@@ -63,11 +61,12 @@ def score(rep: dict) -> dict:
         if j is None:
             verdicts.append("unmatched")
         else:
-            verdicts.append("correct" if f["mode"] in ALLOWED[injected[j]["kind"]] else "wrong")
+            verdicts.append("correct" if f["mode"] in _kind(kinds, injected[j]["kind"]).diagnosed_by else "wrong")
     detected = [any(m == j for m in matched_to) for j in range(len(injected))]
-    # a fault on a part the run had already rejected (found defective or of the wrong SKU) needs
-    # no detection: the executor never takes that part again (it rebinds without a new check)
-    rejected = [(f["action_index"], o) for f in rep.get("failures", []) if f["mode"] in REJECTING
+    # a fault on an object the run had already rejected (the right diagnosis of a rejecting kind)
+    # needs no detection: the executor never takes that object again (it rebinds without a new check)
+    rejecting = kinds.rejecting_modes()
+    rejected = [(f["action_index"], o) for f in rep.get("failures", []) if f["mode"] in rejecting
                 for o in f["objects"][:1]]
     moot = [any(i < x["action_index"] and o == x["objects"][0] for i, o in rejected) for x in injected]
     return {"verdicts": verdicts, "matched_to": matched_to, "detected": detected, "moot": moot}
@@ -133,15 +132,17 @@ class DetectionQuality:
                 "total": self.total.as_dict(), "false_alarms": dict(self.false_alarms), **self.rates()}
 
 
-def score_detection(reports: Iterable[dict]) -> DetectionQuality:
+def score_detection(reports: Iterable[dict], kinds: FaultKinds | None = None) -> DetectionQuality:
     """Detection quality of run reports (each a :meth:`RunRecord.report
     <kb.execution.records.RunRecord.report>`, or the same keys: ``injected``, ``failures``,
-    and ``attempts`` or ``timeline`` or ``actions`` for the actions checked)."""
+    and ``attempts`` or ``timeline`` or ``actions`` for the actions checked), against the fault
+    kinds ``kinds`` (None: the shipped domain's)."""
+    kinds = kinds if kinds is not None else shipped_fault_kinds()
     out = DetectionQuality()
     for rep in reports:
         out.runs += 1
         out.actions += _attempts(rep)
-        sc = score(rep)
+        sc = score(rep, kinds)
         failures = rep.get("failures", [])
         out.failures += len(failures)
         out.uncertain += sum(1 for f in failures if f.get("certainty") == "uncertain")
@@ -161,20 +162,20 @@ def score_detection(reports: Iterable[dict]) -> DetectionQuality:
                     q.wrong += 1
             elif sc["moot"][j]:
                 q.moot += 1
-            elif x["kind"] in MUST_DETECT:
+            elif _kind(kinds, x["kind"]).must_detect:
                 q.missed += 1
             else:
                 q.absorbed += 1
     return out
 
 
-def by_noise(reports: Iterable[dict]) -> dict[str, DetectionQuality]:
+def by_noise(reports: Iterable[dict], kinds: FaultKinds | None = None) -> dict[str, DetectionQuality]:
     """:func:`score_detection` per sensor accuracy (the report's ``sensor.accuracy``, written
     as ``--sensor-noise`` spells it; "none" for an exact sensor), in the order first met."""
     groups: dict[str, list[dict]] = {}
     for rep in reports:
         groups.setdefault(noise_key(rep), []).append(rep)
-    return {k: score_detection(v) for k, v in groups.items()}
+    return {k: score_detection(v, kinds) for k, v in groups.items()}
 
 
 def noise_key(rep: dict) -> str:

@@ -6,7 +6,7 @@ command -> :class:`Status`, ``sense`` by class or name -> :class:`Observation` s
 too; ``scene`` is ground truth, for simulation only) on a ground truth built from a state file
 (:mod:`.world`), with a robot executing CRCL (:mod:`.robot`), a sensor with optional Gaussian
 noise and USARTruth's text form (:mod:`.sensor`), and seeded fault injection (:mod:`.faults`:
-:class:`FaultSpec`, :class:`Injected`, :data:`FAULT_KINDS`). :class:`CellServer`
+:class:`FaultSpec`, :class:`Injected`; the kinds are the domain's, :mod:`kb.model.faults`). :class:`CellServer`
 (:mod:`.server`) serves a cell on loopback in kitkb's cell protocol (:mod:`kb.crcl.wire`:
 USARTruth-style sensor lines, a CRCL 1.x controller on the command port), for
 :class:`kb.crcl.RemoteCell` and any CRCL 1.x client.
@@ -22,11 +22,11 @@ decides the first paper's object and constraint metrics (``play``, ``object_metr
 """
 
 from kb.sim.cell import SimulatedCell, Violation
-from kb.sim.faults import FAULT_KINDS, FaultSpec, Injected
+from kb.sim.faults import FaultSpec, Injected
 from kb.sim.interface import CellInterface, Observation, Status
 from kb.sim.robot import VIOLATION_KINDS
 from kb.sim.sensor import parse_truth_line, truth_line
 from kb.sim.server import CellServer
 
-__all__ = ["FAULT_KINDS", "VIOLATION_KINDS", "CellInterface", "CellServer", "FaultSpec", "Injected", "Observation",
+__all__ = ["VIOLATION_KINDS", "CellInterface", "CellServer", "FaultSpec", "Injected", "Observation",
            "SimulatedCell", "Status", "Violation", "parse_truth_line", "truth_line"]

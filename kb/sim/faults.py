@@ -1,37 +1,45 @@
 """Seeded fault injection: what goes wrong in the simulated cell, and when.
 
-Seven kinds (:data:`FAULT_KINDS`), each eligible on one plan action (as announced through
-``begin_action(index, action, args)``; parameters in the order of ``kitting-domain.ttl``):
+The fault kinds are data: ``soap:FaultKind`` individuals of the domain (the shipped ones at
+the end of ``kitting-domain.ttl``, read by :mod:`kb.model.faults`; ``kitkb faults`` lists
+them). A kind strikes actions (as announced through ``begin_action(index, action, args)``) and
+is carried out by one of the simulator's mechanisms (``soap:FaultMechanism``, soap.ttl section
+7); this module has code per mechanism (:data:`MECHANISMS`, the one place their IRIs appear),
+none per kind:
 
-=================  ============  ==========================================================
-kind               on            effect
-=================  ============  ==========================================================
-missed-grasp       take-part     the action's ``CloseGripper`` grasps nothing
-dropped-part       take-part     the held part falls during the first move that carries it
-                                 sideways (``kb.sim.robot.TRANSIT``): in transit
-part-moved         take-part     the part (args[1]) shifts within its tray (args[2]), or out
-                                 of it onto the table the tray stands on (with no room
-                                 there: onto the floor beside the table)
-part-missing       take-part     the part is taken out of the cell
-defective-part     take-part     the part is flagged defective: only ``inspect`` shows it;
-                                 its geometry is unchanged
-wrong-sku          take-part     the part is replaced by one of another part SKU of the cell:
-                                 its ``hasSkuObject_Sku`` fact and its shape change
-kit-tray-moved     put-part      the kit (args[2]) — its tray with what is in it — shifts on
-                                 the work table
-=================  ============  ==========================================================
+=================  ==============================================================================
+mechanism          effect
+=================  ==============================================================================
+GraspNothing       the struck action's ``CloseGripper`` grasps nothing (armed until the next
+                   action begins)
+ReleaseInTransit   the held part falls during the first move that carries it sideways
+                   (``kb.sim.robot.TRANSIT``): in transit
+RemoveObject       the object (the kind's target argument) is taken out of the cell
+MarkDefective      the object is flagged defective: only ``inspect`` shows it; its geometry is
+                   unchanged
+SwapSku            the object is replaced by one of another SKU among the cell's objects of the
+                   target's type: its ``hasSkuObject_Sku`` fact and its shape change
+DisplaceObject     the object shifts within what holds it, or out of it onto that holder's
+                   support (with no room there: onto the floor beside the support)
+ShiftInPlane       the object, with what it carries, shifts on its support
+=================  ==============================================================================
+
+A mechanism acting on an object acts on the struck action's argument the kind names
+(``soap:hasFaultKind_Target``), when that object is of the parameter's type, placed, and not
+held by the robot; otherwise the fault does nothing there. Distances are the mechanism's data.
 
 A :class:`FaultSpec` says which kinds and when: at given action indices (``at``; a fault
-named for an action it is not eligible on waits for the next action it is eligible on), or
-with a probability per eligible action (``rates``; one uniform draw per action partitions
-[0, 1) among the kinds eligible there, in :data:`FAULT_KINDS` order, so at most one drawn fault
-per action and each with exactly its probability). All randomness (the draws and where a part
-or tray moves to) comes from one ``numpy`` generator seeded by ``FaultSpec.seed``: the same
-spec and the same command stream give the same faults.
+named for an action it does not strike waits for the next action it strikes), or with a
+probability per struck action (``rates``; one uniform draw per action partitions [0, 1) among
+the kinds striking it, in the order of kinds, so at most one drawn fault per action and each
+with exactly its probability). Its ``kinds`` are the run's domain's (default: the shipped
+domain's); a kind not among them is refused, naming the known ones. All randomness (the draws
+and where an object moves to) comes from one ``numpy`` generator seeded by ``FaultSpec.seed``:
+the same spec and the same command stream give the same faults.
 
-Faults acting before the action (part-moved, part-missing, defective-part, wrong-sku,
-kit-tray-moved) are applied in ``begin_action``; missed-grasp and dropped-part arm the robot
-and are recorded when they take effect. Every fault that took effect is an :class:`Injected`.
+Mechanisms acting on an object apply in ``begin_action``; the others arm the robot, which
+reports the fault by its own primitive's name when it takes effect, mapped back here to the
+kind that armed it. Every fault that took effect is an :class:`Injected`.
 """
 
 from __future__ import annotations
@@ -41,23 +49,19 @@ from typing import Callable, Mapping
 
 import numpy as np
 
+from kb.core.namespaces import SOAP
+from kb.model.faults import FaultKind, FaultKinds, Strike, shipped_fault_kinds
 from kb.sim.robot import Robot
-from kb.sim.world import KIT_TRAY, SKU, TOLERANCE, World
+from kb.sim.world import SKU, TOLERANCE, World
 
-FAULT_KINDS: tuple[str, ...] = ("missed-grasp", "dropped-part", "part-moved", "part-missing",
-                                "defective-part", "wrong-sku", "kit-tray-moved")
-#: action name -> fault kinds eligible on it
-ELIGIBLE: dict[str, tuple[str, ...]] = {
-    "take-part": ("missed-grasp", "dropped-part", "part-moved", "part-missing", "defective-part", "wrong-sku"),
-    "put-part": ("kit-tray-moved",),
-}
-#: a moved kit shifts by a distance drawn in this range (m)
-KIT_SHIFT = (0.02, 0.06)
-#: a moved part lands at least this far (m) from where it was
+#: a displaced object lands at least this far (m) from where it was, unless its mechanism says
 MIN_SHIFT = 0.01
-#: a part knocked off a table lands on the floor within this distance (m) of the table
+#: an object knocked off its support lands on the floor within this distance (m) of it, unless its
+#: mechanism says
 BESIDE = 0.3
 _TRIES = 200
+#: the robot's armed primitives (its attributes), each reported by that name when it takes effect
+GRASP_NOTHING, DROP_IN_TRANSIT = "miss_grasp", "drop_in_transit"
 
 
 @dataclass(frozen=True)
@@ -73,31 +77,42 @@ class Injected:
 
 @dataclass(frozen=True)
 class FaultSpec:
-    """Which faults, when: ``rates`` (kind -> probability per eligible action), ``at`` (action
-    index -> kind or kinds), and the ``seed`` of all fault randomness."""
+    """Which faults, when: ``rates`` (kind -> probability per struck action), ``at`` (action
+    index -> kind or kinds), the ``seed`` of all fault randomness, and the ``kinds`` they are
+    of (None: the shipped domain's, read when a fault is named)."""
 
     rates: Mapping[str, float] = field(default_factory=dict)
     at: Mapping[int, str | tuple[str, ...]] = field(default_factory=dict)
     seed: int = 0
+    kinds: FaultKinds | None = field(default=None, compare=False, repr=False)
 
     def __post_init__(self) -> None:
+        if not self.rates and not self.at:
+            return
+        catalog = self.catalog
         for kind, p in self.rates.items():
-            _check_kind(kind)
+            _check_kind(catalog, kind)
             if not 0.0 <= float(p) <= 1.0:
                 raise ValueError(f"probability of {kind} must be in [0, 1], not {p}")
-        for action, kinds in ELIGIBLE.items():
-            total = sum(float(self.rates.get(k, 0.0)) for k in kinds)
+        for action in catalog.actions:
+            total = sum(float(self.rates.get(k.name, 0.0)) for k in catalog.eligible(action))
             if total > 1.0 + 1e-12:
                 raise ValueError(f"the probabilities of faults on {action} add up to {total} > 1")
         for index, kinds in self.at.items():
             for kind in _kinds(kinds):
-                _check_kind(kind)
+                _check_kind(catalog, kind)
             if int(index) < 0:
                 raise ValueError(f"action index must be >= 0, not {index}")
 
+    @property
+    def catalog(self) -> FaultKinds:
+        """The kinds this spec's names are of."""
+        return self.kinds if self.kinds is not None else shipped_fault_kinds()
+
     @classmethod
-    def parse(cls, text: str, seed: int = 0) -> "FaultSpec":
-        """From ``"kind=probability,kind@action_index,..."`` (e.g. ``"missed-grasp=0.2,part-missing@3"``)."""
+    def parse(cls, text: str, seed: int = 0, kinds: FaultKinds | None = None) -> "FaultSpec":
+        """From ``"kind=probability,kind@action_index,..."`` (e.g. ``"K=0.2,L@3"``); ``kinds``:
+        the domain's (None: the shipped domain's)."""
         rates: dict[str, float] = {}
         at: dict[int, tuple[str, ...]] = {}
         for item in filter(None, (s.strip() for s in text.split(","))):
@@ -115,12 +130,14 @@ class FaultSpec:
                     raise ValueError(f"fault {item!r}: {i!r} is not an action index") from None
             else:
                 raise ValueError(f"fault {item!r}: expected kind=probability or kind@action_index")
-        return cls(rates, at, seed)
+        return cls(rates, at, seed, kinds)
 
 
-def _check_kind(kind: str) -> None:
-    if kind not in FAULT_KINDS:
-        raise ValueError(f"unknown fault kind {kind!r}; known: {', '.join(FAULT_KINDS)}")
+def _check_kind(catalog: FaultKinds, name: str) -> None:
+    kind = catalog.check(name)
+    if kind.mechanism.iri not in MECHANISMS:
+        raise ValueError(f"fault kind {name!r}: the simulated cell has no mechanism {kind.mechanism.name} "
+                         f"(it has {', '.join(_local(m) for m in MECHANISMS)})")
 
 
 def _kinds(kinds: str | tuple[str, ...]) -> tuple[str, ...]:
@@ -132,30 +149,37 @@ class Injector:
 
     def __init__(self, spec: FaultSpec, world: World, robot: Robot, record: Callable[[Injected], None]) -> None:
         self.spec, self.world, self.robot, self.record = spec, world, robot, record
+        self.active = bool(spec.rates or spec.at)
+        self.catalog = spec.catalog if self.active else FaultKinds()
         self.rng = np.random.default_rng(spec.seed)
         self.pending: list[str] = []
-        self.armed: dict[str, int] = {}  # armed kind -> the action index that armed it
+        self.armed: dict[str, tuple[str, int]] = {}  # robot primitive -> (the kind, the action index) that armed it
         robot.on_fault = self._took_effect
 
-    def _took_effect(self, kind: str, objects: tuple[str, ...], detail: str) -> None:
-        self.record(Injected(kind, self.armed.pop(kind, -1), objects, detail))
+    def _took_effect(self, primitive: str, objects: tuple[str, ...], detail: str) -> None:
+        kind, index = self.armed.pop(primitive, (primitive, -1))
+        self.record(Injected(kind, index, objects, detail))
 
     def begin_action(self, index: int, action: str, args: tuple[str, ...]) -> None:
         """Choose and apply (or arm) the faults of action ``index``."""
-        self.robot.miss_grasp = False  # a missed grasp belongs to the action that armed it
-        self.armed.pop("missed-grasp", None)
+        self.robot.miss_grasp = False  # a grasp armed to miss belongs to the action that armed it
+        self.armed.pop(GRASP_NOTHING, None)
+        if not self.active:
+            return
         self.pending.extend(_kinds(self.spec.at.get(index, ())))
-        eligible = ELIGIBLE.get(action, ())
-        chosen = [k for k in self.pending if k in eligible]
-        self.pending = [k for k in self.pending if k not in eligible]
+        eligible = self.catalog.eligible(action)
+        names = {k.name for k in eligible}
+        chosen = [k for k in self.pending if k in names]
+        self.pending = [k for k in self.pending if k not in names]
         drawn = self._draw(eligible)
         if drawn is not None and drawn not in chosen:
             chosen.append(drawn)
-        for kind in sorted(chosen, key=FAULT_KINDS.index):
-            _APPLY[kind](self, index, args)
+        for name in sorted(chosen, key=self.catalog.order):
+            kind = self.catalog.check(name)
+            MECHANISMS[kind.mechanism.iri](self, kind, kind.strike(action), index, args)  # type: ignore[arg-type]
 
-    def _draw(self, eligible: tuple[str, ...]) -> str | None:
-        rates = [(k, float(self.spec.rates.get(k, 0.0))) for k in FAULT_KINDS if k in eligible]
+    def _draw(self, eligible: tuple[FaultKind, ...]) -> str | None:
+        rates = [(k.name, float(self.spec.rates.get(k.name, 0.0))) for k in eligible]
         if not any(p for _, p in rates):
             return None
         u, acc = float(self.rng.random()), 0.0
@@ -165,43 +189,46 @@ class Injector:
                 return kind
         return None
 
-    # --- the kinds ----------------------------------------------------------------------
-    def _part(self, args: tuple[str, ...]) -> int | None:
-        """The part a take-part names (args[1]): a placed part the robot does not hold, else None
-        (an announced action's arguments are whatever a client sent)."""
-        i = self.world.index.get(args[1]) if len(args) > 1 else None
-        return i if i is not None and self.world.is_a(i, "Part") and self._free(i) else None
+    # --- the mechanisms -----------------------------------------------------------------
+    def _target(self, strike: Strike, args: tuple[str, ...]) -> int | None:
+        """The object a strike names (its argument): one of the parameter's type, placed and not
+        held by the robot, else None (an announced action's arguments are whatever a client sent)."""
+        n = strike.argument
+        i = self.world.index.get(args[n]) if n is not None and len(args) > n else None
+        if i is None or (strike.type is not None and not self.world.is_a(i, strike.type)):
+            return None
+        return i if self._free(i) else None
 
     def _free(self, i: int) -> bool:
         """``i`` is placed and not carried by the robot."""
         return self.world.placed(i) and i not in self.world.subtree(self.robot.index)
 
-    def missed_grasp(self, index: int, args: tuple[str, ...]) -> None:
+    def grasp_nothing(self, kind: FaultKind, strike: Strike, index: int, args: tuple[str, ...]) -> None:
         self.robot.miss_grasp = True
-        self.armed["missed-grasp"] = index
+        self.armed[GRASP_NOTHING] = (kind.name, index)
 
-    def dropped_part(self, index: int, args: tuple[str, ...]) -> None:
+    def release_in_transit(self, kind: FaultKind, strike: Strike, index: int, args: tuple[str, ...]) -> None:
         self.robot.drop_in_transit = True
-        self.armed["dropped-part"] = index
+        self.armed[DROP_IN_TRANSIT] = (kind.name, index)
 
-    def part_missing(self, index: int, args: tuple[str, ...]) -> None:
-        i = self._part(args)
+    def remove_object(self, kind: FaultKind, strike: Strike, index: int, args: tuple[str, ...]) -> None:
+        i = self._target(strike, args)
         if i is None:
             return
         w = self.world
         where = w.names[int(w.parent[i])] if w.parent[i] >= 0 else "the floor"
         w.remove(i)
-        self.record(Injected("part-missing", index, (w.names[i],), f"taken out of the cell from {where}"))
+        self.record(Injected(kind.name, index, (w.names[i],), f"taken out of the cell from {where}"))
 
-    def defective_part(self, index: int, args: tuple[str, ...]) -> None:
-        i = self._part(args)
+    def mark_defective(self, kind: FaultKind, strike: Strike, index: int, args: tuple[str, ...]) -> None:
+        i = self._target(strike, args)
         if i is None:
             return
         self.world.defective.add(self.world.names[i])
-        self.record(Injected("defective-part", index, (self.world.names[i],), "flagged defective"))
+        self.record(Injected(kind.name, index, (self.world.names[i],), "flagged defective"))
 
-    def wrong_sku(self, index: int, args: tuple[str, ...]) -> None:
-        i = self._part(args)
+    def swap_sku(self, kind: FaultKind, strike: Strike, index: int, args: tuple[str, ...]) -> None:
+        i = self._target(strike, args)
         if i is None:
             return
         w, name = self.world, self.world.names[i]
@@ -209,21 +236,21 @@ class Injector:
         boxes: dict[str, tuple[np.ndarray, np.ndarray]] = {}
         for j in range(len(w)):
             s = w.sku(j)
-            if w.is_a(j, "Part") and s and s != old and not np.isnan(w.local_lo[j, 0]):
+            if (strike.type is None or w.is_a(j, strike.type)) and s and s != old and not np.isnan(w.local_lo[j, 0]):
                 boxes.setdefault(s, (w.local_lo[j].copy(), w.local_hi[j].copy()))
         if not boxes:
             return
         new = sorted(boxes)[int(self.rng.integers(len(boxes)))]
         w.facts[SKU] = {(s, o) for s, o in w.facts.get(SKU, set()) if s != name} | {(name, new)}
         w.local_lo[i], w.local_hi[i] = boxes[new]
-        self.record(Injected("wrong-sku", index, (name, new), f"replaced by a part of {_local(new)} "
-                                                               f"(was {_local(old or '')})"))
+        self.record(Injected(kind.name, index, (name, new), f"replaced by a part of {_local(new)} "
+                                                             f"(was {_local(old or '')})"))
 
-    def part_moved(self, index: int, args: tuple[str, ...]) -> None:
-        i = self._part(args)
+    def displace_object(self, kind: FaultKind, strike: Strike, index: int, args: tuple[str, ...]) -> None:
+        i = self._target(strike, args)
         if i is None:
             return
-        w = self.world
+        w, m = self.world, kind.mechanism
         tray = int(w.parent[i])
         table = int(w.parent[tray]) if tray >= 0 else -1
         # within the tray, or out of it: onto the table it stands on, else (no room there)
@@ -231,10 +258,12 @@ class Injector:
         options = [("within", tray), ("onto", table), ("floor", table)]
         if self.rng.random() >= 0.5:
             options = options[1:] + options[:1]
+        least = m.min_shift if m.min_shift is not None else MIN_SHIFT
+        beside = m.beside if m.beside is not None else BESIDE
         for how, base in options:
             if base < 0:
                 continue
-            spot = self._free_spot(i, base, floor=how == "floor")
+            spot = self._free_spot(i, base, least, beside if how == "floor" else None)
             if spot is not None:
                 break
         else:
@@ -243,39 +272,41 @@ class Injector:
         origin = _local(w.names[tray]) if tray >= 0 else "its place"
         what = {"within": f"shifted within {origin}", "onto": f"moved out of {origin} onto {_local(w.names[base])}",
                 "floor": f"knocked out of {origin} onto the floor beside {_local(w.names[base])}"}[how]
-        self.record(Injected("part-moved", index, (w.names[i],), f"{what} to ({spot[0]:.3f}, {spot[1]:.3f})"))
+        self.record(Injected(kind.name, index, (w.names[i],), f"{what} to ({spot[0]:.3f}, {spot[1]:.3f})"))
 
-    def kit_tray_moved(self, index: int, args: tuple[str, ...]) -> None:
-        w = self.world
-        kit = w.index.get(args[2]) if len(args) > 2 else None
-        if kit is None or not w.is_a(kit, "Kit") or not self._free(kit):
+    def shift_in_plane(self, kind: FaultKind, strike: Strike, index: int, args: tuple[str, ...]) -> None:
+        obj = self._target(strike, args)
+        if obj is None:
             return
-        support = int(w.parent[kit])
-        lo, hi = w.box(kit)
-        d = self.rng.uniform(*KIT_SHIFT)
+        w, m = self.world, kind.mechanism
+        support = int(w.parent[obj])
+        lo, hi = w.box(obj)
+        d = self.rng.uniform(m.min_shift or 0.0, m.max_shift if m.max_shift is not None else (m.min_shift or 0.0))
         a = self.rng.uniform(0, 2 * np.pi)
         dx, dy = d * np.cos(a), d * np.sin(a)
-        if support >= 0:  # stay on the table
+        if support >= 0:  # stay on the support
             slo, shi = w.box(support)
             dx = float(np.clip(dx, slo[0] - lo[0], shi[0] - hi[0]))
             dy = float(np.clip(dy, slo[1] - lo[1], shi[1] - hi[1]))
-        w.shift(kit, dx, dy, 0.0)
-        trays = w.objects(KIT_TRAY, w.names[kit])
-        self.record(Injected("kit-tray-moved", index, (w.names[kit],) + tuple(trays),
+        w.shift(obj, dx, dy, 0.0)
+        related = tuple(o for prop in kind.also_names for o in w.objects(prop, w.names[obj]))
+        self.record(Injected(kind.name, index, (w.names[obj],) + related,
                              f"shifted by ({dx:.3f}, {dy:.3f}) on "
                              f"{_local(w.names[support]) if support >= 0 else 'the floor'}"))
 
     # --- helpers ------------------------------------------------------------------------
-    def _free_spot(self, i: int, base: int, floor: bool = False) -> tuple[float, float, float] | None:
-        """A random (x, y, z of the bottom) where ``i`` fits on / in ``base`` (``floor``: on the
-        floor within :data:`BESIDE` of ``base``'s footprint) without touching anything there, at
-        least :data:`MIN_SHIFT` from where it is."""
+    def _free_spot(self, i: int, base: int, least: float = MIN_SHIFT,
+                   beside: float | None = None) -> tuple[float, float, float] | None:
+        """A random (x, y, z of the bottom) where ``i`` fits on / in ``base`` (with ``beside``:
+        on the floor within that distance of ``base``'s footprint) without touching anything
+        there, at least ``least`` from where it is."""
         w = self.world
         lo, hi = w.box(i)
         half = (hi - lo) / 2
         blo, bhi = w.box(base)
+        floor = beside is not None
         if floor:
-            blo, bhi = blo - BESIDE, bhi + BESIDE
+            blo, bhi = blo - beside, bhi + beside
             z0 = 0.0
         else:
             z0 = float(blo[2] if w.open_top[base] else bhi[2])  # a container's floor, a table's top
@@ -289,7 +320,7 @@ class Injector:
                 others.append((olo[:2], ohi[:2]))
         for _ in range(_TRIES):
             c = self.rng.uniform(blo[:2] + half[:2], bhi[:2] - half[:2])
-            if np.linalg.norm(c - (lo[:2] + half[:2])) < MIN_SHIFT:
+            if np.linalg.norm(c - (lo[:2] + half[:2])) < least:
                 continue
             if all(np.any(c + half[:2] <= olo) or np.any(c - half[:2] >= ohi) for olo, ohi in others):
                 return float(c[0]), float(c[1]), z0
@@ -307,12 +338,15 @@ class Injector:
 def _local(iri: str) -> str:
     return iri.rsplit("#", 1)[-1].rsplit("/", 1)[-1]
 
-_APPLY: dict[str, Callable[[Injector, int, tuple[str, ...]], None]] = {
-    "missed-grasp": Injector.missed_grasp,
-    "dropped-part": Injector.dropped_part,
-    "part-moved": Injector.part_moved,
-    "part-missing": Injector.part_missing,
-    "defective-part": Injector.defective_part,
-    "wrong-sku": Injector.wrong_sku,
-    "kit-tray-moved": Injector.kit_tray_moved,
+
+#: The simulator's fault mechanisms by IRI (``soap:FaultMechanism`` individuals of soap.ttl):
+#: the only place they are named in code.
+MECHANISMS: dict[str, Callable[[Injector, FaultKind, Strike, int, tuple[str, ...]], None]] = {
+    str(SOAP) + "GraspNothing": Injector.grasp_nothing,
+    str(SOAP) + "ReleaseInTransit": Injector.release_in_transit,
+    str(SOAP) + "RemoveObject": Injector.remove_object,
+    str(SOAP) + "MarkDefective": Injector.mark_defective,
+    str(SOAP) + "SwapSku": Injector.swap_sku,
+    str(SOAP) + "DisplaceObject": Injector.displace_object,
+    str(SOAP) + "ShiftInPlane": Injector.shift_in_plane,
 }

@@ -108,7 +108,8 @@ REACH = 1000.0
 _EYE3 = np.eye(3)
 _RIGID = 1e-9 + 1e-5 * _EYE3  # np.allclose's bound for (R^T R, I): atol + rtol |I|
 
-#: fault kind, objects, detail -> None: how the robot reports an armed fault taking effect.
+#: primitive, objects, detail -> None: how the robot reports an armed fault taking effect, by the
+#: name of the attribute that armed it (``miss_grasp``, ``drop_in_transit``; kb.sim.faults maps it back).
 FaultHook = Callable[[str, tuple[str, ...], str], None]
 #: The constraint violations the robot notices (module docstring), in the order it checks them.
 VIOLATION_KINDS: tuple[str, ...] = ("overweight", "work-volume", "wrong-effector", "contact")
@@ -237,7 +238,7 @@ class Robot:
             support = self._release()
             self.drop_in_transit = False
             where = self.world.names[support] if support >= 0 else "the floor"
-            self.on_fault("dropped-part", (name,), f"fell at {_xyz(mid[:3, 3])} onto {where}")
+            self.on_fault("drop_in_transit", (name,), f"fell at {_xyz(mid[:3, 3])} onto {where}")
         self._go(target)
         seconds = float(np.linalg.norm(step)) / self.speed
         if self.rot_speed is not None:
@@ -323,8 +324,8 @@ class Robot:
 
     def _pieces(self) -> Pieces:
         """The solid pieces of every object (:func:`kb.spatial.sweep.solid_pieces`), kept while
-        the objects' boxes are the same (a wrong-SKU fault changes a part's, a kit takes its
-        tray's); holes (holders recessed in a station's base) found once, on the first move."""
+        the objects' boxes are the same (a fault giving a part another SKU changes its box, a kit
+        takes its tray's); holes (holders recessed in a station's base) found once, on the first move."""
         w = self.world
         key = (w.local_lo.tobytes(), w.local_hi.tobytes(), w.open_top.tobytes())
         if self._piece_key != key:
@@ -354,7 +355,7 @@ class Robot:
             return Status.error(f"nothing grasped: {heavy}")
         if self.miss_grasp:
             self.miss_grasp = False
-            self.on_fault("missed-grasp", (name,), f"the gripper closed on nothing above {name}")
+            self.on_fault("miss_grasp", (name,), f"the gripper closed on nothing above {name}")
             return Status.ok("nothing grasped")
         self.held = target
         self.world.parent[target] = self.effector

@@ -38,6 +38,7 @@ from typing import Any, Iterator
 from kb.core.errors import InputError
 from kb.core.files import write_atomic
 from kb.core.progress import SILENT, Progress
+from kb.model.faults import domain_fault_kinds
 from kb.testmethod.methods import Job, Options, jobs, not_executed, trial_seed
 from kb.testmethod.summary import summarize
 
@@ -159,7 +160,8 @@ def run_campaign(options: Options, out_dir: str | Path, *, workers: int | None =
                     task.advance()
     wall = time.perf_counter() - t
     ordered = [rows[i] for i in sorted(rows)]
-    summary = summarize(ordered, sweep=options.noise_sweep, base=options.sensor_noise)
+    summary = summarize(ordered, sweep=options.noise_sweep, base=options.sensor_noise,
+                        kinds=domain_fault_kinds(options.domain) if options.domain else None)
     summary["run"] = {"ran": len(todo) - len(lost), "resumed": options.rows - len(todo), "lost": sorted(lost),
                       "workers": n_workers, "wall_s": round(wall, 3),
                       "trials_per_s": round((len(todo) - len(lost)) / wall, 4) if todo and wall > 0 else None}

@@ -13,8 +13,10 @@ campaign alone, so the same campaign gives the same jobs wherever they run:
 * **multi** (§III-D): ``--kits`` kits of the designs of ``--parts`` (one size per design) in an
   order drawn from the trial's seed; kit trays come from the storage box and finished kits go to
   their boxes; the parts trays are placed and turned anew;
-* **errors** (§III-E): basic with seeded faults (the paper's dropped and defective parts, and
-  missed grasps and moved parts; ``--faults`` sets others) and spare parts to recover with.
+* **errors** (§III-E): basic with seeded faults and spare parts to recover with: by default each
+  fault kind of the domain with a test-method rate (``soap:hasFaultKind_TestMethodRate``; the
+  shipped ones are the paper's dropped and defective parts, missed grasps and moved parts:
+  ``kitkb faults`` lists them), ``--faults`` sets others.
 
 Any method's simulated sensor may err (``--sensor-noise``: every trial's cell has that noise and
 its executor verifies with that accuracy). errors also sweeps a noise (``--noise-sweep
@@ -44,11 +46,10 @@ from kb.cells.accuracy import KEYS, SensorAccuracy
 from kb.cells.registry import DEFAULT_URL, CellRequest, check_cell, close_cell, open_cell, parse_cell_url
 from kb.core.errors import InputError
 from kb.core.limits import PARTS
+from kb.model.faults import domain_fault_kinds
 from kb.scenario.spec import DesignSpec, ScenarioSpec, method_spec, mixed_design, random_types, types_for
 
 METHODS = ("basic", "new-variety", "multi", "errors")
-#: the faults of the errors method unless ``--faults`` says otherwise (chance per take-part action)
-DEFAULT_FAULTS = "dropped-part=0.1,defective-part=0.1,missed-grasp=0.05,part-moved=0.05"
 #: parts of each type beyond what the kits need, per method (errors: see :func:`spare`)
 SPARE = {"basic": 1, "new-variety": 1, "multi": 1, "errors": 3}
 DEFAULT_PARTS = {"basic": (10,), "new-variety": (10,), "multi": (4, 6), "errors": (10,)}
@@ -66,7 +67,7 @@ class Options:
     seed: int = 0
     parts: tuple[int, ...] = ()  # parts per design (default per method: DEFAULT_PARTS)
     kits: int = DEFAULT_KITS  # multi: kits per trial
-    faults: str | None = None  # errors: the fault mix (default DEFAULT_FAULTS)
+    faults: str | None = None  # errors: the fault mix (default: default_faults(domain))
     sensor_noise: str | None = None  # the sensor's accuracy, as --sensor-noise spells it
     noise_sweep: str | None = None  # errors: KEY=FROM:TO:N, the levels every trial runs at
     cell: str | None = None  # the cell's URL (None: every trial's own simulated cell, sim:)
@@ -78,7 +79,7 @@ class Options:
         if not self.parts:
             object.__setattr__(self, "parts", DEFAULT_PARTS[self.method])
         if self.method == "errors" and self.faults is None:
-            object.__setattr__(self, "faults", DEFAULT_FAULTS)
+            object.__setattr__(self, "faults", default_faults(self.domain))
         self._check()
 
     def _check(self) -> None:
@@ -99,7 +100,7 @@ class Options:
         if self.faults is not None:
             if self.method != "errors":
                 raise InputError(f"--faults is for the errors method, not {self.method}")
-            _check_faults(self.faults)
+            _check_faults(self.faults, self.domain)
         base = _base_noise(self.sensor_noise)
         if self.noise_sweep is not None:
             _check_sweep(self, base)
@@ -237,10 +238,18 @@ def _check_cell(options: Options) -> None:
                          f"did: reset it, then run the next --seed), not {options.trials:,}")
 
 
-def _check_faults(text: str) -> None:
-    """The simulated cell's own check of a fault mix (through the registry: kb.sim not imported)."""
+def default_faults(domain: tuple[str, ...] = ()) -> str:
+    """The errors method's faults unless ``--faults`` says otherwise: each fault kind of the
+    domain (the shipped one with the extension files ``domain``) at its test-method rate, a
+    chance per action it strikes (:meth:`kb.model.faults.FaultKinds.default_mix`)."""
+    return domain_fault_kinds(domain).default_mix()
+
+
+def _check_faults(text: str, domain: tuple[str, ...] = ()) -> None:
+    """The simulated cell's own check of a fault mix, its kinds the domain's (through the
+    registry: kb.sim not imported)."""
     try:
-        check_cell(DEFAULT_URL, CellRequest(faults=text))
+        check_cell(DEFAULT_URL, CellRequest(faults=text, fault_kinds=domain_fault_kinds(domain)))
     except InputError as e:
         raise InputError(f"--faults: {getattr(e, 'reason', e.message)}") from None
 

@@ -77,9 +77,12 @@ def _stats(values: list[float]) -> dict[str, float]:
             "p95": round(float(np.percentile(a, 95)), 6)}
 
 
-def summarize(rows: Iterable[dict[str, Any]], *, sweep: str | None = None, base: str | None = None) -> dict[str, Any]:
+def summarize(rows: Iterable[dict[str, Any]], *, sweep: str | None = None, base: str | None = None,
+              kinds: Any = None) -> dict[str, Any]:
     """The campaign's summary over its trial rows; ``sweep``: the campaign's ``--noise-sweep``
-    (over ``base``, its ``--sensor-noise``), whose levels get their detection quality."""
+    (over ``base``, its ``--sensor-noise``), whose levels get their detection quality;
+    ``kinds``: the fault kinds the detection quality is judged by (the campaign's domain's
+    :class:`kb.model.faults.FaultKinds`; None: the shipped domain's)."""
     rows = list(rows)
     built = asked = 0
     modes: Counter[str] = Counter()
@@ -110,8 +113,8 @@ def summarize(rows: Iterable[dict[str, Any]], *, sweep: str | None = None, base:
                        "recovered": sum(recovered.values()),
                        "failures": sum(modes.values())},
         "injected_by_kind": dict(sorted(injected.items())),
-        "detection": score_detection(rows).as_dict(),
-        **({"sweep": sweep_summary(rows, sweep, base)} if sweep else {}),
+        "detection": score_detection(rows, kinds).as_dict(),
+        **({"sweep": sweep_summary(rows, sweep, base, kinds)} if sweep else {}),
     }
 
 
@@ -119,7 +122,7 @@ def summarize(rows: Iterable[dict[str, Any]], *, sweep: str | None = None, base:
 SHOWN = {"length": ("mm", 1e3), "angle": ("deg", 180 / np.pi), "rate": ("%", 100.0)}
 
 
-def sweep_summary(rows: list[dict[str, Any]], sweep: str, base: str | None = None) -> dict[str, Any]:
+def sweep_summary(rows: list[dict[str, Any]], sweep: str, base: str | None = None, kinds: Any = None) -> dict[str, Any]:
     """Detection quality per level of a noise sweep: ``key`` (the swept noise), ``unit``,
     ``levels``: per level its ``value`` (in ``unit``), ``noise`` (the sensor, spelled as
     ``--sensor-noise``), the runs' kits built, and :func:`~kb.execution.quality.score_detection`
@@ -136,7 +139,7 @@ def sweep_summary(rows: list[dict[str, Any]], sweep: str, base: str | None = Non
     levels = []
     for level, (noise, value) in enumerate(zip(sweep_levels(sweep, base), sweep_values(sweep))):
         group = by_level.get(level, [])
-        quality = score_detection(group)
+        quality = score_detection(group, kinds)
         built = [kits_of(r) for r in group]
         levels.append({"level": level, "value": round(value * scale, 9), "noise": noise.text(),
                        "kits_built": sum(b for b, _ in built), "kits": sum(a for _, a in built),

@@ -46,6 +46,7 @@ from kb.execution.scoring import delivered_kits
 from kb.io.loader import Source
 from kb.model.definitions import Definitions
 from kb.model.failures import FailureModel
+from kb.model.faults import fault_kinds
 from kb.model.soap import DomainSpec
 from kb.planning.problem import ProblemSpec
 from kb.scenario import layout, write_spec
@@ -273,7 +274,8 @@ def _cell(job: Job, nominal: Scenario, scene: Scene, facts: dict[str, Any]) -> t
     if job.faults:
         facts["faults"] = job.faults
     request = CellRequest(scene=placed_scene(scene, nominal.namespace, placed), faults=job.faults or None,
-                          seed=job.seed, accuracy=accuracy)
+                          fault_kinds=fault_kinds(domain_inputs(job.domain).kb) if job.faults else None, seed=job.seed,
+                          accuracy=accuracy)
     return WatchedCell(open_cell("sim:", request)), accuracy
 
 
