@@ -42,9 +42,11 @@ def cache(tmp_path, monkeypatch):
 
 
 def _no_parsing(monkeypatch) -> None:
+    import rdflib.plugins.sparql.parser as parser
+
     def refuse(text: str):
         raise AssertionError("parsed although the analysis is cached")
-    monkeypatch.setattr(sparql, "parseQuery", refuse)
+    monkeypatch.setattr(parser, "parseQuery", refuse)
 
 
 def test_warm_cache_same_results_without_parsing(cache, monkeypatch) -> None:
@@ -80,3 +82,22 @@ def test_refused_query_refused_every_time(cache, monkeypatch) -> None:
         with pytest.raises(ShapeError, match="MINUS"):
             _results(REFUSED)
     assert not any(json.loads(f.read_text()) for f in cache.glob("sparql-analysis-*.json"))
+
+
+def test_a_run_with_its_analyses_cached_imports_no_sparql_parser(cache) -> None:
+    """rdflib's SPARQL grammar (80 ms to import) and pySHACL stay unimported when every query's
+    analysis is cached (a fresh interpreter, the cache filled by a first one)."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    code = ("import sys\nfrom rdflib import Graph\nfrom kb.shacl import validate_graph\n"
+            f"validate_graph(Graph().parse(data={DATA!r}, format='turtle'), Graph().parse(data={SHAPES!r}, format='turtle'))\n"
+            "print(sorted(m for m in sys.modules if m.startswith(('rdflib.plugins.sparql', 'pyshacl'))))")
+    env = {"PYTHONPATH": str(root), "KITKB_CACHE_DIR": str(cache), "PATH": "/usr/bin:/bin"}
+    runs = [subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, cwd=root)
+            for _ in range(2)]
+    assert all(r.returncode == 0 for r in runs), runs[-1].stderr
+    assert runs[0].stdout.strip() != "[]"  # the first parses
+    assert runs[1].stdout.strip() == "[]"

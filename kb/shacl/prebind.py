@@ -21,12 +21,12 @@ pre-bound variable, and nested SELECTs that do not return every pre-bound variab
 from __future__ import annotations
 
 import re
+import sys
 from collections.abc import Collection, Iterable
 from typing import Any
 
 from rdflib import Variable
 from rdflib.paths import AlternativePath, InvPath, MulPath, NegatedPath, Path, SequencePath
-from rdflib.plugins.sparql.parserutils import CompValue
 
 THIS = Variable("this")
 
@@ -39,6 +39,14 @@ OPTIONAL_VARIABLES = frozenset({"shapesGraph", "currentShape"})
 # --------------------------------------------------------------------------- forbidden forms
 
 
+def _is_comp(node: Any) -> bool:
+    """Is ``node`` a node of rdflib's SPARQL parse trees and algebra (``CompValue``)? There is
+    none before rdflib's SPARQL parser is imported, and this imports nothing (the parser builds
+    its grammar on import, 80 ms: a run whose query analyses are cached never needs it)."""
+    module = sys.modules.get("rdflib.plugins.sparql.parserutils")
+    return module is not None and isinstance(node, module.CompValue)
+
+
 def _get(node: Any, key: str) -> Any:
     """``node[key]`` or None (rdflib's ``CompValue.get`` returns the key itself when missing)."""
     return dict.get(node, key) if isinstance(node, dict) else None
@@ -48,13 +56,13 @@ def forbidden(tree: Any, prebound: Collection[str] = CONSTRAINT_VARIABLES) -> st
     """Why the parsed query ``tree`` (rdflib's ``parseQuery``) breaks SHACL's rules for queries
     with pre-bound variables, or None."""
     query = tree[1] if isinstance(tree, (list, tuple)) or hasattr(tree, "asList") else tree
-    if isinstance(query, CompValue) and _get(query, "valuesClause") is not None:
+    if _is_comp(query) and _get(query, "valuesClause") is not None:
         return "uses VALUES"
     return _forbidden_in(query, frozenset(prebound))
 
 
 def _forbidden_in(node: Any, prebound: frozenset[str]) -> str | None:
-    if isinstance(node, CompValue):
+    if _is_comp(node):
         name = node.name
         if name == "MinusGraphPattern":
             return "uses MINUS"
@@ -72,7 +80,7 @@ def _forbidden_in(node: Any, prebound: frozenset[str]) -> str | None:
             projection = _get(node, "projection")
             if not projection:
                 return "has a nested SELECT * (a nested SELECT must name the pre-bound variables it returns)"
-            returned = {str(_get(v, "var")) for v in projection if isinstance(v, CompValue) and _get(v, "var") is not None}
+            returned = {str(_get(v, "var")) for v in projection if _is_comp(v) and _get(v, "var") is not None}
             missing = sorted((prebound - OPTIONAL_VARIABLES) - returned)
             if missing:
                 return f"has a nested SELECT that does not return the pre-bound variable ?{missing[0]}"
@@ -102,7 +110,7 @@ def mentions(node: Any, var: Variable = THIS) -> bool:
     """Does the algebra (or expression) ``node`` use ``var`` anywhere?"""
     if isinstance(node, Variable):
         return node == var
-    if isinstance(node, CompValue):
+    if _is_comp(node):
         return any(mentions(v, var) for k, v in node.items() if k != "_vars")
     if isinstance(node, dict):
         return any(mentions(v, var) for v in node.values())
@@ -136,8 +144,8 @@ def groupable(algebra: Any) -> bool:
     bound it in every row (FILTER, BIND, OPTIONAL over it). Sub-queries, aggregates, LIMIT,
     GRAPH and anything unknown count as not groupable (they are evaluated per focus node).
     """
-    query = _get(algebra, "p") if isinstance(algebra, CompValue) and algebra.name == "SelectQuery" else None
-    if not isinstance(query, CompValue) or query.name != "Project":
+    query = _get(algebra, "p") if _is_comp(algebra) and algebra.name == "SelectQuery" else None
+    if not _is_comp(query) or query.name != "Project":
         return False
     if THIS not in (_get(query, "PV") or []):
         return False
@@ -148,7 +156,7 @@ def groupable(algebra: Any) -> bool:
 def _safe(p: Any) -> tuple[bool, bool]:
     """(safe, certain): ``p`` evaluated grouped equals ``p`` pre-bound (see :func:`groupable`);
     every row of ``p`` binds ``?this``."""
-    if not isinstance(p, CompValue):
+    if not _is_comp(p):
         return False, False
     name = p.name
     if name == "BGP":
@@ -324,7 +332,7 @@ def for_blank_nodes(text: str, variables: Iterable[str] = ("this",)) -> str:
 def hands_on(algebra: Any, var: Variable = THIS) -> bool:
     """Does an expression of the query bind a new variable from ``var`` (BIND, a projected
     expression, an aggregate)? pyoxigraph's ``substitutions`` do not reach there."""
-    if isinstance(algebra, CompValue):
+    if _is_comp(algebra):
         if algebra.name == "Extend" and mentions(_get(algebra, "expr"), var):
             return True
         if algebra.name.startswith("Aggregate") and mentions(algebra, var):

@@ -29,25 +29,21 @@ from __future__ import annotations
 import re
 import threading
 from collections.abc import Collection, Iterator
+from importlib.metadata import version
 from pathlib import Path
 from typing import Any
 
 import pyoxigraph as ox
-import pyparsing
 import rdflib
 from rdflib import Graph, Literal, URIRef, Variable
 from rdflib.paths import AlternativePath, InvPath, MulPath, SequencePath
-from rdflib.plugins.sparql import prepareQuery
-from rdflib.plugins.sparql.algebra import translateQuery
-from rdflib.plugins.sparql.parser import parseQuery
-from rdflib.plugins.sparql.parserutils import CompValue
 from rdflib.term import Node
 
 from kb.core.cache import JsonCache, digest
 from kb.core.namespaces import SH
 from kb.shacl import paths, prebind
-from kb.shacl.prebind import (CONSTRAINT_VARIABLES, Template, for_blank_nodes, forbidden, groupable, hands_on,
-                               mentions, nullable)
+from kb.shacl.prebind import (CONSTRAINT_VARIABLES, Template, _is_comp, for_blank_nodes, forbidden, groupable,
+                               hands_on, mentions, nullable)
 from kb.shacl.reorder import predicates_in, reorder
 from kb.shacl.shape import Constraint, Context, Hit, Pairs, Shape, ShapeError
 from kb.shacl.terms import key_of, to_node
@@ -149,7 +145,7 @@ class AskC(SparqlC):
 
 
 def _walk(node: Any, triples: list[tuple[Any, Any, Any]]) -> None:
-    if isinstance(node, CompValue):
+    if _is_comp(node):
         for key, value in node.items():
             if key == "triples" and isinstance(value, list):
                 triples.extend(tuple(t) for t in value if isinstance(t, (tuple, list)) and len(t) == 3)
@@ -178,9 +174,10 @@ def _path_predicates(p: Any, out: set[str]) -> bool:
 
 #: what an analysis found, kept between runs (:mod:`kb.core.cache`), keyed by the source of the
 #: code that decides it and the parser's versions: rdflib's SPARQL grammar (pyparsing) takes
-#: about 25 ms per query, most of compiling the shipped shapes
+#: about 25 ms per query, most of compiling the shipped shapes, and 80 ms to import (so it is
+#: imported only to parse a query, or to run one on rdflib's engine)
 _ANALYSES = JsonCache("sparql-analysis", [Path(__file__).read_bytes(), Path(prebind.__file__).read_bytes(),
-                                          rdflib.__version__, pyparsing.__version__])
+                                          rdflib.__version__, version("pyparsing")])
 
 
 def _analyse(c: SparqlC) -> None:
@@ -225,6 +222,9 @@ def checked_query(text: str, shape: Node, node: Node, prebound: Collection[str] 
     """The query ``text`` of constraint (or validator) ``node`` of ``shape``, parsed and
     translated to rdflib's algebra; :class:`ShapeError` when it does not parse or breaks
     SHACL's rules for the pre-bound variables ``prebound``."""
+    from rdflib.plugins.sparql.algebra import translateQuery
+    from rdflib.plugins.sparql.parser import parseQuery
+
     where = f"the {what} of {node.n3()}" if isinstance(node, URIRef) else f"its {what}"
     try:
         tree = parseQuery(text)
@@ -244,6 +244,8 @@ def _substitutes(text: str, variables: tuple[str, ...]) -> bool:
     """Does writing terms in place of the pre-bound ``variables`` leave a query that no longer
     uses them (but to name them in the outer projection)? Checked once per query, on a
     stand-in term."""
+    from rdflib.plugins.sparql.parser import parseQuery
+
     try:
         filled = parseQuery(Template(text, variables).fill(dict.fromkeys(variables, _CHECK_TERM)))
     except Exception:
@@ -252,9 +254,16 @@ def _substitutes(text: str, variables: tuple[str, ...]) -> bool:
     return not any(mentions(tree, Variable(v)) for v in variables)
 
 
+def _prepared(text: str) -> Any:
+    """``text`` prepared for rdflib's engine (its SPARQL parser imported now)."""
+    from rdflib.plugins.sparql import prepareQuery
+
+    return prepareQuery(text)
+
+
 def _without_projected_names(node: Any) -> Any:
     """The parse tree without the ``AS ?var`` names of projections (``(TERM AS ?this)``)."""
-    if isinstance(node, CompValue):
+    if _is_comp(node):
         return {k: _without_projected_names(v) for k, v in node.items() if k != "evar"}
     if isinstance(node, dict):
         return {k: _without_projected_names(v) for k, v in node.items()}
@@ -480,7 +489,7 @@ class SparqlRunner:
     def _rdflib_solutions(self, c: SparqlC, focus: str | None) -> list[dict[str, str]]:
         q = self._prepared.get(id(c))
         if q is None:
-            q = self._prepared[id(c)] = prepareQuery(c.text)
+            q = self._prepared[id(c)] = _prepared(c.text)
         binds = {"this": to_node(focus)} if focus is not None else None
         rows = []
         for r in self.graph().query(q, initBindings=binds):
@@ -539,7 +548,7 @@ class SparqlRunner:
                                                    "pyoxigraph, for nodes that are IRIs or literals", c.node)
                 q = self._prepared.get(id(c))
                 if q is None:
-                    q = self._prepared[id(c)] = prepareQuery(c.text)
+                    q = self._prepared[id(c)] = _prepared(c.text)
                 known = bool(self.graph().query(q, initBindings={"this": to_node(focus),
                                                                   "value": to_node(value)}).askAnswer)
             else:
