@@ -15,7 +15,7 @@ from sqlalchemy.dialects import mysql
 from sqlalchemy.orm import DeclarativeBase, Mapped, foreign, mapped_column, relationship, remote
 
 #: Fingerprint of the schema; a database stamped with another one is refused.
-SCHEMA_VERSION = 'f9e29eda957d392f'
+SCHEMA_VERSION = '43aecdd967b82473'
 #: (ontology IRI, owl:versionInfo) of the ontologies the schema was made from.
 ONTOLOGIES = (('https://w3id.org/kitkb/kitting', '0.1.0'), ('https://w3id.org/kitkb/soap', '0.1.0'))
 
@@ -592,6 +592,34 @@ soap_has_failure_remediation_notification = Table(
     info={'iri': 'https://w3id.org/kitkb/soap#hasFailureRemediation_Notification', 'kind': 'object', 'link': True},
 )
 
+soap_has_fault_kind_action = Table(
+    'soap_has_fault_kind_action', Base.metadata,
+    Column("subject_id", Integer, _ref('soap_fault_kind'), primary_key=True, autoincrement=False),
+    Column("value_id", Integer, _ref('soap_action'), primary_key=True),
+    info={'iri': 'https://w3id.org/kitkb/soap#hasFaultKind_Action', 'kind': 'object', 'link': True},
+)
+
+soap_has_fault_kind_also_names = Table(
+    'soap_has_fault_kind_also_names', Base.metadata,
+    Column("subject_id", Integer, _ref('soap_fault_kind'), primary_key=True, autoincrement=False),
+    Column("value", _IRI, primary_key=True, autoincrement=False),
+    info={'iri': 'https://w3id.org/kitkb/soap#hasFaultKind_AlsoNames', 'kind': 'iri', 'link': True},
+)
+
+soap_has_fault_kind_diagnosed_by = Table(
+    'soap_has_fault_kind_diagnosed_by', Base.metadata,
+    Column("subject_id", Integer, _ref('soap_fault_kind'), primary_key=True, autoincrement=False),
+    Column("value_id", Integer, _ref('soap_failure_mode'), primary_key=True),
+    info={'iri': 'https://w3id.org/kitkb/soap#hasFaultKind_DiagnosedBy', 'kind': 'object', 'link': True},
+)
+
+soap_has_fault_kind_target = Table(
+    'soap_has_fault_kind_target', Base.metadata,
+    Column("subject_id", Integer, _ref('soap_fault_kind'), primary_key=True, autoincrement=False),
+    Column("value_id", Integer, _ref('soap_parameter'), primary_key=True),
+    info={'iri': 'https://w3id.org/kitkb/soap#hasFaultKind_Target', 'kind': 'object', 'link': True},
+)
+
 soap_has_precondition_function_comparison = Table(
     'soap_has_precondition_function_comparison', Base.metadata,
     Column("subject_id", Integer, _ref('soap_precondition'), primary_key=True, autoincrement=False),
@@ -833,6 +861,52 @@ class FailureRemediation(Thing):
     recovery_plan: Mapped[RecoveryPlan | None] = relationship('RecoveryPlan', primaryjoin=lambda: foreign(FailureRemediation.__table__.c.recovery_plan_id) == remote(RecoveryPlan.__table__.c.id), foreign_keys=lambda: [FailureRemediation.__table__.c.recovery_plan_id])
     then_replan: Mapped[bool | None] = mapped_column(Boolean(), nullable=True, info={'iri': 'https://w3id.org/kitkb/soap#hasFailureRemediation_ThenReplan', 'kind': 'data', 'value': 'boolean', 'datatype': 'http://www.w3.org/2001/XMLSchema#boolean'})
     notification: Mapped[list[Notification]] = relationship('Notification', secondary=lambda: soap_has_failure_remediation_notification, primaryjoin=lambda: FailureRemediation.__table__.c.id == soap_has_failure_remediation_notification.c.subject_id, secondaryjoin=lambda: Notification.__table__.c.id == soap_has_failure_remediation_notification.c.value_id, info={'iri': 'https://w3id.org/kitkb/soap#hasFailureRemediation_Notification'})
+
+
+class FaultKind(Thing):
+    """A seeded fault a simulated cell can inject: the actions it can strike (and, on each, the parameter naming the object it acts on), the simulator mechanism that carries it out, the failure modes that are a right diagnosis of it, whether every injection must be detected (false: late binding may find the object where it now is, with no failure needed), whether the right diagnosis rejects the object, and its default rate in the errors test method. Its rdfs:comment says what happens, for listings.
+
+    Class <https://w3id.org/kitkb/soap#FaultKind>.
+    """
+
+    __tablename__ = 'soap_fault_kind'
+    __table_args__ = (
+        CheckConstraint(column('position') > literal(0), name='position_gt_0'),
+        CheckConstraint(column('test_method_rate') >= literal(0.0), name='test_method_rate_ge_0_0'),
+        CheckConstraint(column('test_method_rate') <= literal(1.0), name='test_method_rate_le_1_0'),
+        {'info': {'iri': 'https://w3id.org/kitkb/soap#FaultKind', 'parent': 'kitkb_thing'}, 'comment': 'A seeded fault a simulated cell can inject: the actions it can strike (and, on each, the parameter naming the object it acts on), the simulator mechanism that carries it out, the failure modes that are a right diagnosis of it, whether every injection must be detected (false: late binding may find the object where it now is, with no failure needed), whether the right diagnosis rejects the object, and its default rate in the errors test method. Its rdfs:comment says what happens, for listings.'},
+    )
+
+    id: Mapped[int] = mapped_column(ForeignKey('kitkb_thing.id', deferrable=True, initially="DEFERRED"), primary_key=True, autoincrement=False)
+    __mapper_args__ = {"polymorphic_identity": 'https://w3id.org/kitkb/soap#FaultKind', "inherit_condition": id.column == Thing.__table__.c.id}
+    mechanism_id: Mapped[int] = mapped_column(Integer, _ref('soap_fault_mechanism'), index=True, info={'iri': 'https://w3id.org/kitkb/soap#hasFaultKind_Mechanism', 'kind': 'object'})
+    mechanism: Mapped[FaultMechanism] = relationship('FaultMechanism', primaryjoin=lambda: foreign(FaultKind.__table__.c.mechanism_id) == remote(FaultMechanism.__table__.c.id), foreign_keys=lambda: [FaultKind.__table__.c.mechanism_id])
+    must_be_detected: Mapped[bool] = mapped_column(Boolean(), nullable=False, info={'iri': 'https://w3id.org/kitkb/soap#hasFaultKind_MustBeDetected', 'kind': 'data', 'value': 'boolean', 'datatype': 'http://www.w3.org/2001/XMLSchema#boolean'})
+    fault_kind_name: Mapped[str] = mapped_column('name', Text(), nullable=False, info={'iri': 'https://w3id.org/kitkb/soap#hasFaultKind_Name', 'kind': 'data', 'value': 'text'})
+    position: Mapped[int | None] = mapped_column(Integer(), nullable=True, info={'iri': 'https://w3id.org/kitkb/soap#hasFaultKind_Position', 'kind': 'data', 'value': 'integer', 'datatype': 'http://www.w3.org/2001/XMLSchema#positiveInteger'})
+    rejecting: Mapped[bool | None] = mapped_column(Boolean(), nullable=True, info={'iri': 'https://w3id.org/kitkb/soap#hasFaultKind_Rejecting', 'kind': 'data', 'value': 'boolean', 'datatype': 'http://www.w3.org/2001/XMLSchema#boolean'})
+    test_method_rate: Mapped[float | None] = mapped_column(_DECIMAL, nullable=True, info={'iri': 'https://w3id.org/kitkb/soap#hasFaultKind_TestMethodRate', 'kind': 'data', 'value': 'decimal', 'datatype': 'http://www.w3.org/2001/XMLSchema#decimal'})
+    action: Mapped[list[Action]] = relationship('Action', secondary=lambda: soap_has_fault_kind_action, primaryjoin=lambda: FaultKind.__table__.c.id == soap_has_fault_kind_action.c.subject_id, secondaryjoin=lambda: Action.__table__.c.id == soap_has_fault_kind_action.c.value_id, info={'iri': 'https://w3id.org/kitkb/soap#hasFaultKind_Action'})
+    # also_names: values of <https://w3id.org/kitkb/soap#hasFaultKind_AlsoNames> are rows of table soap_has_fault_kind_also_names
+    diagnosed_by: Mapped[list[FailureMode]] = relationship('FailureMode', secondary=lambda: soap_has_fault_kind_diagnosed_by, primaryjoin=lambda: FaultKind.__table__.c.id == soap_has_fault_kind_diagnosed_by.c.subject_id, secondaryjoin=lambda: FailureMode.__table__.c.id == soap_has_fault_kind_diagnosed_by.c.value_id, info={'iri': 'https://w3id.org/kitkb/soap#hasFaultKind_DiagnosedBy'})
+    target: Mapped[list[Parameter]] = relationship('Parameter', secondary=lambda: soap_has_fault_kind_target, primaryjoin=lambda: FaultKind.__table__.c.id == soap_has_fault_kind_target.c.subject_id, secondaryjoin=lambda: Parameter.__table__.c.id == soap_has_fault_kind_target.c.value_id, info={'iri': 'https://w3id.org/kitkb/soap#hasFaultKind_Target'})
+
+
+class FaultMechanism(Thing):
+    """A primitive the simulated cell implements to make something go wrong (its code is per mechanism: kb/sim/faults.py). A mechanism that acts on an object changes the object a kind's target names when the struck action begins; the others arm the robot, which carries the fault out when its moment comes and reports it. Its distances are data (metres).
+
+    Class <https://w3id.org/kitkb/soap#FaultMechanism>.
+    """
+
+    __tablename__ = 'soap_fault_mechanism'
+    __table_args__ = {'info': {'iri': 'https://w3id.org/kitkb/soap#FaultMechanism', 'parent': 'kitkb_thing'}, 'comment': "A primitive the simulated cell implements to make something go wrong (its code is per mechanism: kb/sim/faults.py). A mechanism that acts on an object changes the object a kind's target names when the struck action begins; the others arm the robot, which carries the fault out when its moment comes and reports it. Its distances are data (metres)."}
+
+    id: Mapped[int] = mapped_column(ForeignKey('kitkb_thing.id', deferrable=True, initially="DEFERRED"), primary_key=True, autoincrement=False)
+    __mapper_args__ = {"polymorphic_identity": 'https://w3id.org/kitkb/soap#FaultMechanism', "inherit_condition": id.column == Thing.__table__.c.id}
+    acts_on_object: Mapped[bool] = mapped_column(Boolean(), nullable=False, info={'iri': 'https://w3id.org/kitkb/soap#hasFaultMechanism_ActsOnObject', 'kind': 'data', 'value': 'boolean', 'datatype': 'http://www.w3.org/2001/XMLSchema#boolean'})
+    beside: Mapped[float | None] = mapped_column(_DECIMAL, nullable=True, info={'iri': 'https://w3id.org/kitkb/soap#hasFaultMechanism_Beside', 'kind': 'data', 'value': 'decimal', 'datatype': 'http://www.w3.org/2001/XMLSchema#decimal'})
+    max_shift: Mapped[float | None] = mapped_column(_DECIMAL, nullable=True, info={'iri': 'https://w3id.org/kitkb/soap#hasFaultMechanism_MaxShift', 'kind': 'data', 'value': 'decimal', 'datatype': 'http://www.w3.org/2001/XMLSchema#decimal'})
+    min_shift: Mapped[float | None] = mapped_column(_DECIMAL, nullable=True, info={'iri': 'https://w3id.org/kitkb/soap#hasFaultMechanism_MinShift', 'kind': 'data', 'value': 'decimal', 'datatype': 'http://www.w3.org/2001/XMLSchema#decimal'})
 
 
 class Formula(Thing):
@@ -2933,6 +3007,8 @@ CLASSES: dict[str, type[Base]] = {
     'soap_effect': Effect,
     'soap_failure_mode': FailureMode,
     'soap_failure_remediation': FailureRemediation,
+    'soap_fault_kind': FaultKind,
+    'soap_fault_mechanism': FaultMechanism,
     'soap_formula': Formula,
     'soap_function': Function,
     'soap_function_comparison': FunctionComparison,
