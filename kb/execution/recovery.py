@@ -444,9 +444,11 @@ class Recovery:
             return self._replan(f.queue, f.failure)
         try:
             steps = self._bind(rem, f.step)
-        except _Unbound as e:
-            f.failure.recovery = f"recovery-plan not bound: {e}"
-            return self._replan(f.queue, f.failure)
+        except _Unbound as e:  # (a false alarm, say: the effector to attach is not in its holder)
+            out = self._replan(f.queue, f.failure)
+            f.failure.outcome += f" (the recovery plan could not be bound: {e})"
+            self._store_failure(f.failure)
+            return out
         self._plans_run += 1
         if rem.then_replan:
             self._replan_after = steps[-1]
