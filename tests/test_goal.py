@@ -214,3 +214,11 @@ def test_atoms_that_hold_because_of_counted_objects_are_left_to_the_counts(tmp_p
                          GOAL.read_text())
     _domain, spec = read_specs([init], [goal], encoding="numeric")
     assert ("partstray-not-empty", "part_b_tray") not in spec.goal
+
+
+def test_a_run_page_names_the_goal_facts_that_do_not_hold() -> None:
+    from kb.report.run import headline
+    line = headline({"goal_holds": False, "goal_unmet": ["robot-with-no-endeffector(robot_1)", "x(<b>)"], "actions": 16,
+                     "failures": [], "time_s": 1.0})
+    assert "does not hold" in line and "(unmet: robot-with-no-endeffector(robot_1), x(&lt;b&gt;))" in line
+    assert "unmet" not in headline({"goal_holds": True, "goal_unmet": [], "actions": 17, "failures": []})

@@ -19,6 +19,8 @@ def headline(report: dict[str, Any]) -> str:
         state = f'<span class="bad">not executed</span>: {esc(report.get("reason"))}'
     else:
         state = "goal " + yes_no(report.get("goal_holds"), "holds", "does not hold")
+        if report.get("goal_unmet"):
+            state += f' (unmet: {esc(", ".join(report["goal_unmet"]))})'
         if report.get("stopped"):
             state += f'; <span class="bad">stopped</span>: {esc(report["stopped"])}'
     return (f'<p class="facts">{state}; {esc(report.get("actions", 0))} actions, {len(failures)} '
