@@ -267,7 +267,7 @@ def _goal(spec: ProblemSpec, domain: DomainSpec, init: World, goal: World,
                     spec.quota[(f.name, *args)] = tokens
                     if len(tokens) < need[sku] - len(_already(init, kit, sku)):
                         spec.shortage.append(f"kit {args[0]} needs {need[sku]} part(s) of {args[1]}; "
-                                             f"only {len(tokens)} more can be found in parts trays")
+                                             f"only {len(tokens)} more lie outside kits")
 
 
 def _already(init: World, kit: URIRef, sku: URIRef) -> list[URIRef]:

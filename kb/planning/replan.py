@@ -54,7 +54,7 @@ def restated(spec: ProblemSpec, facts: Iterable[Atom], values: dict[Atom, float]
         out.quota[left] = tokens
         if len(tokens) < need:
             out.shortage.append(f"kit {kit_sku[0]} needs {need} more part(s) of {kit_sku[-1]}; only "
-                                f"{len(tokens)} usable one(s) lie in parts trays")
+                                f"{len(tokens)} usable one(s) lie outside kits")
     return out
 
 
