@@ -225,3 +225,21 @@ def test_the_report_page_shows_the_notifications_and_their_attachments() -> None
     assert 'id="notifications-table"' in page and "engineering" in page and "Missed grasp of part_a_1" in page
     assert "grasps" in page and "sightings" in page
     assert "notifications-table" not in failures_table(run_scenario(init, goal, seed=0).report())
+
+
+def test_a_recovery_that_is_no_strategy_is_an_error_at_its_line(tmp_path: Path) -> None:
+    ext = _extension(tmp_path, NO_TOOL.replace("soap:hasFailureRemediation_Recovery soap:ExecuteRecoveryPlan",
+                                               "soap:hasFailureRemediation_Recovery x:Teleport"))
+    with pytest.raises(InputError, match="recovery Teleport is not a soap:RecoveryStrategy individual") as e:
+        load_failure_model([ext])
+    assert "extension.ttl:" in str(e.value)
+
+
+def test_a_strategy_kitkb_has_no_handler_for_stops_the_run_saying_so(tmp_path: Path) -> None:
+    text = NO_TOOL.replace("soap:hasFailureRemediation_Recovery soap:ExecuteRecoveryPlan",
+                           "soap:hasFailureRemediation_Recovery x:Teleport") + \
+        "\nx:Teleport a owl:NamedIndividual , soap:RecoveryStrategy .\n"
+    init, goal = files(SMALL)
+    plan = _without(plan_of(init, goal), "(attach-endeffector robot_1 part_gripper")
+    run = run_plan(plan, init, goal, seed=0, domain_files=[_extension(tmp_path, text)], notifier=lambda who, text: None)
+    assert run.stopped.startswith("recovery strategy Teleport has no handler in kitkb (known: Abort, ")

@@ -179,6 +179,14 @@ def _mode(r: _Reader, node) -> FailureModeDef:  # noqa: ANN001
                                                                             key=str)))
 
 
+def _individual(r: _Reader, node, cls) -> bool:  # noqa: ANN001
+    """``node`` is an IRI typed ``cls`` (where the graph holds soap.ttl's individuals of it: a
+    graph of a domain file alone is not checked)."""
+    if not isinstance(node, URIRef):
+        return False
+    return (node, RDF.type, cls) in r.g or next(r.g.subjects(RDF.type, cls), None) is None
+
+
 def _parameter(r: _Reader, param, action, owner, what: str) -> str:  # noqa: ANN001
     """The name of ``param``, which must be a parameter of ``action``."""
     if param not in set(r.values(action, SOAP.hasAction_Parameter)):
@@ -188,7 +196,7 @@ def _parameter(r: _Reader, param, action, owner, what: str) -> str:  # noqa: ANN
 
 def _consequence(r: _Reader, node, action) -> ObjectConsequence:  # noqa: ANN001
     kind = r.one(node, SOAP.hasObjectConsequence_Kind, "object consequence")
-    if not isinstance(kind, URIRef):
+    if not _individual(r, kind, SOAP.ConsequenceKind):
         raise _Malformed(node, f"consequence kind {_short(kind)} is not a soap:ConsequenceKind individual")
     reason = r.optional(node, SOAP.hasObjectConsequence_Reason)
     param = _parameter(r, r.one(node, SOAP.hasObjectConsequence_Parameter, "object consequence"), action, node,
@@ -198,8 +206,8 @@ def _consequence(r: _Reader, node, action) -> ObjectConsequence:  # noqa: ANN001
 
 def _remediation(r: _Reader, node, action) -> Remediation:  # noqa: ANN001
     recovery = r.one(node, SOAP.hasFailureRemediation_Recovery, "remediation")
-    if not isinstance(recovery, URIRef):
-        raise _Malformed(node, f"recovery {recovery} is not a soap:RecoveryStrategy individual")
+    if not _individual(r, recovery, SOAP.RecoveryStrategy):
+        raise _Malformed(node, f"recovery {_short(recovery)} is not a soap:RecoveryStrategy individual")
     retries = r.optional(node, SOAP.hasFailureRemediation_MaxRetries)
     operator = r.optional(node, SOAP.hasFailureRemediation_OperatorIntervention)
     notes = tuple(Notification(str(r.one(n, SOAP.hasNotification_Recipient, "notification")),
