@@ -21,6 +21,7 @@ from kb.model.soap import load_domain
 from kb.planning import goal as goals
 from kb.planning.model import read_specs
 from kb.spatial.scene import Scene
+from shared_data import NIST_DIR
 
 ROOT = Path(__file__).resolve().parents[1]
 SMALL = ROOT / "ontologies" / "scenarios" / "small-kit"
@@ -222,3 +223,22 @@ def test_a_run_page_names_the_goal_facts_that_do_not_hold() -> None:
                      "failures": [], "time_s": 1.0})
     assert "does not hold" in line and "(unmet: robot-with-no-endeffector(robot_1), x(&lt;b&gt;))" in line
     assert "unmet" not in headline({"goal_holds": True, "goal_unmet": [], "actions": 17, "failures": []})
+
+
+@pytest.mark.skipif(not NIST_DIR.is_dir(), reason="NIST corpus not present")
+def test_nist_s_goal_leaves_the_tray_gripper_on_the_robot() -> None:
+    """NIST's goal file names its kit only there and ends with the tray gripper mounted: the goal
+    says so (and the part gripper in its holder), the kit in the box, the parts left to the counts."""
+    _domain, spec = read_specs([NIST_DIR / "kittingInstancesInit1.owl"], [NIST_DIR / "kittingInstancesGoal1.owl"],
+                               encoding="numeric", match_names=True)
+    assert spec.goal == [
+        ("endeffector-location-endeffectorholder", "part_gripper", "part_gripper_holder"),
+        ("endeffector-location-robot", "tray_gripper", "robot_1"),
+        ("endeffectorholder-empty", "tray_gripper_holder"),
+        ("kit-location-lbwk", "kit_1", "finished_kit_receiver"),
+        ("robot-empty", "robot_1"),
+        ("robot-with-endeffector", "robot_1", "tray_gripper"),
+        ("worktable-empty", "work_table_1"),
+    ]
+    assert len(spec.goal_equal) == 3
+    assert not any(spec.objects[a][0].endswith("#Part") for g in spec.goal for a in g[1:])
