@@ -243,3 +243,23 @@ def test_a_strategy_kitkb_has_no_handler_for_stops_the_run_saying_so(tmp_path: P
     plan = _without(plan_of(init, goal), "(attach-endeffector robot_1 part_gripper")
     run = run_plan(plan, init, goal, seed=0, domain_files=[_extension(tmp_path, text)], notifier=lambda who, text: None)
     assert run.stopped.startswith("recovery strategy Teleport has no handler in kitkb (known: Abort, ")
+
+
+def test_a_moved_object_is_expected_where_it_was_sensed_and_stays_usable() -> None:
+    from kb.execution.recovery import CONSEQUENCES, Recovery
+
+    init, goal = files(SMALL)
+
+    class Half(Recovery):  # the recovery half alone, with a belief and a stable state
+        def __init__(self) -> None:
+            self.belief = Belief(Scene.from_files([init], declared=[goal]))
+            self.stable = self.belief.poses.copy()
+
+    r = Half()
+    part = next(n for n in r.belief.names if n.endswith("part_a_1"))
+    j = r.belief.index[part]
+    r.belief.poses[j, 0, 3] += 0.05  # sensed 5 cm along x
+    getattr(r, CONSEQUENCES[str(SOAP.Moved)])(part, "moved")
+    assert r.stable[j, 0, 3] == r.belief.poses[j, 0, 3] and r.belief.usable(part)
+    getattr(r, CONSEQUENCES[str(SOAP.Condemned)])(part, "dropped")
+    assert r.belief.unusable == {part: "dropped"}
