@@ -243,6 +243,8 @@ def test_a_strategy_kitkb_has_no_handler_for_stops_the_run_saying_so(tmp_path: P
     plan = _without(plan_of(init, goal), "(attach-endeffector robot_1 part_gripper")
     run = run_plan(plan, init, goal, seed=0, domain_files=[_extension(tmp_path, text)], notifier=lambda who, text: None)
     assert run.stopped.startswith("recovery strategy Teleport has no handler in kitkb (known: Abort, ")
+    [f] = run.failures()
+    assert (f.recovery, f.outcome) == ("stop", f"stopped: {run.stopped}")
 
 
 def test_a_moved_object_is_expected_where_it_was_sensed_and_stays_usable() -> None:

@@ -240,7 +240,13 @@ class Recovery:
             return self._replan(queue, failure)
         if rem.operator:
             return self._stop(failed, "the remediation asks for an operator", "stopped for an operator")
-        return getattr(self, _handler(STRATEGIES, rem.strategy, "recovery strategy"))(failed)
+        try:
+            handler = _handler(STRATEGIES, rem.strategy, "recovery strategy")
+        except Stop as stop:  # a strategy declared in Turtle that kitkb cannot carry out
+            failure.recovery, failure.outcome = "stop", f"stopped: {stop}"
+            self._store_failure(failure)
+            raise
+        return getattr(self, handler)(failed)
 
     # consequences
     def _condemned(self, obj: str, reason: str) -> None:
