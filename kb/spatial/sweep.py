@@ -207,7 +207,7 @@ def solid_pieces(local_lo: FloatArray, local_hi: FloatArray, open_top: NDArray[n
 
 def _axis_angle(r: FloatArray) -> tuple[FloatArray, float]:
     """(unit axis, angle in [0, pi]) of a rotation matrix."""
-    c = min(max(float((np.trace(r) - 1.0) / 2.0), -1.0), 1.0)  # np.clip's value (NaN stays NaN), without its overhead
+    c = min(max(float((r[0, 0] + r[1, 1] + r[2, 2] - 1.0) / 2.0), -1.0), 1.0)  # np.clip's value (NaN stays NaN), without its overhead
     angle = math.acos(c)
     if angle < 1e-12:
         return np.array([0.0, 0.0, 1.0]), 0.0
@@ -242,8 +242,8 @@ def _leg(a: FloatArray, b: FloatArray, k: int, reach: float, max_inflation: floa
     axis, angle = _axis_angle(a[:3, :3].T @ b[:3, :3])
     t0, t1 = a[:3, 3], b[:3, 3]
     if not angle > 0.0:  # one stretch: the arrays the general case makes for n = 1, made directly
-        return (np.full(1, k, np.intp), a[None, :3, :3].copy(), (t0 + 0.0 * (t1 - t0))[None], ((t1 - t0) / 1)[None],
-                np.full(1, 2.0 * reach * math.sin(angle / 1 / 4.0)))
+        return (np.array([k], np.intp), a[None, :3, :3].copy(), (t0 + 0.0 * (t1 - t0))[None], ((t1 - t0) / 1)[None],
+                np.array([2.0 * reach * math.sin(angle / 1 / 4.0)]))
     n = 1
     if reach > 0.0:
         step = 4.0 * math.asin(min(1.0, max_inflation / (2.0 * reach)))
@@ -292,8 +292,14 @@ def _in_frame(rel: FloatArray, blo: FloatArray, bhi: FloatArray) -> tuple[FloatA
     any of their points is from the frame's origin)."""
     half_a = (bhi - blo) / 2.0
     centre_a = np.einsum("mij,mj->mi", rel[:, :3, :3], (blo + bhi) / 2.0) + rel[:, :3, 3]
-    reach = float(np.max(np.linalg.norm(centre_a, axis=1) + np.linalg.norm(half_a, axis=1)))
+    reach = float((_norms(centre_a) + _norms(half_a)).max())
     return half_a, centre_a, reach
+
+
+def _norms(x: FloatArray, axis: int = 1) -> FloatArray:
+    """``np.linalg.norm(x, axis=axis)`` of a real array: the same sums and square roots,
+    without its argument handling (called thousands of times on arrays of a few rows)."""
+    return np.sqrt(np.add.reduce(x * x, axis=axis))
 
 
 def _swept_boxes(rots: FloatArray, starts: FloatArray, moves: FloatArray, grow: FloatArray, rel: FloatArray,
@@ -315,18 +321,19 @@ def _reach_box(rots: FloatArray, starts: FloatArray, moves: FloatArray, grow: Fl
     half axes of the frame's origin; in z, the z row of each stretch's rotation is within
     ``turn`` of the first stretch's (a move turning about the tool's axis, held upright, keeps
     its heights)."""
-    size = np.linalg.norm(centre_a, axis=1) + (np.linalg.norm(rel[:, :3, :3], axis=1) * half_a).sum(axis=1)
+    size = _norms(centre_a) + (_norms(rel[:, :3, :3]) * half_a).sum(axis=1)
     end = starts + moves
     lo, hi = np.minimum(starts, end).min(axis=0), np.maximum(starts, end).max(axis=0)
-    slack = 1e-9 * (1.0 + float(np.max(size)) + float(np.max(np.abs(lo))) + float(np.max(np.abs(hi))))
-    grown = float(np.max(grow)) + slack
-    xy = math.sqrt(float(np.max((rots[:, :2] ** 2).sum(axis=2)))) * float(np.max(size)) * (1.0 + 1e-9) + grown
+    biggest = float(size.max())
+    slack = 1e-9 * (1.0 + biggest + float(np.abs(lo).max()) + float(np.abs(hi).max()))
+    grown = float(grow.max()) + slack
+    xy = math.sqrt(float((rots[:, :2] ** 2).sum(axis=2).max())) * biggest * (1.0 + 1e-9) + grown
     z0 = rots[0, 2]
-    turn = math.sqrt(float(np.max(((rots[:, 2] - z0) ** 2).sum(axis=1))))
+    turn = math.sqrt(float(((rots[:, 2] - z0) ** 2).sum(axis=1).max()))
     mid = centre_a @ z0
     half = (np.abs(z0 @ rel[:, :3, :3]) * half_a).sum(axis=1) + turn * size * (1.0 + 1e-9)
-    return (np.array([lo[0] - xy, lo[1] - xy, lo[2] + float(np.min(mid - half)) - grown]),
-            np.array([hi[0] + xy, hi[1] + xy, hi[2] + float(np.max(mid + half)) + grown]))
+    return (np.array([lo[0] - xy, lo[1] - xy, lo[2] + float((mid - half).min()) - grown]),
+            np.array([hi[0] + xy, hi[1] + xy, hi[2] + float((mid + half).max()) + grown]))
 
 
 def _highest_top(box: tuple[FloatArray, FloatArray], blo: FloatArray, bhi: FloatArray, tol: float) -> float:
@@ -334,8 +341,8 @@ def _highest_top(box: tuple[FloatArray, FloatArray], blo: FloatArray, bhi: Float
     a box around the swept boxes (:func:`_reach_box`): the top of the highest piece that box
     crosses in x and y, less its bottom; ``-inf`` when it crosses none."""
     lo, hi = box
-    near = np.all(np.minimum(hi[:2] - blo[:, :2], bhi[:, :2] - lo[:2]) > tol, axis=1)
-    return float(np.max(bhi[near, 2])) - float(lo[2]) if near.any() else -math.inf
+    near = (np.minimum(hi[:2] - blo[:, :2], bhi[:, :2] - lo[:2]) > tol).all(axis=1)
+    return float(bhi[near, 2].max()) - float(lo[2]) if near.any() else -math.inf
 
 
 #: the last pieces placed in the world by :func:`_piece_boxes`: (pieces, their owners' poses' bytes, result)
@@ -450,7 +457,7 @@ def sweep_contacts(path: ArrayLike, body_rel: ArrayLike, body_lo: ArrayLike, bod
     vb, half_b, cb, blo, bhi = _piece_boxes(np.asarray(poses, float), pieces)
     if len(legs) > FEW:  # a turning leg: first a box around the whole way, made without its stretches
         lo, hi = _reach_box(rots, starts, moves, grow, rel, centre_a, half_a)
-        if not np.all(np.minimum(hi - blo, bhi - lo) > tol, axis=1).any():
+        if not (np.minimum(hi - blo, bhi - lo) > tol).all(axis=1).any():
             return []
     ua, ca, half_a, moves, grow, lo_a, hi_a = _swept_boxes(rots, starts, moves, grow, rel, centre_a, half_a)
     s_n, m_n = lo_a.shape[:2]
@@ -459,7 +466,7 @@ def sweep_contacts(path: ArrayLike, body_rel: ArrayLike, body_lo: ArrayLike, bod
     # axis (the distance to push one out of the other along the axis: a plate inside a box is
     # as deep as the box reaches on its thinner side)
     whole_lo, whole_hi = lo_a.min(axis=0), hi_a.max(axis=0)
-    near = np.flatnonzero(np.all(np.minimum(whole_hi - blo, bhi - whole_lo) > tol, axis=1))
+    near = np.flatnonzero((np.minimum(whole_hi - blo, bhi - whole_lo) > tol).all(axis=1))
     if not len(near):
         return []
     q, p = _overlapping(lo_a, hi_a, blo[near], bhi[near], tol)
