@@ -45,7 +45,7 @@ import numpy as np
 from kb.core.errors import KitkbError, NotSolvableError
 from kb.core.namespaces import KTW, SOAP
 from kb.crcl import COMMANDS, EndCanon, InitCanon, Message, MoveTo, Pose
-from kb.crcl.cell import CellInterface
+from kb.crcl.cell import CellInterface, has
 from kb.crcl.units import said_units
 from kb.diagnosis import diagnose
 from kb.execution.belief import SKU_OF, Belief
@@ -57,8 +57,8 @@ from kb.model.failures import PRE, FailureModel, FailureModeDef, Remediation
 from kb.model.soap import ActionSpec, DomainSpec
 from kb.planning.problem import ProblemSpec
 from kb.planning.replan import replan
-from kb.spatial.predicates import Evaluator
 from kb.planning.state import pddl_name
+from kb.spatial.predicates import Evaluator
 
 
 #: the one place recovery strategies are named: soap:RecoveryStrategy individual -> its handler
@@ -263,7 +263,6 @@ class Recovery:
     def _usable_after_inspection(self, obj: str) -> bool:
         """An object kept out until an inspection passes it is inspected now, where the cell
         can: True when it passes (it is usable again)."""
-        from kb.crcl.cell import has
         if not self.belief.awaits_inspection(obj) or not has(self.cell, "inspect") or not self.belief.placed(obj):
             return False
         self.belief.passed_inspection(obj, self.cell.inspect(obj))
