@@ -169,3 +169,15 @@ def test_a_malformed_kind_or_a_missing_mechanism_is_exit_2_at_its_line(capsys: p
     assert len(err) == 1 and err[0].startswith(f"{BAD_KIND}:{line}: ") and "hasFaultKind_Target" in err[0]
     assert main(["run", INIT, GOAL, "--domain", str(NO_MECHANISM), "--faults", "part-teleported@1"]) == 2
     assert "no mechanism Teleport" in capsys.readouterr().err
+
+
+def test_a_diagnosing_mode_the_domain_lacks_is_a_warning_not_an_error(tmp_path: Path,
+                                                                   capsys: pytest.CaptureFixture[str]) -> None:
+    ext = tmp_path / "ext.ttl"
+    ext.write_text("@prefix kd: <https://w3id.org/kitkb/kitting-domain#> .\n"
+                   "@prefix soap: <https://w3id.org/kitkb/soap#> .\n"
+                   "kd:fault_missed-grasp soap:hasFaultKind_DiagnosedBy <https://example.org/u#not-a-mode> .\n")
+    kind = domain_fault_kinds([ext]).check("missed-grasp")
+    assert kind.diagnosed_by == {"missed-grasp"} and kind.undeclared_modes == ("https://example.org/u#not-a-mode",)
+    assert main(["faults", "--domain", str(ext)]) == 0
+    assert "not-a-mode (hasFaultKind_DiagnosedBy) is no failure mode of the domain" in capsys.readouterr().err

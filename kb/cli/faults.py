@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from kb.cli.output import Output
+from kb.core.namespaces import local_name
 from kb.model.faults import FaultKind, domain_fault_kinds
 
 
@@ -12,6 +13,10 @@ def faults(domain: list[str] | None, format: str, out: Output) -> int:
     test-method rate, what happens); with ``--format json`` one object with ``kinds`` and the
     errors method's ``default_mix``."""
     kinds = domain_fault_kinds(domain)
+    for kind in kinds:
+        for mode in kind.undeclared_modes:
+            out.warn(f"warning: fault kind {kind.name}: {local_name(mode)} (hasFaultKind_DiagnosedBy) is no "
+                     "failure mode of the domain; it counts as no right diagnosis")
     if format == "json":
         out.emit({"kinds": [k.as_dict() for k in kinds], "default_mix": kinds.default_mix()})
         return 0

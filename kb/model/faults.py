@@ -81,6 +81,7 @@ class FaultKind:
     test_rate: float | None = None  # chance per struck action in the errors method's default mix
     also_names: tuple[str, ...] = ()  # model properties: the struck object's related objects named too
     comment: str = ""
+    undeclared_modes: tuple[str, ...] = ()  # hasFaultKind_DiagnosedBy values that are no failure mode of the domain
 
     @property
     def actions(self) -> tuple[str, ...]:
@@ -229,10 +230,10 @@ def _kind(r: _Reader, node: URIRef) -> FaultKind:
     if targets:
         param = next(iter(targets.values()))
         raise _Malformed(node, f"hasFaultKind_Target {_short(param)} is a parameter of none of its actions")
-    modes = r.values(node, SOAP.hasFaultKind_DiagnosedBy)
-    for m in modes:
-        if (m, RDF.type, SOAP.FailureMode) not in r.g:
-            raise _Malformed(node, f"hasFaultKind_DiagnosedBy {_short(m)} is not a soap:FailureMode")
+    # a mode the domain does not declare (a domain without it) is no right diagnosis: kept aside, so
+    # that runs in such a domain still inject the kind (kitkb faults warns of it)
+    declared = [m for m in r.values(node, SOAP.hasFaultKind_DiagnosedBy) if (m, RDF.type, SOAP.FailureMode) in r.g]
+    undeclared = tuple(str(m) for m in r.values(node, SOAP.hasFaultKind_DiagnosedBy) if m not in declared)
     position = r.optional(node, SOAP.hasFaultKind_Position)
     rate = r.optional(node, SOAP.hasFaultKind_TestMethodRate)
     rate_value = _number(rate, node, float) if rate is not None else None
@@ -240,12 +241,12 @@ def _kind(r: _Reader, node: URIRef) -> FaultKind:
         raise _Malformed(node, f"hasFaultKind_TestMethodRate must be from 0 to 1, not {rate_value}")
     comment = r.optional(node, RDFS.comment)
     return FaultKind(str(node), name, tuple(strikes), mechanism,
-                     frozenset(str(r.one(m, SOAP.hasFailureMode_Name, "failure mode")) for m in modes),
+                     frozenset(str(r.one(m, SOAP.hasFailureMode_Name, "failure mode")) for m in declared),
                      _flag(r, node, SOAP.hasFaultKind_MustBeDetected, required=True),
                      _flag(r, node, SOAP.hasFaultKind_Rejecting),
                      _number(position, node, int) if position is not None else None, rate_value,
                      tuple(str(p) for p in r.values(node, SOAP.hasFaultKind_AlsoNames)),
-                     str(comment) if comment is not None else "")
+                     str(comment) if comment is not None else "", undeclared)
 
 
 def _mechanism(r: _Reader, node: Any, kind: URIRef) -> FaultMechanism:
@@ -256,7 +257,7 @@ def _mechanism(r: _Reader, node: Any, kind: URIRef) -> FaultMechanism:
         value = r.optional(node, prop)
         return _number(value, node, float) if value is not None else None
 
-    return FaultMechanism(str(node), _flag(r, node, SOAP.hasFaultMechanism_ActsOnObject, required=True),
+    return FaultMechanism(str(node), _flag(r, node, SOAP.hasFaultMechanism_ActsOnObject),
                           distance(SOAP.hasFaultMechanism_MinShift), distance(SOAP.hasFaultMechanism_MaxShift),
                           distance(SOAP.hasFaultMechanism_Beside))
 

@@ -15,7 +15,7 @@ from sqlalchemy.dialects import mysql
 from sqlalchemy.orm import DeclarativeBase, Mapped, foreign, mapped_column, relationship, remote
 
 #: Fingerprint of the schema; a database stamped with another one is refused.
-SCHEMA_VERSION = '43aecdd967b82473'
+SCHEMA_VERSION = '7fac01e1733ae917'
 #: (ontology IRI, owl:versionInfo) of the ontologies the schema was made from.
 ONTOLOGIES = (('https://w3id.org/kitkb/kitting', '0.1.0'), ('https://w3id.org/kitkb/soap', '0.1.0'))
 
@@ -903,7 +903,7 @@ class FaultMechanism(Thing):
 
     id: Mapped[int] = mapped_column(ForeignKey('kitkb_thing.id', deferrable=True, initially="DEFERRED"), primary_key=True, autoincrement=False)
     __mapper_args__ = {"polymorphic_identity": 'https://w3id.org/kitkb/soap#FaultMechanism', "inherit_condition": id.column == Thing.__table__.c.id}
-    acts_on_object: Mapped[bool] = mapped_column(Boolean(), nullable=False, info={'iri': 'https://w3id.org/kitkb/soap#hasFaultMechanism_ActsOnObject', 'kind': 'data', 'value': 'boolean', 'datatype': 'http://www.w3.org/2001/XMLSchema#boolean'})
+    acts_on_object: Mapped[bool | None] = mapped_column(Boolean(), nullable=True, info={'iri': 'https://w3id.org/kitkb/soap#hasFaultMechanism_ActsOnObject', 'kind': 'data', 'value': 'boolean', 'datatype': 'http://www.w3.org/2001/XMLSchema#boolean'})
     beside: Mapped[float | None] = mapped_column(_DECIMAL, nullable=True, info={'iri': 'https://w3id.org/kitkb/soap#hasFaultMechanism_Beside', 'kind': 'data', 'value': 'decimal', 'datatype': 'http://www.w3.org/2001/XMLSchema#decimal'})
     max_shift: Mapped[float | None] = mapped_column(_DECIMAL, nullable=True, info={'iri': 'https://w3id.org/kitkb/soap#hasFaultMechanism_MaxShift', 'kind': 'data', 'value': 'decimal', 'datatype': 'http://www.w3.org/2001/XMLSchema#decimal'})
     min_shift: Mapped[float | None] = mapped_column(_DECIMAL, nullable=True, info={'iri': 'https://w3id.org/kitkb/soap#hasFaultMechanism_MinShift', 'kind': 'data', 'value': 'decimal', 'datatype': 'http://www.w3.org/2001/XMLSchema#decimal'})
