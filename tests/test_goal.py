@@ -157,7 +157,8 @@ def test_run_refuses_an_unreachable_goal_with_exit_2(tmp_path: Path) -> None:
     assert f"{goal}:" in out.stderr and "goal fact kit-location-lbwk(kit_1, finished_kit_receiver_1)" in out.stderr
 
 
-def test_goal_holds_checks_every_goal_fact_and_the_record_says_which_fail(tmp_path: Path) -> None:
+def test_goal_holds_checks_every_goal_fact_and_the_record_says_which_fail(tmp_path: Path,
+                                                                         capsys: pytest.CaptureFixture) -> None:
     plan = list(small_plan())
     assert plan[-1] == "(remove-endeffector robot_1 tray_gripper tray_gripper_holder changing_station_1)"
     db = tmp_path / "runs.sqlite"
@@ -170,6 +171,12 @@ def test_goal_holds_checks_every_goal_fact_and_the_record_says_which_fail(tmp_pa
     assert report["goal_holds"] is False and report["goal_unmet"] == unmet
     assert [k["score"] == k["max_score"] for k in report["kits"]] == [True]  # the kit itself is built
     assert read_run(db).goal_unmet == unmet
+    from kb.cli import main
+    capsys.readouterr()
+    assert main(["metrics", "--run", "1", "--db", str(db), "--format", "json"]) == 0  # the run read back
+    assert json.loads(capsys.readouterr().out)["goal_unmet"] == unmet
+    assert main(["metrics", "--run", "1", "--db", str(db)]) == 0
+    assert f"goal does not hold (unmet: {', '.join(unmet)})" in capsys.readouterr().out
     full = run_plan(plan, INIT, GOAL, seed=1, notifier=_quiet)
     assert full.goal_holds and full.record.goal_unmet == [] and full.report()["goal_unmet"] == []
 

@@ -163,12 +163,14 @@ def run_metrics(run_id: int, db: str, config: str | None, out: Output) -> int:
     rec = recorded.record
     if out.is_json:
         out.emit({"run": rec.run_id, "db": safe_url(db), "scenario": rec.scenario, "seed": rec.seed,
-                  "goal_holds": rec.goal_holds, "stopped": rec.stopped, "metrics": m, "kits": kits,
+                  "goal_holds": rec.goal_holds, "goal_unmet": rec.goal_unmet, "stopped": rec.stopped, "metrics": m, "kits": kits,
                   "score": total.as_dict(), "config": config})
         return 0
     stream = out.results
     print(f"run {rec.run_id} ({rec.scenario}, seed {rec.seed}) in {safe_url(db)}: goal "
-          f"{'holds' if rec.goal_holds else 'does not hold'}" + (f"; stopped: {rec.stopped}" if rec.stopped else ""),
+          f"{'holds' if rec.goal_holds else 'does not hold'}"
+          + (f" (unmet: {', '.join(rec.goal_unmet)})" if rec.goal_unmet else "")
+          + (f"; stopped: {rec.stopped}" if rec.stopped else ""),
           file=stream)
     by_mode = ", ".join(f"{k} {v}" for k, v in m["failures_by_mode"].items()) or "none"
     per_kit = ", ".join(f"{k} {v}" for k, v in m["failures_per_kit"].items()) or "none"
