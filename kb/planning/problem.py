@@ -252,7 +252,7 @@ def _goal(spec: ProblemSpec, domain: DomainSpec, init: World, goal: World,
                              "ktw:Kit)", goal.g, goal.path)
     counted = [f for f in domain.functions.values() if f.kind == "CountExpression"]
     designs = [f for f in domain.functions.values() if f.kind == "DesignCountExpression"]
-    free, used = _free_parts(init), set()
+    free, used = _free_parts(init, names, movable(spec.facts, domain)), set()
     for f in counted:
         for cap in (d for d in designs if d.arg_types == f.arg_types):
             for kit in kits:
@@ -267,7 +267,7 @@ def _goal(spec: ProblemSpec, domain: DomainSpec, init: World, goal: World,
                     spec.quota[(f.name, *args)] = tokens
                     if len(tokens) < need[sku] - len(_already(init, kit, sku)):
                         spec.shortage.append(f"kit {args[0]} needs {need[sku]} part(s) of {args[1]}; "
-                                             f"only {len(tokens)} more lie outside kits")
+                                             f"only {len(tokens)} more can be found in parts trays")
 
 
 def _already(init: World, kit: URIRef, sku: URIRef) -> list[URIRef]:
@@ -311,19 +311,30 @@ def _goal_parts(goal: World, kit: URIRef) -> dict[URIRef, list[URIRef]]:
     return cache[kit]
 
 
-def _free_parts(init: World) -> dict[URIRef, list[URIRef]]:
+def _free_parts(init: World, names: dict[URIRef, str], movable: set[str]) -> dict[URIRef, list[URIRef]]:
     """SKU -> the parts the plan may put in a kit: those lying in parts trays in the initial
-    state first (in tray and name order), then every other part that no kit or kit tray holds
-    (in name order: a part in a bin, on a table or in a box, which a domain extension's action
-    may take; whether one can is the planner's to find)."""
+    state first (in tray and name order), then every other part in no kit or kit tray that an
+    action can take from where it lies (:func:`movable`: a part in a bin, on a table, in a box,
+    which a domain extension's action takes from), in name order."""
     free: dict[URIRef, list[URIRef]] = {}
     for tray in init.of(facts.TRAY):
         for p in facts.parts_in(init, tray):
             free.setdefault(init.value(p, facts.KTW.hasSkuObject_Sku), []).append(p)
     taken = {p for parts in free.values() for p in parts}
-    taken.update(p for holder in (*init.of(facts.KIT), *init.of(str(facts.KTW.KitTray)))
-                 for p in facts.parts_in(init, holder))
+    taken.update(p for holder in (*init.of(facts.KIT), *init.of(str(facts.KTW.KitTray))) for p in facts.parts_in(init, holder))
     for p in sorted(init.of(facts.PART), key=str):
-        if p not in taken:
+        if p not in taken and names.get(p) in movable:
             free.setdefault(init.value(p, facts.KTW.hasSkuObject_Sku), []).append(p)
     return free
+
+
+def movable(facts: "set[tuple[str, ...]] | list[tuple[str, ...]]", domain: DomainSpec) -> set[str]:
+    """The objects some action can take from where they lie: the first argument of a fact that
+    an action needs (a precondition atom on one of its parameters) and undoes (deletes the same
+    atom): a part in a parts tray for kitkb's take-part, in a bin for an extension's action;
+    not a part lying where no action takes from."""
+    preds = set()
+    for action in domain.actions:
+        deleted = {(e.predicate, e.args) for e in action.effects if e.negated}
+        preds.update(p.predicate for p in action.pre if not p.negated and p.args and (p.predicate, p.args) in deleted)
+    return {f[1] for f in facts if len(f) > 1 and f[0] in preds}

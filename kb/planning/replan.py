@@ -17,14 +17,14 @@ from kb.model.soap import DomainSpec
 from kb.planning.build import build_problem
 from kb.planning.goal import unreachable
 from kb.planning.planners import PlanResult, run
-from kb.planning.problem import ProblemSpec
+from kb.planning.problem import ProblemSpec, movable
 from kb.planning.strips import compile_domain, compile_problem
 
 Atom = tuple[str, ...]
 
 
 def restated(spec: ProblemSpec, facts: Iterable[Atom], values: dict[Atom, float],
-             excluded: Iterable[str] = ()) -> ProblemSpec:
+             excluded: Iterable[str] = (), domain: DomainSpec | None = None) -> ProblemSpec:
     """``spec`` (numeric) with a new initial state; objects and goal unchanged.
 
     ``facts`` and ``values`` use PDDL object names; atoms over names the problem does not
@@ -44,7 +44,7 @@ def restated(spec: ProblemSpec, facts: Iterable[Atom], values: dict[Atom, float]
     for a in sorted(new_facts):
         if a[0] == "part-location-partstray" and a[1] not in bad:
             in_trays.setdefault(sku_of.get(a[1], ""), []).append(a[1])
-    others = _other_parts(out, sku_of, in_trays, bad)
+    others = _other_parts(out, sku_of, in_trays, bad, movable(new_facts, domain) if domain is not None else set())
     used: set[str] = set()
     for left, right in spec.goal_equal:
         kit_sku = left[1:]
@@ -54,23 +54,23 @@ def restated(spec: ProblemSpec, facts: Iterable[Atom], values: dict[Atom, float]
         out.quota[left] = tokens
         if len(tokens) < need:
             out.shortage.append(f"kit {kit_sku[0]} needs {need} more part(s) of {kit_sku[-1]}; only "
-                                f"{len(tokens)} usable one(s) lie outside kits")
+                                f"{len(tokens)} usable one(s) lie in parts trays")
     return out
 
 
 def _other_parts(spec: ProblemSpec, sku_of: dict[str, str], in_trays: dict[str, list[str]],
-                 bad: set[str]) -> dict[str, list[str]]:
+                 bad: set[str], movable: set[str]) -> dict[str, list[str]]:
     """SKU -> the usable parts of the SKU that lie in no parts tray, no kit and no robot's
-    gripper (no fact relates them to a kit or a robot), in name order: after the parts in trays,
-    the candidates a domain extension's action may take from elsewhere (a bin, a table); the
-    planner finds whether one can."""
+    gripper (no fact relates them to a kit or a robot) and that an action can take from where
+    they lie (``movable``: :func:`kb.planning.problem.movable`), in name order: after the parts
+    in trays, those a domain extension's action takes from elsewhere (a bin, a table)."""
     kinds = ("Robot", "Kit")
     holders = {n for n, (kind, _iri) in spec.objects.items() if kind.rsplit("#", 1)[-1].rsplit("/", 1)[-1] in kinds}
     taken = {x for a in spec.facts if holders & set(a[1:]) for x in a[1:]}
     trays = {p for parts in in_trays.values() for p in parts}
     out: dict[str, list[str]] = {}
     for part, sku in sorted(sku_of.items()):
-        if part not in trays and part not in bad and part not in taken:
+        if part not in trays and part not in bad and part not in taken and part in movable:
             out.setdefault(sku, []).append(part)
     return out
 
@@ -85,7 +85,7 @@ def replan(domain: DomainSpec, spec: ProblemSpec, facts: Iterable[Atom], values:
     false) is left out of this plan's goal, so that the rest of the goal (the kits) is still
     reached; the run's end says it does not hold (``goal_unmet``)."""
     strips_domain, quotas = compile_domain(domain)
-    state = restated(spec, facts, values, excluded)
+    state = restated(spec, facts, values, excluded, domain)
     lost = {atom for atom, _why in unreachable(domain, state.objects, state.facts, state.goal)}
     if lost:
         state = replace(state, goal=[g for g in state.goal if g not in lost])
