@@ -15,7 +15,7 @@ from sqlalchemy.dialects import mysql
 from sqlalchemy.orm import DeclarativeBase, Mapped, foreign, mapped_column, relationship, remote
 
 #: Fingerprint of the schema; a database stamped with another one is refused.
-SCHEMA_VERSION = '7fac01e1733ae917'
+SCHEMA_VERSION = '3b427ee14f00ea85'
 #: (ontology IRI, owl:versionInfo) of the ontologies the schema was made from.
 ONTOLOGIES = (('https://w3id.org/kitkb/kitting', '0.1.0'), ('https://w3id.org/kitkb/soap', '0.1.0'))
 
