@@ -203,10 +203,13 @@ def main() -> None:
                 rows = measure(trees, scenarios[parts], runs, folder / "out")
                 med = {name: medians(r) for name, r in rows.items()}
                 ratio = {k: round(med["new"][k] / med["old"][k], 3) for k in med["new"] if med["old"].get(k)}
-                result[f"p{parts}"] = {"runs": rows, "medians": med, "ratio_new_old": ratio}
-            rows = geometry(trees, scenarios[500], args.runs500)
-            result["geometry_p500"] = {"runs": rows, "medians": {name: {k: round(statistics.median(r[k] for r in rs), 3)
-                                                                       for k in ("wall", "cpu")} for name, rs in rows.items()}}
+                pairs = [round(n["wall"] / o["wall"], 3) for o, n in zip(rows["old"], rows["new"])]
+                result[f"p{parts}"] = {"runs": rows, "medians": med, "ratio_new_old": ratio, "wall_ratio_per_pair": pairs}
+            if args.runs500:
+                rows = geometry(trees, scenarios[500], args.runs500)
+                result["geometry_p500"] = {"runs": rows, "medians": {
+                    name: {k: round(statistics.median(r[k] for r in rs), 3) for k in ("wall", "cpu")}
+                    for name, rs in rows.items()}}
             result["machine"]["load_average_end"] = round(os.getloadavg()[0], 2)
         finally:
             for tree in trees.values():
