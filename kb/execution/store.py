@@ -39,7 +39,7 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 from sqlalchemy import (BigInteger, Boolean, Column, DateTime, Float, ForeignKey, Integer, MetaData, String, Table, Text,
-                        func, insert, inspect, select, text, update)
+                        bindparam, func, insert, inspect, select, text, update)
 
 from kb.core.errors import InputError
 from kb.io import load_file
@@ -97,6 +97,11 @@ KITS = Table(
     Column("lost", Text, nullable=False),  # JSON: [{points, reason, predicate, objects, holds}]
     comment="Each goal kit's score at the end of a run, and why every point was lost (kb.metrics.kits).",
 )
+#: an action's row inserted, and updated by (run, index): statements made once, the values bound
+#: as parameters (a statement built with ``.values()`` per row was built and keyed again for each
+#: of a 160-part run's 357 rows, 0.05 s)
+_ACTION_ROW = (insert(ACTIONS), update(ACTIONS).where((ACTIONS.c.run_id == bindparam("key_run"))
+                                                      & (ACTIONS.c.idx == bindparam("key_idx"))))
 #: columns added to kitkb's run tables since they were first made: (table, column, SQL type)
 _ADDED = (("kitkb_run_action", "crcl", "TEXT"), ("kitkb_run", "record", "TEXT"),
           ("kitkb_run_action", "record", "TEXT"), ("kitkb_run_failure", "record", "TEXT"))
@@ -267,12 +272,11 @@ class RunStore:
         if self._actions.get(action.index) == text_:
             return
         values = _action_columns(d, text_)
-        with self.engine.begin() as conn:
+        with self.engine.begin() as conn:  # the statements made once, the row's values bound (_ACTION_ROW)
             if action.index in self._actions:
-                conn.execute(update(ACTIONS).where((ACTIONS.c.run_id == self.run_id) & (ACTIONS.c.idx == action.index))
-                             .values(**values))
+                conn.execute(_ACTION_ROW[1], {"key_run": self.run_id, "key_idx": action.index, **values})
             else:
-                conn.execute(insert(ACTIONS).values(run_id=self.run_id, **values))
+                conn.execute(_ACTION_ROW[0], {"run_id": self.run_id, **values})
         self._actions[action.index] = text_
 
     def record_failure(self, failure: FailureRecord) -> None:
