@@ -130,3 +130,35 @@ def test_pddl_files_take_no_domain_extension(tmp_path: Path, capsys) -> None:
     d, p = _write(tmp_path, "(define (domain d))", "d.pddl"), _write(tmp_path, "(define (problem p))", "p.pddl")
     assert main(["plan", str(d), str(p), "-o", str(tmp_path / "plan.txt"), "--domain", str(ext)]) == 2
     assert "--domain extends the ontology's domain" in capsys.readouterr().err
+
+
+#: the extension's predicate made a precondition of take-part (so the planning domain uses it)
+USED = PART_IN_TRAY + """
+x:take-part_pre_part-in-tray a owl:NamedIndividual , soap:PredicateAtom ;
+    soap:hasPredicateAtom_Predicate x:part-in-tray ;
+    soap:hasPredicateAtom_ReferenceParameter kd:take-part_part ;
+    soap:hasPredicateAtom_TargetParameter kd:take-part_partstray ;
+    soap:hasAtom_IsNegated false .
+kd:take-part_pre soap:hasPrecondition_PredicateAtom x:take-part_pre_part-in-tray .
+"""
+
+
+def test_a_predicate_defined_only_in_an_extension_is_in_the_initial_state(tmp_path: Path) -> None:
+    from kb.planning.model import read_specs
+    ext = _write(tmp_path, USED)
+    _domain, spec = read_specs([SMALL / "init.ttl"], [SMALL / "goal.ttl"], "numeric", domain_files=[ext])
+    got = sorted(f for f in spec.facts if f[0] == "part-in-tray")
+    parts = sorted(f[1:] for f in spec.facts if f[0] == "part-location-partstray")
+    assert [f[1:] for f in got] == parts and len(parts) == 7
+    _domain, shipped = read_specs([SMALL / "init.ttl"], [SMALL / "goal.ttl"], "numeric")
+    assert spec.facts - shipped.facts == set(got)
+
+
+def test_a_broken_definition_of_an_extension_predicate_is_exit_2_at_its_line(tmp_path: Path, capsys) -> None:
+    ext = _write(tmp_path, USED.replace("    soap:hasRelationAtom_Object soap:Target ;\n", ""))
+    out = tmp_path / "pddl"
+    assert main(["generate", "pddl", str(SMALL / "init.ttl"), str(SMALL / "goal.ttl"), "-o", str(out),
+                 "--domain", str(ext)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"{ext}:{_line(ext, 'x:part-in-tray_f1 a owl:NamedIndividual')}: error: predicate part-in-tray")
+    assert not out.exists()

@@ -152,8 +152,9 @@ class LoopInputs:
     def problem(self) -> ProblemSpec:
         """The numeric problem: objects, the facts the planner is given, the goal."""
         start, end = self.worlds
-        with gc_paused():
-            return read_problem(self.domain, start, end)
+        with gc_paused():  # the initial facts decided on the initial scene, by the domain's definitions
+            return read_problem(self.domain, start, end, definitions=self.definitions, goal_scene=self.goal_scene,
+                                scene=self.scene, locate=locator(self.knowledge.kb))
 
     def model(self, encoding: str = "strips") -> KittingModel:
         """The planning model (domain, problem, unified-planning problem) in ``encoding``."""

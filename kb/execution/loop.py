@@ -202,6 +202,8 @@ class ClosedLoop:
         if plan is None:
             plan = self._plan()
             if plan is None:
+                if o.geometry and self.inputs is not None:  # no plan: a stated placement geometry
+                    self._geometry()  # does not bear out says why (its reason replaces "no plan")
                 return
         if o.geometry and not self._geometry():
             return

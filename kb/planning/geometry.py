@@ -1,14 +1,22 @@
-"""Does the geometry of a state agree with the facts the planner is given?
+"""Does the geometry of a state agree with what its file states, and does the goal's geometry
+give the goal?
 
-The PDDL generator reads predicates off a state file's explicit facts (primary locations,
-SKUs, designs: :mod:`kb.planning.facts`); the executor decides them from the objects' boxes
-(:mod:`kb.spatial.predicates`). :func:`check_geometry` compares the two on an initial and a
-goal state: the atoms true in the initial geometry against the PDDL init facts, and every
-PDDL goal fact (and goal count) against the goal's geometry.
+The initial facts the planner is given are decided by the predicates' definitions on the
+initial state's geometry (:mod:`kb.planning.facts`), as the executor decides them. What the
+file states besides its boxes is where each object is placed: its pose's reference object (a
+part's tray, a tray's table). :func:`agreement` checks that geometry bears every stated
+placement out: an object and its reference object must make at least one spatial atom of the
+domain true between them (an atom of a two-argument predicate of the planning problem whose
+definition has a relation atom and whose argument classes admit the pair, in either order);
+one that makes none (a part posed 0.5 m above the tray it says it is in) is a disagreement,
+told as those atoms (``only_symbolic``: stated, not in geometry). A pair for which the domain
+has no such predicate is not checked. And every PDDL goal fact (and goal count) must hold in
+the goal's geometry.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Sequence
@@ -17,7 +25,7 @@ import numpy as np
 
 from kb.core.namespaces import local_name
 from kb.core.units import LENGTH
-from kb.model.definitions import Definitions, load_definitions
+from kb.model.definitions import Definitions, PredicateLeaf, Relation, load_definitions
 from kb.planning.model import read_specs
 from kb.planning.problem import ProblemSpec
 from kb.planning.state import pddl_name
@@ -72,9 +80,12 @@ def agreement(spec: ProblemSpec, defs: Definitions, initial: Scene, goal: Scene)
     """:func:`check_geometry` of inputs already read: the numeric problem ``spec``, the
     domain's definitions, the initial state's scene (the goal's individuals declared) and the
     goal state's."""
+    used = set(spec.predicates) or {f[0] for f in spec.facts} | {g[0] for g in spec.goal}
     start = Evaluator(defs, initial)
     end = Evaluator(defs, goal)
-    seen = {(n, *map(pddl_name, a)) for n, a in start.facts()}
+    true = start.facts(sorted(n for n in used if n in defs.predicates))
+    seen = {(n, *map(pddl_name, a)) for n, a in true}
+    unconfirmed = stated_not_in_geometry(defs, start, set(used), {(n, *a) for n, a in true})
     reached = {(n, *map(pddl_name, a)) for n, a in end.facts()}
     counts = {fn: {tuple(map(pddl_name, a)): v for a, v in end.function_values(fn).items()}
               for fn in {t[0] for pair in spec.goal_equal for t in pair}}
@@ -82,10 +93,45 @@ def agreement(spec: ProblemSpec, defs: Definitions, initial: Scene, goal: Scene)
     for left, right in spec.goal_equal:
         if counts[left[0]].get(tuple(left[1:]), 0) != counts[right[0]].get(tuple(right[1:]), 0):
             missing.append(("=", *left, *right))
-    out = Agreement(len(seen), sorted(seen - spec.facts), sorted(spec.facts - seen), missing)
+    out = Agreement(len(seen), sorted(seen - spec.facts), sorted((spec.facts - seen) | unconfirmed), missing)
     if not out.initial_agrees:
         out.causes = likely_causes(start.scene, out.only_geometry + out.only_symbolic)
     return out
+
+
+def stated_not_in_geometry(defs: Definitions, ev: Evaluator, predicates: set[str],
+                           true: set[tuple[str, ...]]) -> set[tuple[str, ...]]:
+    """The atoms (PDDL names) of the stated placements geometry does not bear out: for each
+    placed object and its pose's reference object, the spatial two-argument predicates of
+    ``predicates`` whose classes admit the pair (either order), when none of their atoms is in
+    ``true`` (IRIs)."""
+    sc = ev.scene
+    spatial = [p for name, p in sorted(defs.predicates.items())
+               if name in predicates and p.reference_type is not None and p.target_type is not None
+               and _is_spatial(p.formula, defs)]
+    out: set[tuple[str, ...]] = set()
+    for child in np.flatnonzero(sc.parents >= 0).tolist():
+        parent = int(sc.parents[child])
+        a, b = sc.names[child], sc.names[parent]
+        atoms = [(p.name, x, y) for p in spatial for x, y in ((a, b), (b, a))
+                 if p.reference_type in sc.classes[sc.index[x]] and p.target_type in sc.classes[sc.index[y]]]
+        if atoms and not any(atom in true for atom in atoms):
+            out.update((n, pddl_name(x), pddl_name(y)) for n, x, y in atoms)
+    return out
+
+
+def _is_spatial(node: object, defs: Definitions, seen: frozenset[str] = frozenset()) -> bool:
+    """Whether a formula has a relation atom (through the predicates it names, too)."""
+    if isinstance(node, Relation):
+        return True
+    if isinstance(node, PredicateLeaf):
+        p = next((q for q in defs.predicates.values() if q.iri == node.predicate), None)
+        return p is not None and p.iri not in seen and _is_spatial(p.formula, defs, seen | {p.iri})
+    if isinstance(node, (tuple, list)):
+        return any(_is_spatial(x, defs, seen) for x in node)
+    if dataclasses.is_dataclass(node):
+        return any(_is_spatial(getattr(node, f.name), defs, seen) for f in dataclasses.fields(node))
+    return False
 
 
 def likely_causes(scene: Scene, atoms: Sequence[tuple[str, ...]]) -> list[str]:

@@ -15,7 +15,9 @@ from typing import Any, Sequence
 
 from kb.core.errors import InputError
 from kb.core.jobs import Forked
-from kb.model.soap import DomainSpec, load_domain
+from kb.io.loader import domain_knowledge
+from kb.model.definitions import locator, read_definitions
+from kb.model.soap import DomainSpec, load_domain, read_domain, statements
 from kb.patches.unified_planning import environment
 from kb.planning.build import build_problem
 from kb.planning.problem import ProblemSpec, load_world, read_problem, used_types
@@ -57,11 +59,13 @@ def read_specs(init: Sequence[str | Path], goal: Sequence[str | Path], encoding:
     default they are matched by IRI.
     """
     _check(encoding)
-    domain, graph = load_domain(domain_files)
-    tree = ClassTree(graph, used_types(domain))
+    kb = domain_knowledge(domain_files)
+    domain = read_domain(kb.graph, locate=statements(kb))
+    tree = ClassTree(kb.graph, used_types(domain))
     start = load_world(init, tree)
     refuse_unlocated(start.sources, "planning", start.g)  # a partial state: kitkb run senses it first
-    spec = read_problem(domain, start, load_world(goal, tree, like=start if match_names else None))
+    spec = read_problem(domain, start, load_world(goal, tree, like=start if match_names else None),
+                        definitions=read_definitions(kb.graph, locator(kb)), locate=locator(kb))
     return encoded(domain, spec, encoding)
 
 

@@ -8,7 +8,6 @@ file where the goal file puts it, with the parts its kit design asks for
 
 from __future__ import annotations
 
-import sys
 from dataclasses import dataclass, field
 from itertools import product
 from pathlib import Path
@@ -18,14 +17,14 @@ from rdflib import Graph, URIRef
 from rdflib.namespace import RDF
 
 from kb.core.errors import InputError
-from kb.core.namespaces import local_name
+from kb.core.namespaces import KTW, local_name
 from kb.io.loader import MODEL_STAND_IN, NOT_READ_RULES, KnowledgeBase, Source, load
 from kb.io.vocabulary import not_understood
-from kb.model.definitions import Definitions, load_definitions
+from kb.model.definitions import Definitions, Locator, load_definitions
 from kb.model.soap import DomainSpec
 from kb.planning import facts
 from kb.planning import goal as goals
-from kb.planning.state import ClassTree, World, pddl_name
+from kb.planning.state import KIT, PART, TRAY, ClassTree, World, design_counts, parts_in, pddl_name
 
 if TYPE_CHECKING:  # pragma: no cover
     from kb.spatial.scene import Scene
@@ -52,6 +51,8 @@ class ProblemSpec:
     sources: dict[str, str] = field(default_factory=dict)  # what -> file:line it came from
     #: the state files' warnings about what in them is not read (``file:line: warning: ...``)
     notes: list[str] = field(default_factory=list)
+    #: the domain's predicates, whose true atoms ``facts`` holds (the others' atoms are false)
+    predicates: list[str] = field(default_factory=list)
 
 
 
@@ -124,8 +125,13 @@ def used_types(domain: DomainSpec) -> set[str]:
 
 
 def read_problem(domain: DomainSpec, init: World, goal: World, name: str = "kitting",
-                 definitions: Definitions | None = None, goal_scene: "Scene | None" = None) -> ProblemSpec:
+                 definitions: Definitions | None = None, goal_scene: "Scene | None" = None,
+                 scene: Scene | None = None, locate: Locator | None = None) -> ProblemSpec:
     """The problem of going from ``init`` to ``goal`` in ``domain`` (numeric form).
+
+    The initial facts and function values are those that hold by ``definitions`` on ``scene``,
+    the initial state's (default: :func:`initial_scene`; :mod:`kb.planning.facts`); ``locate``:
+    where a domain node is written (the error of a predicate without a definition).
 
     ``definitions``: the domain's predicate definitions (default: the shipped domain's), by
     which the goal state's atoms are decided on ``goal_scene`` (default: read from ``goal``'s
@@ -135,21 +141,7 @@ def read_problem(domain: DomainSpec, init: World, goal: World, name: str = "kitt
         raise not_understood("the initial state has no object kitkb reads (no individual of a class of "
                              "the kitting model that the planning domain uses)", init.g, init.path)
     names = _objects(spec, init, goal)
-    for pred in domain.predicates.values():
-        rule = facts.PREDICATES.get(pred.name)
-        if rule is None:
-            print(f"warning: no rule reads predicate {pred.name} from a state file; false initially",
-                  file=sys.stderr)
-            continue
-        for args in rule(init, goal):
-            spec.facts.add((pred.name, *(_named(names, a, goal, pred.name) for a in args)))
-    for fn in domain.functions.values():
-        rule_f = facts.FUNCTIONS.get(fn.name)
-        if rule_f is None:
-            raise InputError(f"no rule reads function {fn.name} from a state file")
-        for args, value in rule_f(init, goal):
-            spec.values[(fn.name, *(_named(names, a, goal, fn.name) for a in args))] = value
-        _zero_fill(spec, domain, fn.name, fn.arg_types)
+    _initial(spec, domain, init, goal, names, definitions, scene, locate)
     _goal(spec, domain, init, goal, names)
     _goal_facts(spec, domain, goal, definitions, goal_scene)
     return spec
@@ -165,6 +157,35 @@ def _goal_facts(spec: ProblemSpec, domain: DomainSpec, goal: World, definitions:
     line_of = scene.source.line_of if scene.source is not None else goal.line_of
     goals.check_reachable(domain, spec.objects, spec.facts, found, scene, goal.path, line_of)
     spec.goal[:] = sorted(set(spec.goal) | set(found.atoms))
+
+
+def initial_scene(init: World, goal: World) -> Scene:
+    """The scene of the initial state, the goal state's individuals declared (with their model
+    facts, no geometry; matched by local name when ``goal`` was read so): what its facts are
+    decided on."""
+    from kb.spatial.scene import Scene
+    sources = getattr(init, "sources", None)
+    declared = getattr(goal, "sources", None) or [goal.path]
+    matched = bool(getattr(goal, "matched_names", False))
+    if sources:
+        return Scene.from_sources(sources, declared=declared, match_names=matched)
+    return Scene.from_files([init.path], declared=declared, match_names=matched)
+
+
+def _initial(spec: ProblemSpec, domain: DomainSpec, init: World, goal: World, names: dict[URIRef, str],
+             definitions: Definitions | None, scene: Scene | None, locate: Locator | None) -> None:
+    """The initial facts and function values (:func:`kb.planning.facts.initial_state`: by the
+    definitions, on the initial state's scene), every other grounding of a function 0."""
+    defs = definitions if definitions is not None else load_definitions()
+    state = facts.initial_state(domain, defs, scene if scene is not None else initial_scene(init, goal), locate)
+    spec.predicates = sorted(domain.predicates)
+    for pred, args in state.atoms:
+        spec.facts.add((pred, *(_named(names, URIRef(a), goal, pred) for a in args)))
+    for (fn, *args), value in state.values.items():
+        if all(URIRef(a) in names for a in args):  # (an object of the function's class the problem lacks)
+            spec.values[(fn, *(names[URIRef(a)] for a in args))] = value
+    for f in domain.functions.values():
+        _zero_fill(spec, domain, f.name, f.arg_types)
 
 
 def _named(names: dict[URIRef, str], node: URIRef, goal: World, used_by: str) -> str:
@@ -218,7 +239,7 @@ def _objects(spec: ProblemSpec, init: World, goal: World) -> dict[URIRef, str]:
             if known != kind:
                 raise InputError(f"{names[s]} is a {local_name(kind)} in the goal state but a "
                                  f"{local_name(known)} in the initial state", goal.path, goal.line_of(s))
-        elif kind == facts.KIT:
+        elif kind == KIT:
             add(s, kind, goal)
         else:
             raise InputError(f"{pddl_name(s)} is in the goal state but not in the initial state{_what_helps(s, init, goal)}",
@@ -246,7 +267,7 @@ def _what_helps(s: URIRef, init: World, goal: World) -> str:
 
 def _goal(spec: ProblemSpec, domain: DomainSpec, init: World, goal: World,
           names: dict[URIRef, str]) -> None:
-    kits = goal.of(facts.KIT)
+    kits = goal.of(KIT)
     if not kits:
         raise not_understood("the goal state has no kit kitkb reads (nothing to build: no individual of "
                              "ktw:Kit)", goal.g, goal.path)
@@ -256,7 +277,7 @@ def _goal(spec: ProblemSpec, domain: DomainSpec, init: World, goal: World,
     for f in counted:
         for cap in (d for d in designs if d.arg_types == f.arg_types):
             for kit in kits:
-                need = facts.design_counts(init, goal, kit)
+                need = design_counts(init, goal, kit)
                 if not need:
                     raise InputError(f"kit {names[kit]} has no kit design with parts (hasKit_Design)",
                                      goal.path, goal.line_of(kit))
@@ -271,7 +292,7 @@ def _goal(spec: ProblemSpec, domain: DomainSpec, init: World, goal: World,
 
 
 def _already(init: World, kit: URIRef, sku: URIRef) -> list[URIRef]:
-    return facts.parts_in(init, kit, sku) if kit in init.kind else []
+    return parts_in(init, kit, sku) if kit in init.kind else []
 
 
 def _tokens(init: World, goal: World, kit: URIRef, sku: URIRef, need: int, names: dict[URIRef, str],
@@ -303,10 +324,10 @@ def _goal_parts(goal: World, kit: URIRef) -> dict[URIRef, list[URIRef]]:
     if kit not in cache:
         by_sku: dict[URIRef, list[URIRef]] = {}
         seen: set[URIRef] = set()
-        for p in facts.parts_in(goal, kit) + goal.values(kit, facts.KTW.hasKit_Part):
+        for p in parts_in(goal, kit) + goal.values(kit, KTW.hasKit_Part):
             if p not in seen:
                 seen.add(p)
-                by_sku.setdefault(goal.value(p, facts.KTW.hasSkuObject_Sku), []).append(p)
+                by_sku.setdefault(goal.value(p, KTW.hasSkuObject_Sku), []).append(p)
         cache[kit] = by_sku
     return cache[kit]
 
@@ -317,14 +338,14 @@ def _free_parts(init: World, names: dict[URIRef, str], movable: set[str]) -> dic
     action can take from where it lies (:func:`movable`: a part in a bin, on a table, in a box,
     which a domain extension's action takes from), in name order."""
     free: dict[URIRef, list[URIRef]] = {}
-    for tray in init.of(facts.TRAY):
-        for p in facts.parts_in(init, tray):
-            free.setdefault(init.value(p, facts.KTW.hasSkuObject_Sku), []).append(p)
+    for tray in init.of(TRAY):
+        for p in parts_in(init, tray):
+            free.setdefault(init.value(p, KTW.hasSkuObject_Sku), []).append(p)
     taken = {p for parts in free.values() for p in parts}
-    taken.update(p for holder in (*init.of(facts.KIT), *init.of(str(facts.KTW.KitTray))) for p in facts.parts_in(init, holder))
-    for p in sorted(init.of(facts.PART), key=str):
+    taken.update(p for holder in (*init.of(KIT), *init.of(str(KTW.KitTray))) for p in parts_in(init, holder))
+    for p in sorted(init.of(PART), key=str):
         if p not in taken and names.get(p) in movable:
-            free.setdefault(init.value(p, facts.KTW.hasSkuObject_Sku), []).append(p)
+            free.setdefault(init.value(p, KTW.hasSkuObject_Sku), []).append(p)
     return free
 
 

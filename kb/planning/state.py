@@ -10,7 +10,7 @@ objects that have no primary location.
 from __future__ import annotations
 
 import re
-from collections import defaultdict
+from collections import Counter, defaultdict
 from functools import lru_cache
 from pathlib import Path
 
@@ -169,6 +169,31 @@ class World:
 
     def values(self, s: URIRef, prop: URIRef) -> list:
         return sorted(self.g.objects(s, prop), key=_natural)
+
+
+#: The kitting model's classes the goal's quotas read (a kit and its design, parts in trays).
+PART, TRAY, KIT = str(KTW.Part), str(KTW.PartsTray), str(KTW.Kit)
+
+
+def design_counts(w: World, g: World, kit: URIRef) -> Counter:
+    """SKU -> number of parts the kit's design asks for (the kit and its design read in the
+    initial state ``w``, else the goal state ``g``)."""
+    design = w.value(kit, KTW.hasKit_Design)
+    if design is None:
+        design = g.value(kit, KTW.hasKit_Design)
+    if design is None:
+        return Counter()
+    for state in (w, g):
+        prps = state.values(design, KTW.hasKitDesign_PartRefAndPose)
+        if prps:
+            return Counter(state.value(p, KTW.hasPartRefAndPose_Sku) for p in prps)
+    return Counter()
+
+
+def parts_in(w: World, container: URIRef, sku: URIRef | None = None) -> list[URIRef]:
+    """Parts placed in ``container`` (of ``sku`` if given)."""
+    return [p for p in w.contents(container) if w.is_a(p, PART)
+            and (sku is None or w.value(p, KTW.hasSkuObject_Sku) == sku)]
 
 
 def _natural(x: object) -> list:
