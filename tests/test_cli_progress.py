@@ -187,6 +187,7 @@ def _cases(tmp: Path) -> dict[str, list[str]]:
         "report": ["report", str(tmp / "report.json"), "-o", str(tmp / "report.html")],  # the run's report
         "crcl convert": ["crcl", "convert", str(_crcl(tmp)), "-o", str(tmp / "p2.crcl")],
         "predicates": ["predicates", str(INIT), "-p", "part-location-partstray"],
+        "faults": ["faults"],
         "metrics": ["metrics", str(_crcl(tmp))],
         "testmethod": ["testmethod", "basic", "--trials", "1", "--parts", "2", "--workers", "1", "--out", str(tmp / "tm")],
     }
@@ -195,8 +196,8 @@ def _cases(tmp: Path) -> dict[str, list[str]]:
 #: the facts each command's JSON object holds besides ``command``, ``message`` and ``warnings``
 FACTS = {
     "convert": {"output", "input", "syntax", "statements"},
-    "scenario generate": {"init", "goal", "parts", "kits", "seed", "unit"},
-    "scenario transform": {"output", "input", "statements", "unit", "yaw", "turned"},
+    "scenario generate": {"init", "goal", "parts", "kits", "seed", "unit", "unlocated"},
+    "scenario transform": {"output", "input", "statements", "unit", "yaw", "turned", "unlocated"},
     "generate pddl": {"written", "encoding"},
     "generate sql": {"output", "dialect"},
     "generate shapes": {"output", "generator"},
@@ -239,6 +240,10 @@ def test_every_subcommand_prints_one_json_object_with_the_facts_of_its_text(tmp_
             assert data["conforms"] is True and text.out.splitlines()[-1].startswith(f"{len(data['files'])} file(s)")
         if command == "predicates":
             assert [f"{d['predicate']}({', '.join(d['args'])})" for d in data] == text.out.splitlines()
+        if command == "faults":  # a line per kind, the kinds in the object in the same order
+            assert [k["name"] for k in data["kinds"]] == [line.split(":")[0] for line in text.out.splitlines()]
+            mix = {part.split("=")[0] for part in data["default_mix"].split(",")}  # the errors method's default
+            assert data["kinds"] and mix <= {k["name"] for k in data["kinds"] if k["test_rate"]}
         if command == "metrics":
             assert data["command"] == "metrics" and "score" in data
             assert text.out.splitlines()[-1] == f"score {data['score']['total']:.3f}"

@@ -136,7 +136,8 @@ def test_a_correct_plans_program_makes_no_violation(tmp_path: Path) -> None:
                  f"(put-part robot_1 {part} kit_1 work_table_1 sku_part_{sku})"]
     plan += ["(remove-endeffector robot_1 part_gripper part_gripper_holder changing_station_1)",
              "(attach-endeffector robot_1 tray_gripper tray_gripper_holder changing_station_1)",
-             "(take-kit robot_1 kit_1 work_table_1 tray_gripper)", "(put-kit robot_1 kit_1 finished_kit_receiver_1)"]
+             "(take-kit robot_1 kit_1 work_table_1 tray_gripper)", "(put-kit robot_1 kit_1 finished_kit_receiver_1)",
+             "(remove-endeffector robot_1 tray_gripper tray_gripper_holder changing_station_1)"]  # goal: back in its holder
     sent: list[crcl.Command] = []
 
     class Recording(SimulatedCell):

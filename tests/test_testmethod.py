@@ -227,7 +227,7 @@ def test_a_trial_that_cannot_run_is_a_row_saying_why(monkeypatch):
     from kb.report.source import is_run_report
     from kb.testmethod import trial
 
-    def no_plan(spec):  # noqa: ANN001, ANN202
+    def no_plan(spec, *args, **kwargs):  # noqa: ANN001, ANN002, ANN003, ANN202
         raise NotSolvableError("no plan: the goal cannot be reached")
     monkeypatch.setattr(trial, "prepared", no_plan)
     row = trial.run_trial(jobs(SMALL, [0])[0])

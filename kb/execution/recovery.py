@@ -189,12 +189,12 @@ class Recovery:
         """What a notification carries: the failure's violated atoms, where its objects were
         expected and seen (the sensor's answers), what the check found, and the pose each of
         the step's objects was grasped at (the tool tip, m), if it was."""
-        grasps = {local(v): [[round(float(x), 6) for x in row] for row in self.taken_from[v]]
+        grasps = {local(v): [_micro(row) for row in self.taken_from[v]]
                   for v in step.args.values() if v in self.taken_from}
         return {"action": step.action, "args": {k: local(v) for k, v in step.args.items()},
                 "phase": failure.phase, "violated": [a.text() for a in failure.violated],
-                "sightings": [{"object": local(s.name), "expected": list(s.expected) if s.expected else None,
-                               "seen": list(s.seen) if s.seen else None} for s in failure.sightings],
+                "sightings": [{"object": local(s.name), "expected": _micro(s.expected), "seen": _micro(s.seen)}
+                              for s in failure.sightings],
                 "found": [local(w) for w in failure.witnesses], "grasps": grasps}
 
     def _witnesses(self, violated: list[AtomCheck]) -> list[str]:
@@ -583,3 +583,8 @@ def _handler(table: dict[str, str], iri: str, what: str) -> str:
         raise Stop(f"{what} {local(iri)} has no handler in kitkb (known: "
                    + ", ".join(sorted(local(k) for k in table)) + ")")
     return name
+
+
+def _micro(values: Any) -> list[float] | None:
+    """Coordinates to the micrometre (m): what a notification carries, the same in any file unit."""
+    return None if values is None else [round(float(x), 6) + 0.0 for x in values]

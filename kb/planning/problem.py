@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from itertools import product
 from pathlib import Path
-from typing import TYPE_CHECKING, Sequence
+from typing import Sequence
 
 from rdflib import Graph, URIRef
 from rdflib.namespace import RDF
@@ -25,9 +25,7 @@ from kb.model.soap import DomainSpec
 from kb.planning import facts
 from kb.planning import goal as goals
 from kb.planning.state import KIT, PART, TRAY, ClassTree, World, design_counts, parts_in, pddl_name
-
-if TYPE_CHECKING:  # pragma: no cover
-    from kb.spatial.scene import Scene
+from kb.spatial.scene import Scene
 
 
 @dataclass
@@ -163,7 +161,6 @@ def initial_scene(init: World, goal: World) -> Scene:
     """The scene of the initial state, the goal state's individuals declared (with their model
     facts, no geometry; matched by local name when ``goal`` was read so): what its facts are
     decided on."""
-    from kb.spatial.scene import Scene
     sources = getattr(init, "sources", None)
     declared = getattr(goal, "sources", None) or [goal.path]
     matched = bool(getattr(goal, "matched_names", False))

@@ -258,7 +258,9 @@ class _Dump:
         write, spelled = self.writer.statement, self.spelled
         for id_ in sorted(types.keys() | pairs.keys()):
             line = [("a", ", ".join(types[id_]))] if id_ in types else []
-            write(spelled[id_], line + pairs.get(id_, []))
+            line += pairs.get(id_, [])
+            if line:  # an individual of a model only referred to (a row of its class, no statement of its own)
+                write(spelled[id_], line)
 
     def _range(self, sql: str, lo: int, hi: int) -> Iterator[tuple[Any, ...]]:
         cur = self.cursor()
