@@ -11,7 +11,8 @@ from geometry, the kit scored), and the test methods. No kitkb code knows their 
   primitives (``relations.ttl``, a model file imported by file name), the failure mode
   ``missed-bin-grasp`` remedied by a recovery plan, the fault kind ``empty-bin-grasp``.
 * ``buffer``: a stray part on the work table keeps it from being empty; ``park-part`` carries
-  it into a buffer box (``ktw:LargeContainer``), its effect a shipped predicate
+  it into a buffer box (``xp:BufferBox``, a class the extension declares under
+  ``ktw:LargeContainer``, which the state files type the box with), its effect a shipped predicate
   (``worktable-empty``); ``part-on-worktable`` quantifies over end effectors and holders; the
   precondition mode ``stray-part-gone`` runs a recovery plan bound by ``soap:ParameterBinding``
   and then replans; the shipped fault kind ``part-missing`` is extended to strike ``park-part``.
@@ -276,3 +277,42 @@ def test_a_replan_takes_parts_from_the_bin_too(tmp_path: Path) -> None:
              and e.get("action") == "take-part-from-bin" and e.get("status") == "done"]
     assert taken[0] == "part_b_1" and len(taken) == 2 and taken[1] != "part_b_1"
     assert report["goal_holds"] and report["kits"][0]["score"] == 6
+
+
+# --- a class of objects the extension declares -----------------------------------------------
+
+def test_an_extension_class_types_objects_for_planning_geometry_and_sensing(tmp_path: Path) -> None:
+    """The buffer box is of the extension's class xp:BufferBox: the planner's type of it is the
+    model class it descends from, the predicates decided from geometry see it, and a cell served
+    with the extension answers a USARTruth query for the class by its local name."""
+    import subprocess
+    import sys
+
+    from kb.io.loader import domain_knowledge
+    from kb.spatial.scene import Scene, class_ancestors
+
+    init = BUFFER / "init.ttl"
+    domain_knowledge([BUFFER / "extension.ttl"])  # the domain read, as every command with --domain reads it
+    buffer_class = "https://example.org/kitkb-test/buffer-box#BufferBox"
+    assert "https://w3id.org/kitkb/kitting#LargeContainer" in class_ancestors()[buffer_class]
+    scene = Scene.from_files([init])
+    box = next(i for i, n in enumerate(scene.names) if n.endswith("#buffer_box"))
+    assert buffer_class in scene.classes[box] and not __import__("numpy").isnan(scene.lo[box]).any()
+    server = subprocess.Popen([sys.executable, "-m", "kb.cli", "sim", "serve", str(init), "--domain",
+                               str(BUFFER / "extension.ttl"), "--sensor-port", "0", "--command-port", "0"],
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        ready = server.stdout.readline()
+        port = int(re.search(r"sensor port (\d+)", ready).group(1))
+        import socket
+        with socket.create_connection(("127.0.0.1", port), timeout=10) as s:
+            s.sendall(b"{Class BufferBox}\r\n")
+            reader, lines = s.makefile("rb"), []
+            while not lines or lines[-1] != "{End}":
+                lines.append(reader.readline().decode().rstrip("\r\n"))
+        names = [m.group(1) for line in lines if (m := re.search(r"\{Name ([^}]+)\}", line))]
+        assert [n.rsplit("#", 1)[-1] for n in names] == ["buffer_box"], lines
+        assert "{Class BufferBox}" in lines[0], lines
+    finally:
+        server.terminate()
+        server.wait(timeout=30)

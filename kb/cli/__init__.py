@@ -396,7 +396,8 @@ def _add_sim(sub: Any) -> None:
                    help="goal state file: its individuals that INIT lacks (a kit to create) exist, unplaced")
     g.add_argument("--faults", metavar="KIND=RATE,...",
                    help="faults to inject: kind=probability per eligible action or kind@action_index, "
-                        "comma-separated (kinds: the shipped domain's; kitkb faults lists them)")
+                        f"comma-separated ({FAULT_KINDS_HELP})")
+    _domain_option(g)
     g.add_argument("--seed", type=int, default=0, help="seed of the faults and the sensor noise (default 0)")
     g.add_argument("--sensor-noise", metavar="KEY=VALUE,...", help=SENSOR_NOISE_HELP)
     g.add_argument("--noise", metavar="POS_SIGMA,ANGLE_SIGMA",

@@ -12,6 +12,7 @@ from typing import Callable
 from kb.cli.output import Output
 from kb.core.errors import InputError
 from kb.crcl.wire import STATUS_PERIOD
+from kb.model.faults import domain_fault_kinds
 from kb.sim import CellServer, FaultSpec, SimulatedCell
 from kb.sim.noise import SensorNoise
 from kb.spatial.scene import Scene
@@ -23,15 +24,16 @@ class _Stop(Exception):
 
 def serve(init: str, goal: str | None, faults: str | None, seed: int, noise: str | None,
           sensor_port: int, command_port: int, out: Output, sensor_noise: str | None = None,
-          status_period: float = STATUS_PERIOD) -> int:
+          status_period: float = STATUS_PERIOD, domain: list[str] | None = None) -> int:
     """Serve a :class:`SimulatedCell` of ``init`` (with the individuals only ``goal`` names)
     on 127.0.0.1, its command port a CRCL 1.x controller (a heartbeat status every
     ``status_period`` seconds on a quiet connection, 0: none); print one line with the bound
-    ports; 0 when stopped by SIGINT or SIGTERM."""
+    ports; 0 when stopped by SIGINT or SIGTERM. ``domain``: extension files (``--domain``):
+    their fault kinds may be injected, their classes of objects typed in ``init``."""
     if not (status_period >= 0 and status_period != float("inf")):
         raise InputError(f"--status-period {status_period:g}: seconds, 0 or more")
     with out.progress(f"building the simulated cell of {Path(init).name}"):
-        cell = _cell(init, goal, faults, seed, noise, sensor_noise)
+        cell = _cell(init, goal, faults, seed, noise, sensor_noise, domain)
     with CellServer(cell, sensor_port=sensor_port, command_port=command_port, status_period=status_period) as server:
         address = f"{server.host}:{server.sensor_port},{server.command_port}"
         line = (f"kitkb: serving {init}: sensor port {server.sensor_port}, command port {server.command_port} on "
@@ -45,11 +47,12 @@ def serve(init: str, goal: str | None, faults: str | None, seed: int, noise: str
 
 
 def _cell(init: str, goal: str | None, faults: str | None, seed: int, noise: str | None,
-          sensor_noise: str | None = None) -> SimulatedCell:
+          sensor_noise: str | None = None, domain: list[str] | None = None) -> SimulatedCell:
     if noise is not None:
         raise InputError(_replaced(noise))
+    kinds = domain_fault_kinds(domain) if domain else None  # the extensions read (their classes known) first
     try:
-        spec = FaultSpec.parse(faults or "", seed=seed)
+        spec = FaultSpec.parse(faults or "", seed=seed, kinds=kinds)
     except ValueError as exc:
         raise InputError(f"--faults: {exc}") from None
     scene = Scene.from_files([init], [Path(goal)] if goal else ())

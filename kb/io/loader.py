@@ -495,7 +495,42 @@ def domain_knowledge(extensions: Sequence[str | Path] | None = None) -> Knowledg
     kb = _knowledge_base(given if replaced else [load_file(shipped), *given], True)
     if given and not replaced:
         _check_terms(given, kb)
+    declare_classes(kb.sources)
     return kb
+
+
+#: the classes of objects that domain files declare beyond the kitting model (a domain
+#: extension's new kind of object, ``xp:BufferBox rdfs:subClassOf ktw:LargeContainer``): class
+#: -> its named superclasses. The object classes of the domains loaded in this process, read
+#: by everything that types objects from state files (:func:`kb.spatial.scene.class_ancestors`).
+#: A class of another namespace is harmless where no state file names it.
+_EXTENSION_CLASSES: dict[str, frozenset[str]] = {}
+
+
+def declare_classes(sources: Iterable[Source]) -> None:
+    """Add the classes that ``sources`` declare outside kitkb's model namespaces (with their
+    ``rdfs:subClassOf`` parents) to the process's extension classes: a domain's files, when the
+    domain is loaded (:func:`domain_knowledge`). Only a class that descends from a class of the
+    kitting model types objects (:func:`kb.spatial.scene.class_ancestors`)."""
+    ours = (str(ns.KTW), str(ns.SOAP))
+    found: dict[str, set[str]] = {}
+    for src in sources:
+        g = src.graph
+        for c in g.subjects(RDF.type, OWL.Class):
+            if isinstance(c, URIRef) and not str(c).startswith(ours):
+                found.setdefault(str(c), set())
+        for c, parent in g.subject_objects(RDFS.subClassOf):
+            if isinstance(c, URIRef) and isinstance(parent, URIRef) and not str(c).startswith(ours):
+                found.setdefault(str(c), set()).add(str(parent))
+    # added to what earlier domains of the process declared (a class's parents as read last): a
+    # reader of the shipped domain alone, in the middle of a run with extensions, forgets nothing
+    _EXTENSION_CLASSES.update((c, frozenset(ps)) for c, ps in found.items())
+
+
+def extension_classes() -> dict[str, frozenset[str]]:
+    """The classes of objects the domains loaded declare beyond the kitting model (class -> its
+    named superclasses; :func:`declare_classes`)."""
+    return _EXTENSION_CLASSES
 
 
 def _check_terms(extensions: list[Source], kb: KnowledgeBase) -> None:

@@ -100,8 +100,8 @@ class World:
         self.kind: dict[URIRef, str] = {}
         for s, cls in graph.subject_objects(RDF.type):
             c = str(cls)
-            if not c.startswith(str(KTW)) or not isinstance(s, URIRef):
-                continue
+            if not isinstance(s, URIRef) or (c not in tree.known and not c.startswith(str(KTW))):
+                continue  # a class of no model (owl:NamedIndividual, another vocabulary's)
             if c not in tree.known:
                 raise InputError(f"{pddl_name(s)} has unknown class ktw:{c[len(str(KTW)):]} "
                                  "(not in the kitting model)", self.path, self.line_of(s, RDF.type, cls))

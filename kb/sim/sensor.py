@@ -44,13 +44,14 @@ SENSOR_ERROR_KINDS: tuple[str, ...] = ("misdetection", "misclassification")
 
 @lru_cache(maxsize=None)
 def most_specific(classes: frozenset[str]) -> str:
-    """Local name of the most specific kitting class among ``classes`` (the one with most ancestors)."""
+    """Local name of the most specific class among ``classes`` (the one with most ancestors):
+    a kitting class, or a class a domain extension declares under one."""
     anc = class_ancestors()
-    ktw = [c for c in classes if c.startswith(str(KTW))]
-    if not ktw:
+    known = [c for c in classes if c in anc]
+    if not known:
         return ""
-    best = max(ktw, key=lambda c: (len(anc.get(c, ())), c))
-    return best[len(str(KTW)):]
+    best = max(known, key=lambda c: (len(anc[c]), c))
+    return best.rsplit("#", 1)[-1].rsplit("/", 1)[-1]
 
 
 def rpy(m: np.ndarray) -> tuple[float, float, float]:
@@ -99,7 +100,11 @@ def truth_class(text: str, known: Iterable[str]) -> str | None:
     if ktw + local in known:
         return ktw + local
     folded = {c[len(ktw):].lower(): c for c in known if c.startswith(ktw)}
-    return folded.get(local.lower())
+    if local.lower() in folded:
+        return folded[local.lower()]
+    # a class a domain extension declares (xp:BufferBox), by its local name
+    others = {c.rsplit("#", 1)[-1].rsplit("/", 1)[-1].lower(): c for c in known if not c.startswith(ktw)}
+    return others.get(local.lower())
 
 
 def observe(world: World, query: str, by: Literal["class", "name"], time: float,

@@ -54,7 +54,7 @@ from kb.core.namespaces import KTW
 from kb.core.resources import ontology_path
 from kb.core.units import SI, Units
 from kb.io import load, load_file
-from kb.io.loader import Source
+from kb.io.loader import Source, extension_classes
 from kb.io.views import TripleView
 from kb.model.units import quantity_kinds, read_units
 from kb.spatial.rcc8 import world_boxes
@@ -77,15 +77,24 @@ STAND_INS = {
 }
 
 
-@lru_cache(maxsize=1)
 def class_ancestors() -> dict[str, frozenset[str]]:
-    """Each class of the shipped kitting model -> itself and its named ancestors."""
+    """Each class of the shipped kitting model, and each class of objects the loaded domain
+    declares under one (:func:`kb.io.loader.extension_classes`) -> itself and its named
+    ancestors."""
+    extra = extension_classes()
+    return _ancestors(tuple(sorted(extra.items())) if extra else ())
+
+
+@lru_cache(maxsize=4)
+def _ancestors(extra: tuple[tuple[str, frozenset[str]], ...]) -> dict[str, frozenset[str]]:
     view = load_file(ontology_path("kitting.ttl")).view()
     parents: dict[str, set[str]] = defaultdict(set)
     classes = {str(c) for c in view.subjects(RDF.type, OWL.Class) if isinstance(c, URIRef)}
     for c, p in view.subject_objects(RDFS.subClassOf):
         if isinstance(c, URIRef) and isinstance(p, URIRef):
             parents[str(c)].add(str(p))
+    for c, ps in extra:  # an extension's class counts where it descends from a class of the model
+        parents[c].update(ps)
     out: dict[str, frozenset[str]] = {}
 
     def up(c: str) -> frozenset[str]:
@@ -95,7 +104,11 @@ def class_ancestors() -> dict[str, frozenset[str]]:
         return out[c]
     for c in classes:
         up(c)
-    return out
+    model = dict(out)
+    for c, _ps in extra:
+        if up(c) & classes:
+            model[c] = out[c]
+    return model
 
 
 @dataclass
@@ -254,7 +267,7 @@ class _Builder:
         for i, view in enumerate(self.views + self.extra):
             for s, c in view.subject_objects(RDF.type):
                 cs = str(c)
-                if isinstance(s, URIRef) and cs.startswith(_KTW) and cs in anc:
+                if isinstance(s, URIRef) and cs in anc:
                     if i < len(self.views):
                         own.add(s)
                     elif s in own:

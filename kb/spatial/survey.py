@@ -264,7 +264,7 @@ class _Reader:
                 key = tuple(types)
                 kind = kinds.get(key, False)
                 if kind is False:
-                    own = [str(c) for c in key if str(c).startswith(_KTW) and str(c) in anc]
+                    own = [str(c) for c in key if str(c) in anc]
                     kind = kinds[key] = (frozenset().union(*(anc[c] for c in own)),
                                          any(anc[c] & _GEOMETRY for c in own)) if own else None
                 if kind is not None and not kind[1]:  # (points, vectors, locations, shapes: not objects)
@@ -371,7 +371,7 @@ class _Reader:
             if index.get(ref) in located:
                 continue
             preds = get(ref) or {}
-            classes = [str(c) for c in preds.get(a, ()) if str(c).startswith(_KTW) and str(c) in anc]
+            classes = [str(c) for c in preds.get(a, ()) if str(c) in anc]
             ref_loc = primary.get(ref)
             itself = ref_loc is not None and _first((get(ref_loc) or {}).get(ref_p)) == ref
             why = unknown_reference(bool(classes), classes, False, _local(ref_loc) if ref_loc is not None else None,
