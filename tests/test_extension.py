@@ -316,3 +316,18 @@ def test_an_extension_class_types_objects_for_planning_geometry_and_sensing(tmp_
     finally:
         server.terminate()
         server.wait(timeout=30)
+
+
+def test_a_world_model_keeps_an_extension_class_s_objects_in_their_model_class(tmp_path: Path, capsys) -> None:
+    """``kitkb db load --domain``: the buffer box gets the rows of ktw:LargeContainer (its global
+    pose is read back) and keeps its class xp:BufferBox as a type (in the dump)."""
+    from kb.world import WorldModel
+
+    db = tmp_path / "w.sqlite"
+    assert main(["-q", "db", "load", str(BUFFER / "init.ttl"), "--db", str(db), "--domain",
+                 str(BUFFER / "extension.ttl")]) == 0
+    with WorldModel(db) as model:
+        assert "buffer_box" in model.global_poses()
+    assert main(["-q", "db", "dump", "--db", str(db), "-o", str(tmp_path / "d.ttl")]) == 0
+    typed = next(line for line in (tmp_path / "d.ttl").read_text().splitlines() if re.match(r"\S*buffer_box a ", line))
+    assert "ktw:LargeContainer" in typed and "xp:BufferBox" in typed, typed

@@ -223,6 +223,9 @@ def _add_db(sub: Any) -> None:
     g.add_argument("--db", default=DEFAULT_DB, metavar="URL", help=DB_HELP)
     g.add_argument("--replace", action="store_true",
                    help="replace the world model (and run history) the database already holds")
+    g.add_argument("--domain", action="append", metavar="FILE",
+                   help="a domain extension whose classes of objects DATAFILE uses (their individuals get the rows "
+                        "of the model class each descends from, the class itself kept as a type); may be repeated")
     g = _sub(dsub, "dump", "db dump", "write the database content as Turtle")
     g.add_argument("--db", default=DEFAULT_DB, metavar="URL", help=DB_HELP)
     g.add_argument("-o", "--output", required=True, metavar="FILE", help="output .ttl file")

@@ -6,13 +6,17 @@ import time
 from pathlib import Path
 
 from kb.cli.output import Output
+from kb.io.loader import domain_knowledge
 from kb.world import dump as dump_db
 from kb.world import load as load_db
 
 
-def load(datafile: str, db: str, out: Output, replace: bool = False) -> int:
-    """Load ``datafile`` into database ``db`` (``replace``: the world model it already holds)."""
+def load(datafile: str, db: str, out: Output, replace: bool = False, domain: list[str] | None = None) -> int:
+    """Load ``datafile`` into database ``db`` (``replace``: the world model it already holds;
+    ``domain``: extension files whose classes of objects the file uses)."""
     start = time.perf_counter()
+    if domain:
+        domain_knowledge(domain)  # read (a broken one refused at its line) and its classes known
     with out.progress(f"loading {Path(datafile).name}"):
         report = load_db(datafile, db, replace=replace, progress=out.tracker)
     out.done(f"loaded {datafile} into {db}: {report.summary()}", datafile=datafile, db=db,

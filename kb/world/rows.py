@@ -25,6 +25,8 @@ import pyoxigraph as ox
 from kb.core.errors import InputError
 from kb.core.namespaces import local_name
 from kb.core.resources import model_files
+from kb.io.loader import extension_classes
+from kb.spatial.scene import class_ancestors
 from kb.world.plan import PropertyPlan, load_plan
 from kb.world.values import ValueProblem, check_value, is_canonical_parts, parse_lexical
 
@@ -138,6 +140,7 @@ class RowBuilder:
         self.pending: list[Any] = []  # statements whose subject was not typed (yet)
         self.out_of_range: dict[tuple[int, str], int] = {}  # (node, property) -> a value outside its range
         self.other_types: list[tuple[int, Any]] = []  # (node, type term) of non-model types
+        self.extended: set[Any] = set()  # type terms of extension classes (rows of a model class)
         self.literals: dict[tuple[int, str], tuple[str, str | None, str | None]] = {}
         self.outside: dict[tuple[str, str, str, str, str | None, str | None], None] = {}
         self.statements = 0
@@ -242,13 +245,18 @@ class RowBuilder:
         class_get, class_of, other = self.class_of.get, self._class_of, self.other_types.append
         classes, in_tables, more, rows_of = self.classes, self.in_tables, self._more_class, self._class_rows
 
+        extended = self.extended
+
         def on_type(si: int, o: Any, q: Any) -> None:
             cls = class_get(o, _UNKNOWN)
             if cls is _UNKNOWN:
                 cls = class_of(o)
             if cls is None:
                 other((si, o))
-            elif classes[si] is None:  # typed for the first time: rows in its class's tables
+                return
+            if o in extended:  # a domain extension's class: rows of its model class, the type kept
+                other((si, o))
+            if classes[si] is None:  # typed for the first time: rows in its class's tables
                 classes[si] = [cls]
                 tables, rows = rows_of(cls)
                 for table, width in rows:
@@ -262,9 +270,17 @@ class RowBuilder:
 
     # --- types ----------------------------------------------------------------------------------
     def _class_of(self, o: Any) -> str | None:
-        """The model class a type term names (None: another class, or not a class)."""
+        """The model class a type term names (None: another class, or not a class); for a class
+        a domain extension declares under model classes (:func:`kb.io.loader.declare_classes`),
+        the deepest of those, its individuals' rows (the class itself kept in ``kitkb_type``)."""
         key = self.terms.resource(o) if self.terms.is_iri(o) else None
-        cls = self.class_of[o] = key if key in self.m.class_table else None
+        cls = key if key in self.m.class_table else None
+        if cls is None and key is not None and key in extension_classes():
+            above = [c for c in class_ancestors().get(key, ()) if c in self.m.class_table]
+            if above:
+                cls = min(above, key=lambda c: (-self.m.depth[c], c))
+                self.extended.add(o)
+        self.class_of[o] = cls
         return cls
 
     def _class_rows(self, cls: str) -> tuple[frozenset[str], list[tuple[dict[int, Row], int]]]:
