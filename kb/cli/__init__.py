@@ -104,6 +104,10 @@ def _add_files(sub: Any) -> None:
     p.add_argument("--shapes", action="extend", nargs="+", default=[], metavar="SHAPES",
                    help="SHACL shapes files applied to the data files besides the shipped shapes (their "
                         "results at file:line like the rest; put them after the files, or repeat --shapes)")
+    p.add_argument("--domain", action="append", metavar="FILE",
+                   help="a domain extension (as the other commands' --domain, repeatable): validated too, and the "
+                        "classes of objects it declares (rdfs:subClassOf a class of the model), with its domain "
+                        "individuals, known to the FILEs (docs/validation.md, \"A domain extension's classes\")")
     p = _sub(sub, "shacl", "shacl", "plain SHACL validation: data files against shapes files, no kitting model",
              formats=("text", "json", "turtle"),
              format_help="text: one file:line line per result and a summary; turtle: the W3C validation "

@@ -13,15 +13,17 @@ _SYNTAX = {"turtle": "Turtle", "xml": "RDF/XML", "nt": "N-Triples"}
 
 
 def validate(files: list[str], format: str, out: Output, ignore: list[str] | None = None,
-             shapes: list[str] | None = None) -> int:
+             shapes: list[str] | None = None, domain: list[str] | None = None) -> int:
     """Print the report (text: a ``file:line`` line per problem and a summary; JSON: an
     object with ``conforms``, ``files``, ``counts`` and ``diagnostics``); 0 conforms, 1 not.
     ``ignore``: rule names (each may list several, comma-separated) left out of the report;
-    ``shapes``: users' shapes files applied besides the shipped shapes."""
+    ``shapes``: users' shapes files applied besides the shipped shapes; ``domain``: domain
+    extensions, validated too and known to the files (their classes of objects)."""
     rules = {r.strip() for item in ignore or () for r in item.split(",") if r.strip()}
     files = files or default_files()
-    with out.progress(f"validating {_files(files)}"):
-        report = validate_files(files, extra_shapes=shapes or (), ignore=rules, progress=out.tracker)
+    with out.progress(f"validating {_files([*(domain or ()), *files])}"):
+        report = validate_files(files, extra_shapes=shapes or (), ignore=rules, progress=out.tracker,
+                                domain=domain or ())
     if format == "json":
         print(json.dumps(report.as_dict(), indent=2), file=out.results)
     else:

@@ -5,7 +5,8 @@ Model-file rules: every property used is declared and has a domain and a range; 
 sits in a declared hierarchy; datatypes used as ranges exist.
 
 Data-file rules: a data file declares no classes, properties or datatypes and adds no axioms
-to them; every ``rdf:type`` names a declared class; every property is declared; every
+to them, save a domain file's classes of objects (:func:`domain_classes`: a class declared
+``rdfs:subClassOf`` a class of the model, which then joins the model); every ``rdf:type`` names a declared class; every property is declared; every
 reference names a declared individual, and every subject of a statement is typed somewhere
 (a misspelt subject, NIST's ``:PartGipperPose``, is an ``unknown-individual``); no individual
 is typed with an abstract class.
@@ -30,7 +31,7 @@ from rdflib import OWL, RDF, RDFS, XSD, Graph, Literal, URIRef
 from rdflib.term import Node
 
 from kb.core.diagnostics import Diagnostic
-from kb.core.namespaces import KTW, SOAP, local_name
+from kb.core.namespaces import KITTING_DOMAIN_ONTOLOGY, KTW, SOAP, local_name
 from kb.model.definitions import check_definitions
 from kb.model.owl import OwlModel, is_w3c
 from kb.validation.suggest import closest
@@ -88,6 +89,102 @@ def is_data_graph(graph: Graph) -> bool:
     return any(c not in declared for _, c in individual_types(graph))
 
 
+def is_domain_graph(graph: Any) -> bool:
+    """A domain file: a data file holding SOAP domain individuals (of a class of kitkb's SOAP
+    namespace: ``soap:Action``, ``soap:Predicate``, ``soap:FaultKind`` ...), or one that
+    imports the kitting domain (``kitting-domain.ttl``, a ``--domain`` extension)."""
+    domain = KITTING_DOMAIN_ONTOLOGY.rstrip("#/")
+    if any(str(o).rstrip("#/") == domain for o in graph.objects(None, OWL.imports)):
+        return True
+    soap = str(SOAP)
+    return any(str(c).startswith(soap) for _, c in individual_types(graph))
+
+
+#: what a domain file may say of a class of objects it declares, besides its declaration and
+#: its named superclasses
+CLASS_ANNOTATIONS = frozenset({RDFS.label, RDFS.comment, RDFS.seeAlso, RDFS.isDefinedBy})
+
+
+@dataclass
+class DomainClasses:
+    """The classes of objects the domain files of one validation declare (a domain extension's
+    ``xp:BufferBox a owl:Class ; rdfs:subClassOf ktw:LargeContainer``): ``accepted``, each
+    under a class of the model, directly or through another accepted class, join the model for
+    every file of the validation (``graph``: their declarations, superclasses and annotations,
+    added to the model); ``refused`` (class -> why), the others. ``declared_in``: class -> the
+    files declaring it."""
+
+    accepted: dict[URIRef, frozenset[URIRef]] = field(default_factory=dict)
+    refused: dict[URIRef, str] = field(default_factory=dict)
+    declared_in: dict[URIRef, set[str]] = field(default_factory=dict)
+    graph: Graph = field(default_factory=Graph)
+
+    def __bool__(self) -> bool:
+        return bool(self.accepted or self.refused)
+
+    def declares(self, src: Any, term: Node) -> bool:
+        """Whether ``src`` is a domain file declaring ``term`` as a class of objects."""
+        return str(src.path) in self.declared_in.get(term, ())  # type: ignore[arg-type]
+
+
+def domain_classes(sources: Any, model: OwlModel, namer: Callable[..., str]) -> DomainClasses:
+    """The classes that the domain files among ``sources`` (:func:`is_domain_graph`) declare
+    beyond ``model``, accepted or refused (:class:`DomainClasses`). A class is accepted when it
+    has a named superclass and each is a class of the model or an accepted class; a class of
+    the model declared again, or a property, is no class of objects here (the data-file rules
+    refuse it). ``namer`` names terms in the refusals (``(term, source) -> name``)."""
+    out = DomainClasses()
+    supers: dict[URIRef, set[Node]] = {}
+    where: dict[URIRef, Any] = {}
+    for src in sources:
+        g = graph_of(src)
+        if not any(True for t in (OWL.Class, RDFS.Class) for _ in g.subjects(RDF.type, t)):
+            continue  # the usual case (a state file, the shipped domain): nothing declared
+        if not is_domain_graph(g):
+            continue
+        for term, kind in declared_terms(g).items():
+            if kind not in (OWL.Class, RDFS.Class) or term in model.classes or term in model.properties \
+                    or term in model.datatypes:
+                continue
+            out.declared_in.setdefault(term, set()).add(str(src.path))
+            supers.setdefault(term, set()).update(g.objects(term, RDFS.subClassOf))
+            where.setdefault(term, src)
+    changed = True
+    while changed:  # accepted from the model down, through the classes the files declare
+        changed = False
+        for c, ups in supers.items():
+            named = {u for u in ups if isinstance(u, URIRef)}
+            if c not in out.accepted and named and all(u in model.classes or u in out.accepted for u in named):
+                out.accepted[c] = frozenset(named)
+                changed = True
+    for c in sorted(set(supers) - set(out.accepted)):
+        src = where[c]
+        named = sorted(u for u in supers[c] if isinstance(u, URIRef))
+        if not named:
+            why = "it has no named rdfs:subClassOf"
+        else:
+            unknown = [u for u in named if u not in model.classes and u not in out.accepted]
+            parts = []
+            for u in unknown:
+                if u in supers:
+                    parts.append(f"{namer(u, src)} is itself under no class of the model")
+                else:
+                    parts.append(f"{namer(u, src)} is neither a class of the model nor one a domain file declares")
+            why = "rdfs:subClassOf " + ", ".join(namer(u, src) for u in named) + ": " + "; ".join(parts)
+        out.refused[c] = why
+    for c, ups in out.accepted.items():
+        g = graph_of(where[c])
+        for kind in (OWL.Class, RDFS.Class):
+            if (c, RDF.type, kind) in g:
+                out.graph.add((c, RDF.type, kind))
+        for u in ups:
+            out.graph.add((c, RDFS.subClassOf, u))
+        for p in CLASS_ANNOTATIONS | model.annotation_properties:
+            for o in g.objects(c, p):
+                out.graph.add((c, p, o))
+    return out
+
+
 @dataclass
 class RuleContext:
     """What the checks need: the model, the names known, and where things are."""
@@ -110,6 +207,9 @@ class RuleContext:
     #: objects whose location is unknown, to be sensed (kb.spatial.unlocated): a note each, and
     #: their missing primary location is no min-count error
     unlocated: set[URIRef] = field(default_factory=set)
+    #: the classes of objects the validation's domain files declare (accepted ones are in
+    #: ``model`` too); a domain file declaring one is not refused it, nor its superclasses
+    domain: DomainClasses = field(default_factory=DomainClasses)
 
     def report(self, source: Any, line: int | None, severity: str, message: str, rule: str,
                focus: Node) -> None:
@@ -290,7 +390,17 @@ def predicate_set(graph: Any) -> set[Node]:
 def check_data_source(ctx: RuleContext, src: Any) -> None:
     """Rules for a file that holds individuals of an imported model."""
     g = graph_of(src)
+    domain = ctx.domain
     for term, kind in sorted(declared_terms(g).items()):
+        if domain.declares(src, term):
+            if term in domain.refused:
+                ctx.report(src, ctx.locate(src, term, RDF.type, kind), "error",
+                           f"domain file declares {ctx.name(kind, src)} {ctx.name(term, src, at=(term, RDF.type, kind))} "
+                           f"under no class of the model ({domain.refused[term]}): a domain file may declare only a "
+                           "class of objects rdfs:subClassOf a class of the model, directly or through another "
+                           "class it declares", "data-declares-term", term)
+                ctx.reported_terms.add((str(src.path), "data-declares-term", term))
+            continue
         ctx.report(src, ctx.locate(src, term, RDF.type, kind), "error",
                    f"data file declares {ctx.name(kind, src)} {ctx.name(term, src, at=(term, RDF.type, kind))}: "
                    "classes and properties belong in a model file", "data-declares-term", term)
@@ -299,7 +409,15 @@ def check_data_source(ctx: RuleContext, src: Any) -> None:
     pairs = pairs_by_predicate(g, set(AXIOM_PREDICATES) | object_props)
     for pred in sorted(AXIOM_PREDICATES):
         for s, o in sorted(pairs[pred]):
-            if isinstance(s, URIRef):
+            if pred == RDFS.subClassOf and isinstance(o, URIRef) and domain.declares(src, s):
+                continue  # a domain class's superclass: accepted, or refused at its declaration
+            if isinstance(s, URIRef) and domain.declares(src, s):
+                ctx.report(src, ctx.locate(src, s, pred, o), "error",
+                           f"domain file states {ctx.name(s, src)} {ctx.name(pred, src)} {_axiom_value(ctx, src, o)}: "
+                           "a domain file's class of objects has only named superclasses (rdfs:subClassOf), "
+                           "rdfs:label and rdfs:comment; other axioms belong in a model file",
+                           "data-declares-term", s)
+            elif isinstance(s, URIRef):
                 what = "changes" if s in ctx.model.classes or s in ctx.model.properties else "states"
                 ctx.report(src, ctx.locate(src, s, pred, o), "error",
                            f"data file {what} {ctx.name(s, src)} {ctx.name(pred, src)} {ctx.name(o, src)}: "
@@ -309,6 +427,14 @@ def check_data_source(ctx: RuleContext, src: Any) -> None:
     _check_references(ctx, src, pairs)
     _check_subjects(ctx, src, g)
     _check_definitions(ctx, src, g)
+
+
+def _axiom_value(ctx: RuleContext, src: Any, o: Node) -> str:
+    """An axiom's value as a message names it: a blank node by what it is (a restriction)."""
+    if isinstance(o, URIRef) or isinstance(o, Literal):
+        return ctx.name(o, src)
+    kind = graph_of(src).value(o, RDF.type)
+    return f"an anonymous {ctx.name(kind, src)}" if kind is not None else "an anonymous class expression"
 
 
 def _check_definitions(ctx: RuleContext, src: Any, g: Any) -> None:
@@ -422,8 +548,8 @@ def _check_references(ctx: RuleContext, src: Any, pairs: dict[Node, list[tuple[N
     for p, info in sorted(ctx.model.properties.items()):
         if info.kind != "object":
             continue
-        unknown = [(s, o) for s, o in pairs[p]
-                   if isinstance(o, URIRef) and o not in ctx.individuals and not _punned(ctx, o)]
+        unknown = [(s, o) for s, o in pairs[p] if isinstance(o, URIRef) and o not in ctx.individuals
+                   and not _punned(ctx, o) and o not in ctx.domain.refused]  # (refused at its declaration)
         for s, o in sorted(unknown):
             ctx.report(src, ctx.locate(src, s, p, o), "error",
                        f"unknown individual {ctx.name(o, src)} (object of {ctx.name(p, src, at=(s, p, o))} on "
@@ -491,5 +617,5 @@ def _did(name: str, pool: list[str], prefix: str) -> str:
     return f", did you mean {prefix}{best}?" if best else ""
 
 
-__all__ = ["RuleContext", "check_model_source", "check_data_source", "is_data_graph", "declared_terms",
-           "individual_types"]
+__all__ = ["RuleContext", "DomainClasses", "check_model_source", "check_data_source", "is_data_graph",
+           "is_domain_graph", "domain_classes", "declared_terms", "individual_types"]

@@ -27,9 +27,10 @@ from kb.core.diagnostics import Diagnostic
 from kb.core.errors import InputError
 from kb.core.memory import gc_paused
 from kb.core.progress import SILENT, Progress, Task
-from kb.core.namespaces import KTW, NIST_KTW_2012, local_name
+from kb.core.namespaces import KITTING_DOMAIN_ONTOLOGY, KTW, NIST_KTW_2012, local_name
 from kb.core.resources import ontologies_dir, ontology_path, scenario_dirs, shapes_path
-from kb.io.loader import NIST_2012_TERM, KnowledgeBase, load, load_file, not_read_warning
+from kb.io.loader import (NIST_2012_TERM, SHIPPED_DOMAIN, KnowledgeBase, declare_classes, load, load_file,
+                          not_read_warning)
 from kb.io.views import UnionView
 from kb.io.vocabulary import no_model
 from kb.model.owl import OwlModel
@@ -100,7 +101,8 @@ def default_files() -> list[str]:
 
 def validate(paths: Sequence[str | Path], *, shapes_files: Sequence[str | Path] | None = None,
              extra_shapes: Sequence[str | Path] = (), ignore: Collection[str] = (),
-             progress: Progress = SILENT, loaded: KnowledgeBase | None = None) -> ValidationReport:
+             progress: Progress = SILENT, loaded: KnowledgeBase | None = None,
+             domain: Sequence[str | Path] = ()) -> ValidationReport:
     """Validate ``paths`` (model and data files) closed-world; see the module docstring.
 
     ``shapes_files`` replaces the hand-written rule files (for tests); an empty shapes
@@ -110,15 +112,22 @@ def validate(paths: Sequence[str | Path], *, shapes_files: Sequence[str | Path] 
     ``ignore``: rule names left out of the report (the geometry rules are then not even
     computed). ``progress``: where each step says what it does (:mod:`kb.core.progress`).
     ``loaded``: ``paths`` already loaded with their imports (:func:`kb.io.load`), so that a
-    caller that goes on with the files (the closed loop) parses each once.
+    caller that goes on with the files (the closed loop) parses each once. ``domain``: domain
+    extensions (``kitkb validate --domain FILE``), read as the other commands read them (the
+    shipped ``kitting-domain.ttl`` first, unless one of them replaces it) and validated too: the
+    classes of objects they declare, and their individuals, are known to ``paths``
+    (docs/validation.md, "A domain extension's classes").
     """
     started = time.perf_counter()
-    if not paths:
+    if not paths and not domain:
         raise InputError("nothing to validate: no files given")
     # millions of long-lived acyclic objects (terms, index dictionaries): the cyclic garbage
     # collector would walk them all again and again, for nothing
     with gc_paused(), progress.task(f"reading {len(paths)} file(s)") as step:
         user = ShapesFiles.read(extra_shapes) if extra_shapes else None
+        if domain:
+            loaded = _with_domain(loaded if loaded is not None else load([str(p) for p in paths]), domain)
+            paths = [*domain, *paths]
         report = _validate(paths, shapes_files, started, frozenset(ignore), step, user, loaded)
     if ignore:
         report.diagnostics = [d for d in report.diagnostics if d.rule not in ignore]
@@ -135,17 +144,23 @@ def _validate(paths: Sequence[str | Path], shapes_files: Sequence[str | Path] | 
     sources = [s for s in kb.sources if _key(s.path) in given] or list(kb.sources)
     data = [s for s in kb.sources if rules.is_data_graph(rules.graph_of(s))]
     model_graph = _merge(*(s.graph for s in kb.sources if s not in data))
-    model = OwlModel(model_graph)
+    model = shapes_model = OwlModel(model_graph)
     namer = Namer()
     later = _Deferred()
-    checked = {id(src): g for src in sources if (g := _shacl_data(src, data, model_graph)) is not None}
+    # the classes of objects the domain files declare under the model's join it for every file
+    domain = rules.domain_classes(data, model, namer.name)
+    if domain.accepted:
+        model = OwlModel(_merge(model_graph, domain.graph))
+        declare_classes([s for s in data if any(domain.declares(s, c) for c in domain.accepted)])
+    checked = {id(src): g for src in sources
+               if (g := _shacl_data(src, data, model_graph, domain)) is not None}
     found: dict[int, list[ShaclResult]] = {}
     shapes = None
     pending: list[tuple[int, shacl.Finish]] = []
     if checked or shapes_files is not None or user is not None:
         if not model.classes:  # before _shapes says so: the imports that did not resolve, at their lines
             raise no_model(kb)
-        shapes = _shapes(model, shapes_files, user)
+        shapes = _shapes(shapes_model, shapes_files, user)
         if user is not None:
             with located():  # a shape SHACL forbids: refused before any work, at its line
                 shacl.check_shapes(shapes)
@@ -156,7 +171,7 @@ def _validate(paths: Sequence[str | Path], shapes_files: Sequence[str | Path] | 
             pending.append((id(todo[0]), shacl.start(checked[id(todo[0])], shapes)))
         pending += [(id(src), functools.partial(_later_shacl, checked[id(src)], shapes)) for src in todo[1:]]
     step.update(description="the Python rules and geometry" + (", SHACL meanwhile" if pending else ""))
-    ctx = rules.RuleContext(model, _individuals(kb.sources), namer.name, later.locate)
+    ctx = rules.RuleContext(model, _individuals(kb.sources), namer.name, later.locate, domain=domain)
     for src in sources:
         ctx.out.extend(w for w in getattr(src, "warnings", None) or [] if w.rule != NIST_2012_TERM)
         (rules.check_data_source if src in data else rules.check_model_source)(ctx, src)
@@ -290,16 +305,38 @@ class _Deferred:
         return d
 
 
-def _shacl_data(src: Any, data: list[Any], model_graph: Graph) -> Any:
+def _shacl_data(src: Any, data: list[Any], model_graph: Graph,
+                domain: rules.DomainClasses | None = None) -> Any:
     """The graph SHACL checks for ``src``: a data file with the model (and data files it
-    imports); a model file holding individuals: the model; otherwise None (nothing to check)."""
+    imports, and the domain files' classes of objects: their superclasses are what the shapes
+    of the model's classes target them by); a model file holding individuals: the model;
+    otherwise None (nothing to check)."""
     if src in data:
         imported = {str(i) for i in (getattr(src, "imports", None) or [])}
         others = [rules.graph_of(d) for d in data if d is not src and str(getattr(d, "ontology_iri", "")) in imported]
+        if domain is not None and domain.accepted and not any(domain.declares(src, c) for c in domain.accepted):
+            others.append(domain.graph)  # (a file declaring them has them already: no duplicates)
         return _union_view(model_graph, rules.graph_of(src), *others)
     if any(True for _ in rules.individual_types(rules.graph_of(src))):
         return model_graph
     return None
+
+
+def _with_domain(kb: KnowledgeBase, extensions: Sequence[str | Path]) -> KnowledgeBase:
+    """``kb`` with the domain of ``extensions`` (``--domain``): the extension files, the shipped
+    ``kitting-domain.ttl`` unless one of them replaces it (declares its ontology IRI), and their
+    imports; each file once, ``kb``'s sources first."""
+    ext = load([str(p) for p in extensions])
+    wanted = KITTING_DOMAIN_ONTOLOGY.rstrip("#/")
+    if not any((s.ontology_iri or "").rstrip("#/") == wanted for s in ext.sources):
+        ext = KnowledgeBase([*ext.sources, *load([ontology_path(SHIPPED_DOMAIN)]).sources])
+    seen = {_key(s.path) for s in kb.sources}
+    extra = []
+    for s in ext.sources:
+        if _key(s.path) not in seen:
+            seen.add(_key(s.path))
+            extra.append(s)
+    return KnowledgeBase([*kb.sources, *extra]) if extra else kb
 
 
 def _key(path: Any) -> str:
