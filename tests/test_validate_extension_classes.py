@@ -175,6 +175,11 @@ def test_domain_class_under_nothing_of_the_model(tmp_path: Path) -> None:
     assert [r for _f, _n, r, _m in _found(report)] == ["data-declares-term"] * 4
     # and the buffer box, under a class of the model, is still known to the states
     assert not any(f != "extension.ttl" for f, *_ in _found(report))
+    # an ignored error stands for nothing: what follows from it comes back
+    ignored = validate([str(INIT)], domain=[str(ext)], ignore={"data-declares-term"})
+    assert [(n, r, m) for _f, n, r, m in _found(ignored)] == [
+        (_line(ext, r"soap:hasParameter_Type xp:Gadget"), "unknown-individual",
+         "unknown individual xp:Gadget (object of soap:hasParameter_Type on xp:p9)")]
 
 
 def test_domain_class_through_another_it_declares(tmp_path: Path) -> None:

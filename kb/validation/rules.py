@@ -548,13 +548,17 @@ def _check_references(ctx: RuleContext, src: Any, pairs: dict[Node, list[tuple[N
     for p, info in sorted(ctx.model.properties.items()):
         if info.kind != "object":
             continue
-        unknown = [(s, o) for s, o in pairs[p] if isinstance(o, URIRef) and o not in ctx.individuals
-                   and not _punned(ctx, o) and o not in ctx.domain.refused]  # (refused at its declaration)
+        unknown = [(s, o) for s, o in pairs[p]
+                   if isinstance(o, URIRef) and o not in ctx.individuals and not _punned(ctx, o)]
         for s, o in sorted(unknown):
             ctx.report(src, ctx.locate(src, s, p, o), "error",
                        f"unknown individual {ctx.name(o, src)} (object of {ctx.name(p, src, at=(s, p, o))} on "
                        f"{ctx.name(s, src)})" + _hint(ctx, o, ctx.individuals, src),
                        "unknown-individual", s)
+            if ctx.domain.declares(src, o):  # a class of the file refused at its declaration: one defect
+                d = ctx.out[-1]
+                key = (d.file, d.rule, d.focus, d.message)
+                ctx.follows[key] = ctx.follows.get(key, frozenset()) | {ctx.name(o, src)}
 
 
 def _check_subjects(ctx: RuleContext, src: Any, g: Any) -> None:
