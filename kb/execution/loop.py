@@ -254,7 +254,12 @@ class ClosedLoop:
         from kb.validation import validate
         assert self.inputs is not None
         t = self._stage("validate", files=[str(self.init), str(self.goal)])
-        report = validate([str(self.init), str(self.goal)], loaded=self.inputs.states)
+        extensions = self.inputs.knowledge.domain_files or ()
+        if extensions:  # a broken extension is bad input (refused at its line, exit 2), before any finding
+            self.inputs.knowledge.domain  # noqa: B018 - read now
+        # the extensions validated with the states: their classes of objects known to them
+        report = validate([str(self.init), str(self.goal)], loaded=self.inputs.states,
+                          domain=extensions)
         self.result.validation = report
         return self._ended("validate", t, report, report.conforms,
                            None if report.conforms else invalid_reason(report.errors))
