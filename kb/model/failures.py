@@ -27,6 +27,7 @@ from kb.core.errors import InputError
 from kb.core.namespaces import SOAP
 from kb.io.loader import domain_knowledge
 from kb.model.definitions import Formula, Locator, _Malformed, _Reader, _short, locator
+from kb.model.policy import delivers_partial_kits
 
 PRE, EFF = "precondition", "effect"
 
@@ -112,6 +113,9 @@ class FailureModel:
     programs: dict[str, ActionProgram] = field(default_factory=dict)
     #: action name -> parameter IRI -> parameter name (the terms of failure conditions)
     parameters: dict[str, dict[str, str]] = field(default_factory=dict)
+    #: the domain's partial-kit policy (:func:`kb.model.policy.delivers_partial_kits`): True
+    #: deliver a kit that cannot be finished partial, False leave it, None: none declared
+    delivers_partial_kits: bool | None = None
 
     def candidates(self, action: str, phase: str) -> list[FailureModeDef]:
         """Modes of ``action`` in ``phase``, most likely first."""
@@ -151,6 +155,7 @@ def read_failure_model(graph: Graph, locate: Locator | None = None) -> FailureMo
             reader.error(e.node, f"action program {_short(node)}: {e.message}")
     if problems:
         raise problems[0]
+    out.delivers_partial_kits = delivers_partial_kits(graph, locate)
     return out
 
 

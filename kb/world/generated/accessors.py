@@ -15,7 +15,7 @@ from sqlalchemy.dialects import mysql
 from sqlalchemy.orm import DeclarativeBase, Mapped, foreign, mapped_column, relationship, remote
 
 #: Fingerprint of the schema; a database stamped with another one is refused.
-SCHEMA_VERSION = '3b427ee14f00ea85'
+SCHEMA_VERSION = 'e41cdb18d01a8ccc'
 #: (ontology IRI, owl:versionInfo) of the ontologies the schema was made from.
 ONTOLOGIES = (('https://w3id.org/kitkb/kitting', '0.1.0'), ('https://w3id.org/kitkb/soap', '0.1.0'))
 
@@ -803,6 +803,21 @@ class Effect(Thing):
     predicate_atom: Mapped[list[PredicateAtom]] = relationship('PredicateAtom', secondary=lambda: soap_has_effect_predicate_atom, primaryjoin=lambda: Effect.__table__.c.id == soap_has_effect_predicate_atom.c.subject_id, secondaryjoin=lambda: PredicateAtom.__table__.c.id == soap_has_effect_predicate_atom.c.value_id, info={'iri': 'https://w3id.org/kitkb/soap#hasEffect_PredicateAtom'})
 
 
+class ExecutionPolicy(Thing):
+    """How a domain's executor decides what the failure model leaves open: what it does with a kit it cannot finish (one policy per domain).
+
+    Class <https://w3id.org/kitkb/soap#ExecutionPolicy>.
+    """
+
+    __tablename__ = 'soap_execution_policy'
+    __table_args__ = {'info': {'iri': 'https://w3id.org/kitkb/soap#ExecutionPolicy', 'parent': 'kitkb_thing'}, 'comment': "How a domain's executor decides what the failure model leaves open: what it does with a kit it cannot finish (one policy per domain)."}
+
+    id: Mapped[int] = mapped_column(ForeignKey('kitkb_thing.id', deferrable=True, initially="DEFERRED"), primary_key=True, autoincrement=False)
+    __mapper_args__ = {"polymorphic_identity": 'https://w3id.org/kitkb/soap#ExecutionPolicy', "inherit_condition": id.column == Thing.__table__.c.id}
+    partial_kits_id: Mapped[int | None] = mapped_column(Integer, _ref('soap_partial_kit_policy'), index=True, info={'iri': 'https://w3id.org/kitkb/soap#hasExecutionPolicy_PartialKits', 'kind': 'object'})
+    partial_kits: Mapped[PartialKitPolicy | None] = relationship('PartialKitPolicy', primaryjoin=lambda: foreign(ExecutionPolicy.__table__.c.partial_kits_id) == remote(PartialKitPolicy.__table__.c.id), foreign_keys=lambda: [ExecutionPolicy.__table__.c.partial_kits_id])
+
+
 class FailureMode(Thing):
     """A known way an action can fail: the action and check phase it belongs to, the predicates whose violation signals it, a discriminating condition that tells it apart from other modes signalled by the same predicates (evaluated after the failure, with the action's parameters bound), its consequence, severity, likelihood and remediation.
 
@@ -1054,6 +1069,20 @@ class ParameterBinding(Thing):
     object: Mapped[str | None] = mapped_column(_IRI, nullable=True, info={'iri': 'https://w3id.org/kitkb/soap#hasParameterBinding_Object', 'kind': 'iri'})
     parameter_id: Mapped[int] = mapped_column(Integer, _ref('soap_parameter'), index=True, info={'iri': 'https://w3id.org/kitkb/soap#hasParameterBinding_Parameter', 'kind': 'object'})
     parameter: Mapped[Parameter] = relationship('Parameter', primaryjoin=lambda: foreign(ParameterBinding.__table__.c.parameter_id) == remote(Parameter.__table__.c.id), foreign_keys=lambda: [ParameterBinding.__table__.c.parameter_id])
+
+
+class PartialKitPolicy(Thing):
+    """What the executor does with a kit it cannot finish; the individuals are soap:DeliverPartialKit and soap:LeaveKit, told apart by soap:hasPartialKitPolicy_Delivers.
+
+    Class <https://w3id.org/kitkb/soap#PartialKitPolicy>.
+    """
+
+    __tablename__ = 'soap_partial_kit_policy'
+    __table_args__ = {'info': {'iri': 'https://w3id.org/kitkb/soap#PartialKitPolicy', 'parent': 'kitkb_thing'}, 'comment': 'What the executor does with a kit it cannot finish; the individuals are soap:DeliverPartialKit and soap:LeaveKit, told apart by soap:hasPartialKitPolicy_Delivers.'}
+
+    id: Mapped[int] = mapped_column(ForeignKey('kitkb_thing.id', deferrable=True, initially="DEFERRED"), primary_key=True, autoincrement=False)
+    __mapper_args__ = {"polymorphic_identity": 'https://w3id.org/kitkb/soap#PartialKitPolicy', "inherit_condition": id.column == Thing.__table__.c.id}
+    delivers: Mapped[bool | None] = mapped_column(Boolean(), nullable=True, info={'iri': 'https://w3id.org/kitkb/soap#hasPartialKitPolicy_Delivers', 'kind': 'data', 'value': 'boolean', 'datatype': 'http://www.w3.org/2001/XMLSchema#boolean'})
 
 
 class Precondition(Thing):
@@ -3005,6 +3034,7 @@ CLASSES: dict[str, type[Base]] = {
     'soap_command_step': CommandStep,
     'soap_consequence_kind': ConsequenceKind,
     'soap_effect': Effect,
+    'soap_execution_policy': ExecutionPolicy,
     'soap_failure_mode': FailureMode,
     'soap_failure_remediation': FailureRemediation,
     'soap_fault_kind': FaultKind,
@@ -3018,6 +3048,7 @@ CLASSES: dict[str, type[Base]] = {
     'soap_numeric_expression': NumericExpression,
     'soap_object_consequence': ObjectConsequence,
     'soap_parameter_binding': ParameterBinding,
+    'soap_partial_kit_policy': PartialKitPolicy,
     'soap_precondition': Precondition,
     'soap_predicate': Predicate,
     'soap_recovery_plan': RecoveryPlan,
