@@ -320,29 +320,35 @@ def test_several_faults_are_each_diagnosed_and_every_diagnosis_names_one(name: s
     assert {f.mode for f in run.failures()} <= {m for k in kinds for m in ALLOWED[k]}
 
 
-# --- when recovery is impossible --------------------------------------------------------------
+# --- when the parts run out: the kit delivered partial --------------------------------------------------------------
 
-def test_no_part_of_the_sku_left_stops_with_the_sku_as_reason() -> None:
-    """small-kit needs 2 parts of sku_part_a and has 4: a part missing at every take-part empties the tray."""
+def test_no_part_of_the_sku_left_delivers_the_kit_partial_saying_what_it_lacks() -> None:
+    """small-kit needs 2 parts of sku_part_a and has 4: a part missing at every take-part empties
+    the tray; the run does not stop for the operator but delivers the kit partial (the shipped
+    domain's partial-kit policy, kb.execution.partial), and the report says what it lacks."""
     init, goal = files(SMALL)
     _domain, spec = read_specs([init], [goal], "numeric")
     assert sorted(f[1] for f in spec.facts if f[0] == "part-sku" and f[2] == "sku_part_a") == [
         "part_a_1", "part_a_2", "part_a_3", "part_a_4"]
     run, cell = execute(SMALL, "part-missing=1.0", 0)
-    assert run.goal_holds is False
-    assert run.stopped == ("parts-tray-empty at action 9 (take-part robot_1 part_a_2 part_a_tray part_gripper): "
-                           "The parts tray ran empty; the kit cannot be finished from it. (the remediation asks "
-                           "for an operator); no usable part of sku_part_a is left in a parts tray")
+    assert run.goal_holds is False and run.stopped is None
+    assert run.report()["partial_kits"] == [{"kit": "kit_1", "outcome": "delivered partial",
+                                             "lacks": {"sku_part_a": 2, "sku_part_b": 1}}]
     rebound = [("part-missing-from-tray", i, "take-part", "precondition", "rebind",
-                f"recovered: bound {part} from part_a_tray") for i, part in [(6, "part_a_3"), (7, "part_a_4"),
-                                                                              (8, "part_a_2")]]
-    assert failures(run) == rebound + [("parts-tray-empty", 9, "take-part", "precondition", "stop",
-                                        "stopped for an operator")]
+                f"recovered: bound {part} from {part[:6]}_tray") for i, part in [(6, "part_a_3"), (7, "part_a_4"),
+                                                                                   (8, "part_a_2"), (10, "part_b_2"),
+                                                                                   (11, "part_b_3")]]
+    assert failures(run) == rebound[:3] + [("parts-tray-empty", 9, "take-part", "precondition", "replan",
+                                            "recovered: new plan of 7 actions")] + rebound[3:] + [
+        ("parts-tray-empty", 12, "take-part", "precondition", "replan", "recovered: new plan of 5 actions")]
     assert_diagnoses_match_the_faults(run.report())
-    assert run.report()["stopped"] == run.stopped
+    # in the cell: the kit delivered (only its counts short of the goal), empty
+    assert goal_in_ground_truth(cell, init, goal) == ["quantity-kit kit_1 sku_part_a != capacity-kit kit_1 sku_part_a",
+                                                      "quantity-kit kit_1 sku_part_b != capacity-kit kit_1 sku_part_b"]
+    assert kit_contents(cell) == {}
 
 
-def test_a_tray_emptied_before_the_run_stops_at_the_first_take_part() -> None:
+def test_a_tray_emptied_before_the_run_is_found_at_the_first_take_part() -> None:
     init, goal = files(SMALL)
 
     class Emptied(SimulatedCell):
@@ -351,41 +357,45 @@ def test_a_tray_emptied_before_the_run_stops_at_the_first_take_part() -> None:
             for n in range(1, 5):
                 self.world.remove(self.world.index[NS + f"part_a_{n}"])
 
-    run, _cell = execute(SMALL, cell_class=Emptied)
-    assert failures(run) == [("parts-tray-empty", 6, "take-part", "precondition", "stop", "stopped for an operator")]
-    assert run.stopped.startswith("parts-tray-empty at action 6 (take-part robot_1 part_a_1 part_a_tray")
-    assert run.stopped.endswith("; no usable part of sku_part_a is left in a parts tray")
+    run, cell = execute(SMALL, cell_class=Emptied)
+    assert failures(run) == [("parts-tray-empty", 6, "take-part", "precondition", "replan",
+                              "recovered: new plan of 7 actions")]
+    assert run.stopped is None and run.goal_holds is False
+    assert run.report()["partial_kits"] == [{"kit": "kit_1", "outcome": "delivered partial",
+                                             "lacks": {"sku_part_a": 2}}]
+    assert kit_contents(cell) == {"kit_1": [("part_b_1", "sku_part_b")]}
     assert run.report()["injected"] == []  # nothing the simulator injected: removed before the run
 
 
-def test_every_part_of_a_sku_defective_stops_when_no_plan_is_left() -> None:
-    run, _cell = execute(SMALL, "defective-part=1.0", 0)
-    assert run.goal_holds is False
-    assert run.stopped == "no plan: kit kit_1 needs 2 more part(s) of sku_part_a; only 0 usable one(s) lie in " \
-                          "parts trays"
-    assert [f.mode for f in run.failures()] == ["defective-part"] * 4
-    assert run.failures()[-1].outcome == f"stopped: {run.stopped}"
+def test_every_part_of_a_sku_defective_delivers_the_kit_without_them() -> None:
+    run, cell = execute(SMALL, "defective-part=1.0", 0)
+    assert run.goal_holds is False and run.stopped is None
+    assert [f.mode for f in run.failures()] == ["defective-part"] * 7
+    assert run.report()["partial_kits"] == [{"kit": "kit_1", "outcome": "delivered partial",
+                                             "lacks": {"sku_part_a": 2, "sku_part_b": 1}}]
+    assert kit_contents(cell) == {}  # no defective part went into the kit
 
 
-def test_kitkb_run_exits_1_and_prints_why_it_stopped(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+def test_kitkb_run_exits_1_and_prints_the_partial_kit(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
     init, goal = files(SMALL)
     report = tmp_path / "report.json"
     assert main(["run", init, goal, "-o", str(tmp_path / "out"), "--faults", "part-missing=1.0",
                  "--report", str(report)]) == 1
     out = capsys.readouterr().out
-    assert "    small-kit: stopped: parts-tray-empty at action 9 (take-part robot_1 part_a_2 part_a_tray " \
-           "part_gripper)" in out
-    assert "no usable part of sku_part_a is left in a parts tray" in out.splitlines()[-1]
+    assert "execute: goal DOES NOT hold" in out
+    assert "; partial kits kit_1 delivered partial (lacks sku_part_a 2, sku_part_b 1)" in out
     data = json.loads(report.read_text())
-    assert data["goal_holds"] is False and "sku_part_a" in data["stopped"]
-    assert [(x["kind"], x["action_index"], x["objects"]) for x in data["injected"]] == [
+    assert data["goal_holds"] is False and data["stopped"] is None
+    assert data["partial_kits"] == [{"kit": "kit_1", "outcome": "delivered partial",
+                                     "lacks": {"sku_part_a": 2, "sku_part_b": 1}}]
+    assert [(x["kind"], x["action_index"], x["objects"]) for x in data["injected"]][:4] == [
         ("part-missing", 6, ["part_a_1"]), ("part-missing", 7, ["part_a_3"]), ("part-missing", 8, ["part_a_4"]),
         ("part-missing", 9, ["part_a_2"])]
-    assert [(f["mode"], f["action_index"], f["objects"], f["recovery"]) for f in data["failures"]] == [
+    assert [(f["mode"], f["action_index"], f["objects"], f["recovery"]) for f in data["failures"]][:4] == [
         ("part-missing-from-tray", 6, ["part_a_1", "part_a_tray"], "rebind"),
         ("part-missing-from-tray", 7, ["part_a_3", "part_a_tray"], "rebind"),
         ("part-missing-from-tray", 8, ["part_a_4", "part_a_tray"], "rebind"),
-        ("parts-tray-empty", 9, ["part_a_2", "part_a_tray"], "stop")]
+        ("parts-tray-empty", 9, ["part_a_2", "part_a_tray"], "replan")]
 
 
 def test_kitkb_run_with_faults_it_recovers_from_exits_0(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:

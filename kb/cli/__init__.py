@@ -272,6 +272,10 @@ def _add_run(sub: Any) -> None:
                    "sensor)")
     p.add_argument("--match-names", action="store_true",
                    help="match the goal's individuals to the initial state's by local name (NIST's files)")
+    p.add_argument("--partial-kits", choices=["deliver", "leave"], metavar="deliver|leave",
+                   help="when the usable parts cannot finish every kit, the kits they can finish are built (as "
+                        "many as possible) and each other kit is delivered partial or left, not delivered "
+                        "(default: the domain's soap:hasExecutionPolicy_PartialKits, kitkb's: deliver; docs/execution.md)")
 
 
 def _add_crcl(sub: Any) -> None:

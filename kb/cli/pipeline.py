@@ -42,7 +42,8 @@ from kb.validation import validate
 
 def run(files: list[str], output: str, faults: str | None, seed: int, db: str | None, report: str | None,
         cell: str | None, match_names: bool, out: Output, domain: list[str] | None = None,
-        replace: bool = False, report_html: str | None = None, sensor_noise: str | None = None) -> int:
+        replace: bool = False, report_html: str | None = None, sensor_noise: str | None = None,
+        partial_kits: str | None = None) -> int:
     """``kitkb run [INIT GOAL]``: the closed loop on the files, or the main job on every shipped
     scenario; a line per stage and action on standard output (with ``--quiet`` only the problems
     found; with ``--format json`` the report instead, the problems on standard error)."""
@@ -59,7 +60,7 @@ def run(files: list[str], output: str, faults: str | None, seed: int, db: str | 
             raise InputError(f"--sensor-noise: {exc}") from None
     if cell is not None or faults:  # a URL, scheme, parameter or fault that cannot work is refused before any work
         _check_cell(cell, faults, seed, domain)
-    options = RunOptions(faults, seed, db, cell, match_names, domain, replace, sensor_noise)
+    options = RunOptions(faults, seed, db, cell, match_names, domain, replace, sensor_noise, partial_kits)
     show = _Show(display=out.tracker, problems=_Current("stderr") if out.is_json else None,
                  on_report=(lambda data: print(json.dumps(data, indent=1), file=out.results, flush=True))
                  if out.is_json else None, html=report_html)
@@ -130,6 +131,7 @@ class RunOptions:
     domain: list[str] | None = None  # domain files (failure modes, remediations) instead of the shipped one
     replace: bool = False  # --db may replace what the database holds
     sensor_noise: str | None = None  # the sensor's accuracy, over the state file's (--sensor-noise)
+    partial_kits: str | None = None  # a kit the parts cannot finish: deliver | leave (--partial-kits)
 
 
 class _Progress:
@@ -232,7 +234,7 @@ def _scenario(name: str, init: Path, goal: Path, target: Path, progress: _Progre
                                match_names=options.match_names, domain_files=options.domain,
                                sensor_noise=options.sensor_noise, out_dir=target, db=db_file,
                                replace=options.replace or not options.db,  # the job's own output is replaced
-                               notifier=_quiet, name=name)
+                               notifier=_quiet, name=name, partial_kits=options.partial_kits)
     drawing = _Drawing(name, init, goal, target, progress, options)
     try:
         result = ClosedLoop(init, goal, loop_options, on_event=drawing, progress=progress.display).run()
@@ -363,6 +365,10 @@ class _Drawing:
                    f"{', '.join(kits) or '-'}; {data['actions']} actions, {data['checks']} checks; failures "
                    f"{', '.join(f'{m} {n}' for m, n in sorted(modes.items())) or 'none'}; recoveries "
                    f"{', '.join(f'{m} {n}' for m, n in sorted(recoveries.items())) or 'none'}; replans {rec.replans}")
+        if rec.partial_kits:
+            summary += "; partial kits " + ", ".join(
+                f"{p['kit']} {p['outcome']} (lacks {', '.join(f'{sku} {n}' for sku, n in p['lacks'].items())})"
+                for p in rec.partial_kits)
         if rec.injected:
             summary += "; injected " + ", ".join(f"{x['kind']}@{x['action_index']}" for x in rec.injected)
         contacts = data["metrics"]["contact_errors"]

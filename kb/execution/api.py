@@ -124,7 +124,8 @@ class Run:
 def execute_plan(plan: Sequence[str], cell: CellInterface, inputs: PlanInputs, record: RunRecord, *,
                  accuracy: SensorAccuracy | None = None, store: Any = None, paths: tuple[Any, Any] = (None, None),
                  notifier: Callable[[str, str], None] = log_notifier, progress: Callable[[str], None] | None = None,
-                 planner: str | None = None, on_event: Callable[[Event], None] | None = None) -> Run:
+                 planner: str | None = None, on_event: Callable[[Event], None] | None = None,
+                 partial_kits: str | None = None) -> Run:
     """Carry out ``plan`` on ``cell`` from ``inputs`` (the second half of :func:`run_plan`,
     once its files are read): the executor's run into ``record``, then what a simulated cell
     knows that the executor does not (the faults it injected, its sensor's mistakes with a
@@ -135,6 +136,7 @@ def execute_plan(plan: Sequence[str], cell: CellInterface, inputs: PlanInputs, r
     executor = Executor(cell, inputs.domain, inputs.problem, inputs.definitions, inputs.failures,
                         Belief(inputs.scene), store=store, notifier=notifier, progress=progress, planner=planner,
                         record=record, accuracy=accuracy, on_event=on_event)
+    executor.partial_kits = partial_kits  # None: the domain's policy (kb.execution.partial)
     require(cell, executor.needs(executor.parse_plan(list(plan))), "the plan")  # refused before the store hears of it
     if store is not None:
         store.begin_run(record, *paths)

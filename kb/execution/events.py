@@ -155,6 +155,21 @@ class Replanned(Event):
 
 
 @dataclass(frozen=True)
+class KitsChosen(Event):
+    """The usable parts cannot fill every kit (:mod:`kb.execution.partial`): the kits the next
+    plan finishes, and each other kit with how it ends (``delivered partial`` | ``left``) and
+    what it lacks ((SKU, count), ...)."""
+
+    finished: tuple[str, ...] | list[str]
+    partial: tuple[tuple[str, str, tuple[tuple[str, int], ...]], ...] | list
+
+    def text(self) -> str | None:
+        rest = "; ".join(f"{kit} {how} (lacks {', '.join(f'{sku} {n}' for sku, n in lacks)})"
+                         for kit, how, lacks in self.partial)
+        return f"  kits the parts allow: {', '.join(self.finished) or 'none'} finished; {rest}"
+
+
+@dataclass(frozen=True)
 class StableState(Event):
     """Action ``index``'s effects hold: the belief's poses are the new stable state (and are
     committed to the run's store, if it has one)."""

@@ -81,6 +81,9 @@ class LoopOptions:
     name: str | None = None
     #: the run's clock starts when planning starts (its timeline shows the planning time)
     clock_from_plan: bool = False
+    #: what the executor does with a kit the usable parts cannot finish (``deliver`` | ``leave``;
+    #: None: the domain's soap:hasExecutionPolicy_PartialKits; kb.execution.partial)
+    partial_kits: str | None = None
 
 
 @dataclass
@@ -410,7 +413,7 @@ class ClosedLoop:
             with gc_paused():
                 run = execute_plan(plan, cell, pin, record, accuracy=accuracy, store=store,
                                    paths=(self.init, self.goal), notifier=notify, planner=o.planner,
-                                   on_event=self.on_event)
+                                   on_event=self.on_event, partial_kits=o.partial_kits)
         finally:
             if own:
                 from kb.cells import close_cell
@@ -455,7 +458,7 @@ def run_plan(plan: Sequence[str], init: str | Path, goal: str | Path, *, cell: C
              progress: Callable[[str], None] | None = None, notifier: Callable[[str, str], None] = log_notifier,
              planner: str | None = None, domain_files: Sequence[str | Path] | None = None,
              name: str | None = None, truth: str | Path | None = None, plan_time: float | None = None,
-             sensor_noise: Any = None, on_event: Listener | None = None) -> Run:
+             sensor_noise: Any = None, on_event: Listener | None = None, partial_kits: str | None = None) -> Run:
     """Carry out ``plan`` (PDDL action lines) from the state ``init`` towards ``goal``: the
     closed loop's ``world`` (with ``db``) and ``execute`` stages (:class:`ClosedLoop`).
 
@@ -474,12 +477,14 @@ def run_plan(plan: Sequence[str], init: str | Path, goal: str | Path, *, cell: C
     over the sensor individual of ``init``: the simulated cell's sensor has it, and the
     executor verifies with it (docs/execution.md, "Sensing with noise"); with another
     ``cell``, what the executor assumes of its sensor. ``on_event``: each event of the loop
-    (:mod:`kb.execution.events`); ``progress``: each event's line.
+    (:mod:`kb.execution.events`); ``progress``: each event's line. ``partial_kits``: what is done
+    with a kit the usable parts cannot finish (``deliver`` | ``leave``; default: the domain's
+    policy, :mod:`kb.execution.partial`).
     """
     options = LoopOptions(faults=faults, seed=seed, cell=cell, match_names=match_names, domain_files=domain_files,
                           sensor_noise=sensor_noise, planner=planner, truth=truth, validate=False, geometry=False,
                           db=db, replace=replace, store=store, notifier=notifier,
-                          name=name or Path(init).resolve().parent.name)
+                          name=name or Path(init).resolve().parent.name, partial_kits=partial_kits)
     loop = ClosedLoop(init, goal, options, plan=plan, plan_time=plan_time, on_event=_listener(on_event, progress))
     return _ran(loop.run())
 

@@ -201,6 +201,9 @@ class RunRecord(Record):
     #: the goal atoms and counts that did not hold at the end (``robot-with-no-endeffector(robot_1)``,
     #: ``quantity-kit(kit_1, sku_a) = capacity-kit(kit_1, sku_a) (1, not 2)``; kb.planning.goal.unmet)
     goal_unmet: list[str] = field(default_factory=list)
+    #: the kits the usable parts could not finish (kb.execution.partial): each kit, how it ended
+    #: (``delivered partial`` | ``left``) and what it lacks (SKU -> count); [] when every kit could be
+    partial_kits: list[dict[str, Any]] = field(default_factory=list)
 
     @property
     def succeeded(self) -> bool:
@@ -244,7 +247,7 @@ class RunRecord(Record):
         own = {name: field_codec(RunRecord, name)(getattr(self, name), f"RunRecord.{name}") for name in _REPORTED}
         return {
             "scenario": own["scenario"], "seed": own["seed"], "goal_holds": own["goal_holds"],
-            "goal_unmet": own["goal_unmet"], "stopped": own["stopped"],
+            "goal_unmet": own["goal_unmet"], "partial_kits": own["partial_kits"], "stopped": own["stopped"],
             "actions": sum(1 for a in self.actions if a.status == "done"),
             "checks": len(self.checks), "replans": self.replans,
             "injected": own["injected"],
@@ -267,7 +270,7 @@ class RunRecord(Record):
 
 
 #: the run's fields its JSON report holds as they are (in their dict form)
-_REPORTED = ("scenario", "seed", "goal_holds", "goal_unmet", "stopped", "injected", "violations", "tip_start", "scene", "sensor",
+_REPORTED = ("scenario", "seed", "goal_holds", "goal_unmet", "partial_kits", "stopped", "injected", "violations", "tip_start", "scene", "sensor",
              "sensor_errors")
 
 

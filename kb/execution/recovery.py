@@ -50,13 +50,13 @@ from kb.crcl.units import said_units
 from kb.diagnosis import diagnose
 from kb.execution.belief import SKU_OF, Belief
 from kb.execution.events import Event, FailureFound, Recovered, Replanned
+from kb.execution.partial import PartialKits
 from kb.execution.records import AtomCheck, Check, FailureRecord, Notice, RunRecord, Sighting, StoreLike, local
 from kb.execution.steps import Fields, Step, Stop
 from kb.execution.targets import Targets, raised
 from kb.model.failures import PRE, FailureModel, FailureModeDef, Remediation
 from kb.model.soap import ActionSpec, DomainSpec
 from kb.planning.problem import ProblemSpec
-from kb.planning.replan import replan
 from kb.planning.state import pddl_name
 from kb.spatial.predicates import Evaluator
 
@@ -91,7 +91,7 @@ class Failed:
         return self.mode.remediation if self.mode is not None else None
 
 
-class Recovery:
+class Recovery(PartialKits):
     """Diagnosis, records and recovery of failed checks (a base of the executor)."""
 
     cell: CellInterface
@@ -273,6 +273,9 @@ class Recovery:
         return self._stop(f, "the remediation aborts the run", "aborted")
 
     def _stop(self, f: Failed, why: str, outcome: str) -> str:
+        if f.remediation is not None and f.remediation.operator and self.short_and_decided(self._shortage(f)):
+            # for want of parts: the kits the parts allow instead (kb.execution.partial)
+            return self._replan(f.queue, f.failure)
         f.failure.recovery, f.failure.outcome = "stop", outcome
         self._store_failure(f.failure)
         mode = f.mode
@@ -550,7 +553,7 @@ class Recovery:
         excluded = {pddl_name(p) for p in self.belief.unusable}
         started = time.perf_counter()
         try:
-            result = replan(self.domain, self.spec, facts, values, excluded, self.planner)
+            result = self.plan_within_parts(facts, values, excluded)
         except Exception as e:  # no plan, or a planner that broke: the run stops, saying why
             why = str(e) if isinstance(e, NotSolvableError) else f"replanning failed: {type(e).__name__}: {e}"
             if failure is not None:

@@ -21,6 +21,11 @@ def headline(report: dict[str, Any]) -> str:
         state = "goal " + yes_no(report.get("goal_holds"), "holds", "does not hold")
         if report.get("goal_unmet"):
             state += f' (unmet: {esc(", ".join(report["goal_unmet"]))})'
+        if report.get("partial_kits"):  # kits the usable parts could not finish (kb.execution.partial)
+            state += "; partial kits: " + "; ".join(
+                f'{esc(p.get("kit"))} {esc(p.get("outcome"))} (lacks '
+                + esc(", ".join(f"{sku} {n}" for sku, n in (p.get("lacks") or {}).items())) + ")"
+                for p in report["partial_kits"])
         if report.get("stopped"):
             state += f'; <span class="bad">stopped</span>: {esc(report["stopped"])}'
     return (f'<p class="facts">{state}; {esc(report.get("actions", 0))} actions, {len(failures)} '
