@@ -231,3 +231,25 @@ def test_two_policies_that_disagree_or_a_policy_without_its_boolean_are_refused(
     odd.parse(data=POLICY.format(policy="ex:odd", extra="ex:odd a soap:PartialKitPolicy ."), format="turtle")
     with pytest.raises(InputError, match="partial-kit policy x:odd needs one boolean|needs one boolean"):
         delivers_partial_kits(odd)
+
+
+# --- the test methods ---------------------------------------------------------------------------
+
+def test_a_campaign_passes_its_partial_kit_policy_to_every_trial() -> None:
+    from kb.testmethod.methods import Options, job
+    options = Options("errors", trials=2, seed=3, parts=(4,), faults="part-missing=1.0", partial_kits="leave")
+    assert options.as_dict()["partial_kits"] == "leave"
+    assert "partial_kits" not in Options("errors", trials=2, seed=3, parts=(4,)).as_dict()  # old campaigns resume
+    assert [job(options, i).partial_kits for i in range(2)] == ["leave", "leave"]
+    with pytest.raises(InputError, match="--partial-kits must be deliver or leave"):
+        Options("errors", trials=1, parts=(4,), partial_kits="keep")
+
+
+def test_a_trial_whose_parts_run_out_leaves_its_kit() -> None:
+    from kb.testmethod.methods import Options, job
+    from kb.testmethod.trial import run_trial
+    row = run_trial(job(Options("errors", trials=1, seed=3, parts=(4,), faults="part-missing=1.0",
+                                partial_kits="leave"), 0))
+    assert row["executed"] and row["goal_holds"] is False and row["stopped"] is None, row.get("stopped")
+    [kit] = row["partial_kits"]
+    assert kit["outcome"] == "left" and sum(kit["lacks"].values()) > 0

@@ -454,6 +454,9 @@ def _add_testmethod(sub: Any) -> None:
                    help="sim: (default: every trial its own simulated cell of its real placement), or one cell at a "
                         "URL as kitkb run --cell takes it that the trial runs on, its placement the cell's own: "
                         "one trial, not the errors method")
+    p.add_argument("--partial-kits", choices=["deliver", "leave"], metavar="deliver|leave",
+                   help="a kit a trial's usable parts cannot finish is delivered partial or left, after the kits they "
+                        "can finish (default: the domain's policy, kitkb's: deliver; as kitkb run --partial-kits)")
     _domain_option(p)
     where = p.add_mutually_exclusive_group()
     where.add_argument("--workers", type=int, metavar="N",

@@ -13,12 +13,12 @@ from kb.testmethod import Options, brief, run_campaign, write_table
 def testmethod(method: str, trials: int, seed: int, parts: str | None, kits: int | None, faults: str | None,
                workers: int | None, scheduler: str | None, output: str | None, out: Output,
                sensor_noise: str | None = None, noise_sweep: str | None = None, cell: str | None = None,
-               domain: list[str] | None = None) -> int:
+               domain: list[str] | None = None, partial_kits: str | None = None) -> int:
     """Run the campaign (resuming what ``output`` holds of it), print its rows and summary;
     0 when every trial ran and built its kits, 1 otherwise. ``domain``: extension files added
     to the shipped domain, for every trial."""
     options = Options(method, trials, seed, _sizes(parts), kits if kits is not None else 3, faults, sensor_noise,
-                      noise_sweep, cell, tuple(domain or ()))
+                      noise_sweep, cell, tuple(domain or ()), partial_kits=partial_kits)
     if kits is not None and method != "multi":
         raise InputError(f"--kits is for the multi method, not {method}")
     options.reach()

@@ -72,6 +72,8 @@ class Options:
     noise_sweep: str | None = None  # errors: KEY=FROM:TO:N, the levels every trial runs at
     cell: str | None = None  # the cell's URL (None: every trial's own simulated cell, sim:)
     domain: tuple[str, ...] = ()  # --domain: extension files added to the shipped domain
+    #: --partial-kits: a kit the parts cannot finish is delivered partial or left (None: the domain's policy)
+    partial_kits: str | None = None
 
     def __post_init__(self) -> None:
         if self.method not in METHODS:
@@ -106,6 +108,8 @@ class Options:
             _check_sweep(self, base)
         if self.cell is not None:
             _check_cell(self)
+        if self.partial_kits is not None and self.partial_kits not in ("deliver", "leave"):
+            raise InputError(f"--partial-kits must be deliver or leave (got {self.partial_kits!r})")
 
     def reach(self) -> None:
         """Refuse a ``--cell`` that does not answer before any trial runs (an InputError, exit
@@ -152,6 +156,8 @@ class Options:
             out["cell"] = self.cell
         if self.domain:
             out["domain"] = list(self.domain)
+        if self.partial_kits is not None:
+            out["partial_kits"] = self.partial_kits
         return out
 
 
@@ -270,6 +276,7 @@ class Job:
     sweep: tuple[int, int] | None = None  # in a noise sweep: (trial, level)
     cell: str | None = None  # the URL of the one cell the trial runs on (None: its own simulated cell)
     domain: tuple[str, ...] = ()  # extension files added to the shipped domain (--domain)
+    partial_kits: str | None = None  # deliver | leave a kit the parts cannot finish (None: the domain's policy)
 
     def facts(self) -> dict[str, Any]:
         """The trial's facts known before it runs (its row's ``trial``): index, seed, method,
@@ -317,7 +324,8 @@ def job(options: Options, row: int) -> Job:
     trial, level = options.locate(row)
     extra: dict[str, Any] = {"noise": options.noise_of(row), "sweep": None if level is None else (trial, level),
                              "cell": options.cell if options.cell is not None and not simulated(options.cell) else None,
-                             "domain": tuple(str(Path(d).resolve()) for d in options.domain)}
+                             "domain": tuple(str(Path(d).resolve()) for d in options.domain),
+                             "partial_kits": options.partial_kits}
     return dataclasses.replace(_job(options, trial), index=row, **extra)
 
 

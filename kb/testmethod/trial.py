@@ -214,12 +214,13 @@ class WatchedCell:
 
 
 def execute(prep: Prepared, cell: WatchedCell, name: str, seed: int, accuracy: SensorAccuracy | None = None,
-            on_event: Listener = ignore) -> Run:
+            on_event: Listener = ignore, partial_kits: str | None = None) -> Run:
     """Carry out the design's plan on ``cell`` from the nominal belief, verifying with the
     sensor ``accuracy``: the closed loop's ``execute`` stage, the plan and inputs given."""
     defs, failures = knowledge(prep.extensions)
     inputs = PlanInputs(prep.domain, prep.problem, prep.scene, defs, failures)
-    loop = ClosedLoop(prep.init, prep.goal, _options(cell=cell, seed=seed, sensor_noise=accuracy, name=name),
+    loop = ClosedLoop(prep.init, prep.goal, _options(cell=cell, seed=seed, sensor_noise=accuracy, name=name,
+                                                     partial_kits=partial_kits),
                       plan=prep.plan, plan_inputs=inputs, plan_time=prep.plan_time, on_event=on_event)
     run = loop.run().run
     assert run is not None  # nothing before the execute stage can end a loop with a given plan
@@ -253,7 +254,8 @@ def _run(job: Job, facts: dict[str, Any]) -> dict[str, Any]:
     prep = prepared(job.spec, job.domain)
     cell, accuracy = _cell(job, prep.scenario, prep.scene, facts)
     try:
-        return _report(execute(prep, cell, job.spec.name, job.seed, accuracy), facts, prep.domain, prep.problem)
+        return _report(execute(prep, cell, job.spec.name, job.seed, accuracy, partial_kits=job.partial_kits), facts,
+                       prep.domain, prep.problem)
     finally:
         cell.close()
 
@@ -288,7 +290,8 @@ def _delivered(job: Job, folder: Path, facts: dict[str, Any]) -> dict[str, Any]:
     received = time.perf_counter()
     try:
         inputs = LoopInputs.read(init, goal, imports=False, knowledge=domain_inputs(job.domain))
-        result = ClosedLoop(init, goal, _options(cell=cell, seed=job.seed, sensor_noise=accuracy, name=job.spec.name),
+        result = ClosedLoop(init, goal, _options(cell=cell, seed=job.seed, sensor_noise=accuracy, name=job.spec.name,
+                                                 partial_kits=job.partial_kits),
                             inputs=inputs).run()
     finally:
         cell.close()
