@@ -143,8 +143,9 @@ def achievable(domain: DomainSpec, spec: ProblemSpec, facts: Iterable[Atom], val
             if len(quota[left]) < need:
                 choice.lacking.setdefault(kit, {})[sku] = need - len(quota[left])
     left_kits = set(choice.lacking) if policy == "leave" else set()
-    places = {x for a in state.facts if left_kits & set(a[1:]) and a[0] not in _static(domain)
-              for x in a[1:] if x not in left_kits}
+    # where a left kit stands: the other objects of the changing facts about it (kit-location-worktable(kit, table))
+    places = {x for a in state.facts if len(a) > 1 and a[1] in left_kits and a[0] not in _static(domain)
+              for x in a[2:] if x not in left_kits}
     goal = [g for g in state.goal if not (left_kits | places) & set(g[1:])]
     return replace(state, quota=quota, shortage=[], goal=goal), choice
 
