@@ -276,6 +276,16 @@ def _add_run(sub: Any) -> None:
                    help="when the usable parts cannot finish every kit, the kits they can finish are built (as "
                         "many as possible) and each other kit is delivered partial or left, not delivered "
                         "(default: the domain's soap:hasExecutionPolicy_PartialKits, kitkb's: deliver; docs/execution.md)")
+    p.add_argument("--resume", metavar="RUN_ID", type=int,
+                   help="instead of INIT GOAL: go on with run RUN_ID of --db, which stopped (its report's stopped), "
+                        "as the same run: from its last stable state, the cell sensed again, a new plan to the same "
+                        "goal (its files, domain and options as recorded; --faults, --seed and --cell for the cell "
+                        "now; docs/execution.md, 'Resuming a stopped run')")
+    p.add_argument("--truth", metavar="FILE",
+                   help="a state file the simulated cell holds instead of the initial state (the same objects "
+                        "placed otherwise); with --resume: the cell as the operator left it (default: as the run "
+                        "left it, written to OUT/<scenario>/resume-RUN_ID-stopped.ttl); an object it does not "
+                        "locate is not in the cell")
 
 
 def _add_crcl(sub: Any) -> None:
@@ -500,7 +510,7 @@ def handler(command: str) -> Callable[..., int]:
 #: Options that name files a command reads (noted before it runs, so that no output replaces
 #: them even where a forked child does the reading), and the option naming its database.
 _INPUT_OPTIONS = ("files", "input", "init", "goal", "first", "second", "datafile", "state", "domain", "file",
-                  "xsd", "program", "config", "shapes")
+                  "xsd", "program", "config", "shapes", "truth")
 
 
 def _guard(options: dict[str, Any]) -> Any:

@@ -43,10 +43,15 @@ from kb.validation import validate
 def run(files: list[str], output: str, faults: str | None, seed: int, db: str | None, report: str | None,
         cell: str | None, match_names: bool, out: Output, domain: list[str] | None = None,
         replace: bool = False, report_html: str | None = None, sensor_noise: str | None = None,
-        partial_kits: str | None = None) -> int:
+        partial_kits: str | None = None, resume: int | None = None, truth: str | None = None) -> int:
     """``kitkb run [INIT GOAL]``: the closed loop on the files, or the main job on every shipped
     scenario; a line per stage and action on standard output (with ``--quiet`` only the problems
-    found; with ``--format json`` the report instead, the problems on standard error)."""
+    found; with ``--format json`` the report instead, the problems on standard error).
+    ``--resume RUN_ID --db URL``: that stopped run gone on with (:mod:`kb.execution.resume`)."""
+    if resume is not None:
+        return _resume_command(resume, files, output, faults, seed, db, report, cell, out, truth, report_html,
+                               domain=domain, replace=replace, sensor_noise=sensor_noise, partial_kits=partial_kits,
+                               match_names=match_names)
     if files and len(files) != 2:
         raise InputError(f"kitkb run takes an initial and a goal state file, not {len(files)} file(s)")
     if db and not files:
@@ -60,7 +65,7 @@ def run(files: list[str], output: str, faults: str | None, seed: int, db: str | 
             raise InputError(f"--sensor-noise: {exc}") from None
     if cell is not None or faults:  # a URL, scheme, parameter or fault that cannot work is refused before any work
         _check_cell(cell, faults, seed, domain)
-    options = RunOptions(faults, seed, db, cell, match_names, domain, replace, sensor_noise, partial_kits)
+    options = RunOptions(faults, seed, db, cell, match_names, domain, replace, sensor_noise, partial_kits, truth)
     show = _Show(display=out.tracker, problems=_Current("stderr") if out.is_json else None,
                  on_report=(lambda data: print(json.dumps(data, indent=1), file=out.results, flush=True))
                  if out.is_json else None, html=report_html)
@@ -68,6 +73,40 @@ def run(files: list[str], output: str, faults: str | None, seed: int, db: str | 
     if files:
         return run_files(stream, files[0], files[1], output, options, report, quiet=out.quiet, show=show)
     return run_main_job(stream, output, quiet=out.quiet, options=options, report_path=report, show=show)
+
+
+def _resume_command(run_id: int, files: list[str], output: str, faults: str | None, seed: int, db: str | None,
+                    report: str | None, cell: str | None, out: Output, truth: str | None, report_html: str | None,
+                    **refused: Any) -> int:
+    """``kitkb run --resume RUN_ID --db URL``: the run gone on with, drawn as a run is; 0 when
+    the goal holds at the end and nothing stopped it."""
+    if files:
+        raise InputError("--resume takes no INIT GOAL: the run's own files are read again from --db")
+    if not db:
+        raise InputError("--resume RUN_ID needs the database the run was recorded in (--db URL)")
+    given = [f"--{k.replace('_', '-')}" for k, v in refused.items() if v]
+    if given:
+        raise InputError(f"--resume goes on with the run's own {', '.join(given)} (as recorded): "
+                         "give only --faults, --seed, --cell and --truth for the cell now")
+    if cell is not None or faults:
+        _check_cell(cell, faults, seed, None)
+    from kb.execution.resume import Resume, ResumeOptions
+    show = _Show(display=out.tracker, problems=_Current("stderr") if out.is_json else None,
+                 on_report=(lambda data: print(json.dumps(data, indent=1), file=out.results, flush=True))
+                 if out.is_json else None, html=report_html)
+    stream: TextIO = _Discard() if out.is_json else out.stdout or _Current("stdout")  # type: ignore[assignment]
+    progress = _Progress(stream, out.quiet, show)
+    target = Path(output) / f"resume-{run_id}"
+    options = RunOptions(faults, seed, db, cell, truth=truth)
+    drawing = _Drawing(f"run {run_id}", Path(db), Path(db), target, progress, options)
+    try:
+        result = Resume(db, run_id, ResumeOptions(truth=truth, cell=cell, faults=faults, seed=seed or None,
+                                                  out_dir=target, notifier=_quiet),
+                        on_event=drawing, progress=progress.display).run()
+    finally:
+        drawing.close()
+    _write_report(report, [result.report()], progress.show)
+    return 0 if result.ok else 1
 
 
 def _check_cell(cell: str | None, faults: str | None, seed: int, domain: list[str] | None) -> None:
@@ -132,6 +171,7 @@ class RunOptions:
     replace: bool = False  # --db may replace what the database holds
     sensor_noise: str | None = None  # the sensor's accuracy, over the state file's (--sensor-noise)
     partial_kits: str | None = None  # a kit the parts cannot finish: deliver | leave (--partial-kits)
+    truth: str | None = None  # the state the simulated cell holds (--truth)
 
 
 class _Progress:
@@ -234,7 +274,7 @@ def _scenario(name: str, init: Path, goal: Path, target: Path, progress: _Progre
                                match_names=options.match_names, domain_files=options.domain,
                                sensor_noise=options.sensor_noise, out_dir=target, db=db_file,
                                replace=options.replace or not options.db,  # the job's own output is replaced
-                               notifier=_quiet, name=name, partial_kits=options.partial_kits)
+                               notifier=_quiet, name=name, partial_kits=options.partial_kits, truth=options.truth)
     drawing = _Drawing(name, init, goal, target, progress, options)
     try:
         result = ClosedLoop(init, goal, loop_options, on_event=drawing, progress=progress.display).run()
@@ -256,7 +296,8 @@ class _Drawing:
 
     _TASKS = {"pddl": "generating the PDDL domain and problem", "plan": "planning",
               "geometry": "deciding the predicates from geometry", "world": "loading the world model",
-              "locate": "sensing the objects the state does not locate"}
+              "locate": "sensing the objects the state does not locate",
+              "resume": "reading the stopped run and its stable state"}
 
     def __init__(self, name: str, init: Path, goal: Path, target: Path, progress: _Progress,
                  options: RunOptions) -> None:
@@ -318,6 +359,9 @@ class _Drawing:
         for diag in report.diagnostics:
             self._problem(diag.format())
         self._not_executed(event)
+
+    def _resume(self, event: ev.StageEnded) -> None:
+        self._line(event.result.text(), event)
 
     def _locate(self, event: ev.StageEnded) -> None:
         self._line(event.result.text(), event)

@@ -147,6 +147,7 @@ class ClosedLoop:
                  plan_inputs: PlanInputs | None = None, plan_time: float | None = None,
                  on_event: Listener = ignore, progress: Progress = SILENT) -> None:
         self.init, self.goal = Path(init), Path(goal)
+        self.given = (self.init, self.goal)  # as given: what a resume reads again (the locate stage replaces init)
         self.options = options or LoopOptions()
         self.inputs = inputs
         self.given_plan = list(plan) if plan is not None else None
@@ -217,8 +218,9 @@ class ClosedLoop:
         own_store = None
         if store is None and o.db is not None:
             self._world()
-            from kb.execution.store import RunStore
+            from kb.execution.store import RunStore, recorded_inputs
             store = own_store = RunStore(o.db)
+            store.inputs = recorded_inputs(*self.given, o)  # what kitkb run --resume reads (kb.execution.resume)
             self.result.units = store.units
         try:
             self._execute(plan, store)

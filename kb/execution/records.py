@@ -204,6 +204,10 @@ class RunRecord(Record):
     #: the kits the usable parts could not finish (kb.execution.partial): each kit, how it ended
     #: (``delivered partial`` | ``left``) and what it lacks (SKU -> count); [] when every kit could be
     partial_kits: list[dict[str, Any]] = field(default_factory=list)
+    #: each time the run was stopped and resumed (kb.execution.resume): the last action before
+    #: the stop (``after``), why it stopped, when it stopped and was resumed (seconds since the
+    #: run started), the state file the operator's cell held (``truth``, None: as at the stop)
+    resumes: list[dict[str, Any]] = field(default_factory=list)
 
     @property
     def succeeded(self) -> bool:
@@ -237,6 +241,10 @@ class RunRecord(Record):
             events.append((f.time - t0, 1, {"kind": "failure", "index": f.action_index, "action": f.action,
                                             "mode": f.mode, "recovery": f.recovery, "outcome": f.outcome,
                                             "objects": [local(o) for o in f.objects]}))
+        for r in self.resumes:  # the stop, and the resume after the operator (kb.execution.resume)
+            events.append((float(r["stopped_t"]), 2, {"kind": "stop", "index": r["after"], "why": r["stopped"]}))
+            events.append((float(r["resumed_t"]), 2, {"kind": "resume", "index": r["after"] + 1,
+                                                      "truth": r.get("truth")}))
         events.sort(key=lambda e: (e[0], e[1]))
         return [dict(e[2], t=round(max(0.0, e[0]), 4)) for e in events]
 
@@ -264,6 +272,7 @@ class RunRecord(Record):
             "kits": [k.as_dict() for k in self.kits],
             "violations": own["violations"], "tip_start": own["tip_start"] or None,
             "scene": own["scene"], "path": self.path(), "timeline": self.timeline(),
+            **({"resumes": own["resumes"]} if self.resumes else {}),
             **({"sensor": own["sensor"]} if own["sensor"] is not None else {}),
             **({"sensor_errors": own["sensor_errors"]} if own["sensor_errors"] is not None else {}),
         }
@@ -271,7 +280,7 @@ class RunRecord(Record):
 
 #: the run's fields its JSON report holds as they are (in their dict form)
 _REPORTED = ("scenario", "seed", "goal_holds", "goal_unmet", "partial_kits", "stopped", "injected", "violations", "tip_start", "scene", "sensor",
-             "sensor_errors")
+             "sensor_errors", "resumes")
 
 
 #: where a report holds what the clock decides (seconds): top-level keys, metrics keys, timeline keys

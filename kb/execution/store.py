@@ -28,6 +28,7 @@ works, and a killed run leaves the lock to the system, which gives it back.
 from __future__ import annotations
 
 import datetime as dt
+import hashlib
 import itertools
 import json
 import logging
@@ -127,6 +128,13 @@ FAILURES = Table(
     comment="A diagnosed action failure with what the soap:ActionFailure row does not hold.",
 )
 
+INPUTS = Table(
+    "kitkb_run_input", META,
+    Column("run_id", Integer, ForeignKey("kitkb_run.id"), primary_key=True),
+    Column("inputs", Text, nullable=False),  # JSON: the files (path, sha256) and the options
+    comment="What a run was started from: its state and domain files and its options (kitkb run --resume).",
+)
+
 _SOAP = "https://w3id.org/kitkb/soap#"
 _KD = "https://w3id.org/kitkb/kitting-domain#"
 
@@ -207,6 +215,9 @@ class RunStore:
         self._known: set[str] | None = None
         self._started = dt.datetime.now(dt.timezone.utc)
         self._t0 = time.perf_counter()
+        #: what the run was started from (files and options, :func:`run_inputs`), written with its
+        #: row by :meth:`begin_run` when set (a run that can be resumed: kb.execution.resume)
+        self.inputs: dict[str, Any] | None = None
 
     def close(self) -> None:
         """Close the database and give its writer lock back."""
@@ -227,8 +238,26 @@ class RunStore:
         with self.engine.begin() as conn:
             self.run_id = conn.execute(insert(RUNS).values(started_at=self._started, **_run_columns(
                 _run_dict(record)))).inserted_primary_key[0]
+            if self.inputs is not None:
+                conn.execute(insert(INPUTS).values(run_id=self.run_id, inputs=dumps(self.inputs)))
         record.run_id = self.run_id
         self._actions, self._failures = {}, {}
+
+    def continue_run(self, record: RunRecord) -> None:
+        """Go on writing the run ``record`` read back from this database (:func:`read_run`, its
+        ``run_id`` set): the same run's row, its actions' and failures' rows updated where they
+        change, new ones added after them (kb.execution.resume)."""
+        self.run_id = record.run_id
+        self._t0 = record.started
+        with self.engine.connect() as conn:
+            self._actions = {int(r.idx): r.record for r in conn.execute(
+                select(ACTIONS.c.idx, ACTIONS.c.record).where(ACTIONS.c.run_id == self.run_id))}
+            rows = conn.execute(select(FAILURES.c.id, FAILURES.c.record).where(
+                FAILURES.c.run_id == self.run_id).order_by(FAILURES.c.id)).all()
+        if len(rows) != len(record.failures):
+            raise InputError(f"run {self.run_id}: {len(record.failures)} failure(s) read back, {len(rows)} row(s)")
+        self._failures = {id(f): (f, row.id, row.record) for f, row in zip(record.failures, rows)}
+        self.failures = len(rows)
 
     def end_run(self, record: RunRecord) -> None:
         """The run's row, its kits' rows, and the rows of every action and failure as they are
@@ -406,6 +435,58 @@ def _read(conn: Any, row: Any, where: str) -> RunRecord:
                                                     _legacy_failure(f, told[i] if len(told) == len(failures)
                                                                     and isinstance(told[i], dict) else {}, at), at))
     return run
+
+
+def recorded_inputs(init: str | Path, goal: str | Path, options: Any) -> dict[str, Any]:
+    """What a run needs to be resumed, as JSON data: its state files and domain extensions
+    (absolute path and SHA-256 each) and the options that decide what it does."""
+    faults = options.faults
+    return {"init": _file(init), "goal": _file(goal),
+            "domain": [_file(p) for p in options.domain_files or ()],
+            "seed": options.seed, "faults": None if faults is None else str(faults),
+            "partial_kits": options.partial_kits, "planner": options.planner,
+            "sensor_noise": None if options.sensor_noise is None else str(options.sensor_noise),
+            "match_names": options.match_names, "cell": options.cell if isinstance(options.cell, str) else None,
+            "name": options.name}
+
+
+def _file(path: str | Path) -> dict[str, str]:
+    p = Path(path).resolve()
+    return {"path": str(p), "sha256": hashlib.sha256(p.read_bytes()).hexdigest()}
+
+
+def run_inputs(url: str | Path, run_id: int) -> dict[str, Any]:
+    """What run ``run_id`` was started from (:attr:`RunStore.inputs`); an InputError in one line
+    for a run recorded without them (by a kitkb before ``--resume``, or through the Python API
+    with a store of its own)."""
+    url = normalize_url(url)
+    engine = open_engine(url, must_exist=True)
+    try:
+        with engine.connect() as conn:
+            row = conn.execute(select(INPUTS.c.inputs).where(INPUTS.c.run_id == run_id)).first() \
+                if inspect(conn).has_table(INPUTS.name) else None
+    finally:
+        engine.dispose()
+    if row is None:
+        raise InputError(f"run {run_id} in {safe_url(url)} was recorded without its state files and options "
+                         "(a kitkb before kitkb run --resume): it cannot be resumed")
+    try:
+        return dict(loads(row.inputs))
+    except (ValueError, TypeError) as exc:
+        raise InputError(f"{safe_url(url)}: run {run_id}: its recorded inputs are not JSON ({exc})") from None
+
+
+def latest_run(url: str | Path) -> int | None:
+    """The id of the last run recorded in ``url`` (None: no run table or no run)."""
+    url = normalize_url(url)
+    engine = open_engine(url, must_exist=True)
+    try:
+        with engine.connect() as conn:
+            if not inspect(conn).has_table(RUNS.name):
+                return None
+            return conn.execute(select(func.max(RUNS.c.id))).scalar()
+    finally:
+        engine.dispose()
 
 
 def _columns(conn: Any, table: Table) -> list[Column]:
