@@ -71,7 +71,7 @@ def runs(draw: st.DrawFn) -> RunRecord:
         draw(st.lists(OBJECTS, max_size=2)), draw(FLOATS), draw(FLOATS), None, draw(st.none() | FLOATS),
         draw(FLOATS), draw(st.none() | st.lists(OBJECTS, max_size=2)), draw(st.lists(kits, max_size=2)),
         draw(POINTS), draw(st.none() | OBJECTS), draw(st.none() | OBJECTS), draw(st.none() | st.lists(OBJECTS, max_size=2)),
-        draw(NAMES))
+        draw(NAMES), oracle=draw(st.none() | OBJECTS))
 
 
 def same(a: Any, b: Any, path: str = "") -> None:

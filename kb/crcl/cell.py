@@ -17,7 +17,10 @@ of capabilities, each a :class:`typing.Protocol` (runtime-checkable):
 * :class:`AnnouncesActions` (``"begin-action"``): the executor announces each plan action
   before its commands (a real cell may log it; the simulator keys fault injection on it);
 * :class:`GroundTruth` (``"ground-truth"``): the faults injected, the constraints violated and
-  the sensor's mistakes; simulation only, for scoring, never for the executor.
+  the sensor's mistakes; simulation only, for scoring, never for the executor;
+* :class:`PartFates` (``"part-fates"``): every part's and kit tray's fate now (:class:`Fate`:
+  where it truly is, its true SKU, whether it is defective, whether the robot can take it
+  from there); simulation only, for the oracle of what was buildable (:mod:`kb.metrics.oracle`).
 
 :class:`CellInterface` is the whole cell (move, sense, inspect, begin-action): the simulator
 and kitkb's cell server are that. :func:`capabilities` names what a cell has (its own
@@ -169,6 +172,49 @@ class GroundTruth(Protocol):
     def sensor_errors(self) -> Sequence[Any]: ...
 
 
+#: where a :class:`Fate` says an object is: in a kit, in a parts tray, on or in another object
+#: (a work table, a box), on the floor, held by the robot, or gone from the cell
+PLACES = ("kit", "parts-tray", "on", "floor", "held", "gone")
+
+
+@dataclass(frozen=True)
+class Fate:
+    """One part's or kit tray's fate, as ground truth knows it (:class:`PartFates`).
+
+    ``name``: its IRI; ``kind``: ``"part"`` or ``"kit-tray"``; ``sku``: the SKU it truly is
+    now (IRI; None when it has none); ``defective``: a quality inspection would reject it;
+    ``place``: one of :data:`PLACES`; ``holder``: what it rests in or on or is held by (IRI;
+    None on the floor or gone); ``kit``: the kit it lies in (or, for a kit tray, whose tray it
+    is), None when none; ``reachable``: the robot could take it from where it is (placed, not on
+    the floor, its grasp point inside the robot's work volume where the cell knows one; what
+    the robot holds is reachable)."""
+
+    name: str
+    kind: str
+    sku: str | None
+    defective: bool
+    place: str
+    holder: str | None
+    kit: str | None
+    reachable: bool
+
+    def __post_init__(self) -> None:
+        if self.place not in PLACES:
+            raise ValueError(f"fate of {self.name}: place {self.place!r} is not one of {', '.join(PLACES)}")
+        if self.kind not in ("part", "kit-tray"):
+            raise ValueError(f"fate of {self.name}: kind {self.kind!r} is not part or kit-tray")
+
+
+@runtime_checkable
+class PartFates(Protocol):
+    """A cell that knows every part's and kit tray's fate (simulation only: for scoring what was
+    buildable, never for the executor)."""
+
+    def part_fates(self) -> list[Fate]:
+        """Each part and kit tray of the cell (those taken out of it too), its fate now."""
+        ...
+
+
 @runtime_checkable
 class CellInterface(Moves, Senses, Inspects, AnnouncesActions, Protocol):
     """A whole kitting workcell, simulated (:class:`kb.sim.SimulatedCell`) or behind sockets
@@ -181,6 +227,7 @@ class CellInterface(Moves, Senses, Inspects, AnnouncesActions, Protocol):
 CAPABILITIES: dict[str, type] = {
     "move": Moves, "move-program": MovesPrograms, "sense": Senses, "sense-names": SensesNames,
     "inspect": Inspects, "begin-action": AnnouncesActions, "ground-truth": GroundTruth,
+    "part-fates": PartFates,
 }
 #: what any run needs of its cell
 RUN_NEEDS = ("move", "sense")
@@ -230,7 +277,8 @@ def require(cell: object, needs: Sequence[str], why: str = "the run") -> None:
 
 _VERBS = {"move": "execute CRCL commands", "move-program": "execute CRCL programs", "sense": "sense objects",
           "sense-names": "sense objects by name in one query", "inspect": "inspect parts",
-          "begin-action": "hear which action starts", "ground-truth": "tell its ground truth"}
+          "begin-action": "hear which action starts", "ground-truth": "tell its ground truth",
+          "part-fates": "tell where its parts truly are"}
 
 
 def run_in_order(run: Callable[[T], Status], commands: Sequence[T]) -> list[Status]:

@@ -30,6 +30,7 @@ from kb.execution.events import Event
 from kb.execution.executor import Executor, log_notifier
 from kb.execution.inputs import PlanInputs
 from kb.execution.records import ActionRecord, FailureRecord, RunRecord, local
+from kb.execution.scoring import note_buildable
 from kb.metrics.kits import KitScore
 from kb.spatial.scene import Scene
 
@@ -148,6 +149,7 @@ def execute_plan(plan: Sequence[str], cell: CellInterface, inputs: PlanInputs, r
             store.end_run(record)
         raise
     note_ground_truth(record, cell, accuracy)
+    note_buildable(record, cell, inputs.scene, inputs.problem)  # the oracle of what was buildable
     if store is not None:
         store.end_run(record)
     return Run(record)

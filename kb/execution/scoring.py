@@ -1,6 +1,9 @@
 """What a run's metrics and report need from the executor's belief: the goal's kits as
 :mod:`kb.metrics.kits` scores them, the objects as a report draws them, and the CRCL text of a
-program sent (kept per action: :attr:`kb.execution.records.ActionRecord.programs`)."""
+program sent (kept per action: :attr:`kb.execution.records.ActionRecord.programs`); and what
+the oracle of what was buildable (:mod:`kb.metrics.oracle`) is fed at the end of a run: the
+cell's part fates, the goal's kits from the initial state, never the belief
+(:func:`note_buildable`)."""
 
 from __future__ import annotations
 
@@ -10,12 +13,15 @@ import numpy as np
 
 from kb.core.namespaces import KTW
 from kb.crcl import Command, Program, write_text
+from kb.crcl.cell import has
 from kb.execution.belief import SKU_OF, Belief
-from kb.execution.records import local
+from kb.execution.records import RunRecord, local
 from kb.metrics.kits import KitGoal, Slot
+from kb.metrics.oracle import buildable
 from kb.model.soap import DomainSpec
 from kb.planning.problem import ProblemSpec
 from kb.planning.state import pddl_name
+from kb.spatial.scene import Scene
 
 #: the class a report names an object by: the first of these it is of (else its first class)
 SHOWN_CLASSES = ("Kit", "KitTray", "Part", "PartsTray", "EndEffector", "EndEffectorHolder", "EndEffectorChangingStation",
@@ -102,3 +108,25 @@ def delivered_kits(actions: Iterable[tuple[str, Sequence[str]]], domain: DomainS
                 out.append(ground[1])
                 break
     return out
+
+
+#: what a run's ``oracle`` says when its cell tells no part fates (a real cell, a served one)
+NO_FATES = "the cell tells no ground truth of its parts: what was buildable is unknown"
+
+
+def note_buildable(record: RunRecord, cell: Any, scene: Scene, spec: ProblemSpec) -> None:
+    """``record.oracle``: what was buildable (:func:`kb.metrics.oracle.buildable`) from the
+    fates ``cell`` tells (its ``part-fates`` capability, :class:`kb.crcl.cell.PartFates`), the
+    goal's kits and the SKUs of the run's initial state ``scene`` (read anew, not the belief),
+    the kits ``record.kits`` scores with every point; a cell without part fates: the oracle
+    says why it is unknown (``kits_buildable`` and ``completion`` null)."""
+    if not has(cell, "part-fates"):
+        record.oracle = {"unknown": NO_FATES}
+        return
+    initial = Belief(scene)
+    goals = kit_goals(initial, spec, {name: iri for name, (_kind, iri) in spec.objects.items()})
+    recorded: dict[str, str] = {}
+    for s, o in sorted(scene.facts.get(SKU_OF, ())):
+        recorded.setdefault(s, o)
+    built = [k.kit for k in record.kits if k.score == k.max_score]
+    record.oracle = buildable(cell.part_fates(), goals, recorded, built).as_dict()

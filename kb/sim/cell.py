@@ -11,8 +11,9 @@ from kb.cells.registry import CellRequest, CellURL
 from kb.core.errors import InputError
 from kb.core.namespaces import KTW, local_name
 from kb.crcl import Command, EndCanon
-from kb.crcl.cell import Observation, Status
+from kb.crcl.cell import Fate, Observation, Status
 from kb.scenario.partial import Placement
+from kb.sim.fates import fates
 from kb.sim.faults import FaultSpec, Injected, Injector
 from kb.sim.noise import SensorAccuracy, SensorNoise
 from kb.sim.robot import VIOLATION_KINDS, Robot
@@ -209,6 +210,11 @@ class SimulatedCell:
             elif tray is None and i is not None and w.placed(i) and w.is_a(i, "KitTray"):
                 tray = a
         return (kit, tray) if kit is not None and tray is not None else None
+
+    def part_fates(self) -> list[Fate]:
+        """Every part's and kit tray's fate now (:mod:`kb.sim.fates`): ground truth, for the
+        oracle of what was buildable, never for the executor."""
+        return fates(self.world, self.robot.index)
 
     def scene(self) -> Scene:
         """Ground truth now (simulation only: for tests and scoring, never for the executor)."""
