@@ -185,6 +185,10 @@ class RunRecord(Record):
     run_id: int | None = None
     plan_time: float | None = None  # seconds the first plan took, where the run planned it
     replan_time: float = 0.0  # seconds all replans took
+    #: diagnoses of an event already diagnosed (issue 29: one fault, one diagnosis): each the
+    #: object, the failure that first diagnosed it and the one that diagnosed it again (action
+    #: index, mode), with no action on the object between them (kb.execution.recovery); target []
+    repeated_diagnoses: list[dict[str, Any]] = field(default_factory=list)
     #: the constraint violations the cell reported as its ground truth (a simulated cell:
     #: contacts, overweight grasps, ...); None: a cell that reports none
     violations: list[dict[str, Any]] | None = None
@@ -208,6 +212,10 @@ class RunRecord(Record):
     #: the stop (``after``), why it stopped, when it stopped and was resumed (seconds since the
     #: run started), the state file the operator's cell held (``truth``, None: as at the stop)
     resumes: list[dict[str, Any]] = field(default_factory=list)
+    #: what was buildable, from the cell's ground truth at the end (kb.metrics.oracle:
+    #: ``kits_buildable``, ``kits_built``, ``completion``, the usable parts per SKU, those not
+    #: counted and why); ``{"unknown": why}`` from a cell that tells no part fates; None: not made
+    oracle: dict[str, Any] | None = None
 
     @property
     def succeeded(self) -> bool:
@@ -256,8 +264,12 @@ class RunRecord(Record):
         return {
             "scenario": own["scenario"], "seed": own["seed"], "goal_holds": own["goal_holds"],
             "goal_unmet": own["goal_unmet"], "partial_kits": own["partial_kits"], "stopped": own["stopped"],
+            "kits_buildable": (self.oracle or {}).get("kits_buildable"),
+            "completion": (self.oracle or {}).get("completion"),
             "actions": sum(1 for a in self.actions if a.status == "done"),
             "checks": len(self.checks), "replans": self.replans,
+            "repeated_diagnoses": len(self.repeated_diagnoses),
+            **({"repeated": [dict(r) for r in self.repeated_diagnoses]} if self.repeated_diagnoses else {}),
             "injected": own["injected"],
             "failures": [{"mode": f.mode, "action_index": f.action_index, "action": f.action,
                           "kit": local(f.kit) if f.kit else None,
@@ -273,6 +285,7 @@ class RunRecord(Record):
             "violations": own["violations"], "tip_start": own["tip_start"] or None,
             "scene": own["scene"], "path": self.path(), "timeline": self.timeline(),
             **({"resumes": own["resumes"]} if self.resumes else {}),
+            **({"oracle": own["oracle"]} if self.oracle is not None else {}),
             **({"sensor": own["sensor"]} if own["sensor"] is not None else {}),
             **({"sensor_errors": own["sensor_errors"]} if own["sensor_errors"] is not None else {}),
         }
@@ -280,7 +293,7 @@ class RunRecord(Record):
 
 #: the run's fields its JSON report holds as they are (in their dict form)
 _REPORTED = ("scenario", "seed", "goal_holds", "goal_unmet", "partial_kits", "stopped", "injected", "violations", "tip_start", "scene", "sensor",
-             "sensor_errors", "resumes")
+             "sensor_errors", "resumes", "oracle")
 
 
 #: where a report holds what the clock decides (seconds): top-level keys, metrics keys, timeline keys
