@@ -69,9 +69,10 @@ def runs(draw: st.DrawFn) -> RunRecord:
         draw(texts()), draw(st.none() | INTS), acts, draw(st.lists(checks, max_size=3)),
         draw(st.lists(failures, max_size=3)), draw(INTS), draw(st.none() | st.booleans()), draw(st.none() | texts()),
         draw(st.lists(OBJECTS, max_size=2)), draw(FLOATS), draw(FLOATS), None, draw(st.none() | FLOATS),
-        draw(FLOATS), draw(st.none() | st.lists(OBJECTS, max_size=2)), draw(st.lists(kits, max_size=2)),
-        draw(POINTS), draw(st.none() | OBJECTS), draw(st.none() | OBJECTS), draw(st.none() | st.lists(OBJECTS, max_size=2)),
-        draw(NAMES), oracle=draw(st.none() | OBJECTS))
+        draw(FLOATS), violations=draw(st.none() | st.lists(OBJECTS, max_size=2)), kits=draw(st.lists(kits, max_size=2)),
+        tip_start=draw(POINTS), scene=draw(st.none() | OBJECTS), sensor=draw(st.none() | OBJECTS),
+        sensor_errors=draw(st.none() | st.lists(OBJECTS, max_size=2)), goal_unmet=draw(NAMES),
+        repeated_diagnoses=draw(st.lists(OBJECTS, max_size=2)), oracle=draw(st.none() | OBJECTS))
 
 
 def same(a: Any, b: Any, path: str = "") -> None:
