@@ -295,3 +295,56 @@ def test_a_cell_without_part_fates_says_the_oracle_is_unknown() -> None:
     assert report["goal_holds"] is True
     assert report["kits_buildable"] is None and report["completion"] is None
     assert "unknown" in report["oracle"]
+
+
+# --- campaign summaries and pages ---------------------------------------------------------------
+
+def row(built: int, able: int | None, asked: int = 2) -> dict:
+    kits = [{"kit": f"kit_{i}", "score": 5 if i < built else 1, "max_score": 5, "lost": []} for i in range(asked)]
+    oracle = ({"unknown": "no part fates"} if able is None else
+              {"kits_built": built, "kits_buildable": able, "kits": asked,
+               "completion": 1.0 if able == 0 else built / able})
+    return {"scenario": "s", "goal_holds": built == asked, "failures": [], "executed": True, "kits": kits,
+            "kits_buildable": None if able is None else able, "completion": oracle.get("completion"),
+            "oracle": oracle, "trial": {"index": 0, "seed": 1, "design": "d"}}
+
+
+def test_a_campaign_summary_carries_buildable_totals_and_completion() -> None:
+    from kb.testmethod.summary import brief, summarize, write_table
+    rows = [row(2, 2), row(1, 2), row(0, 0), row(0, 1), row(1, None)]
+    s = summarize(rows)
+    assert s["kits_buildable"] == 5
+    done = s["completion"]
+    assert (done["runs"], done["kits_built"], done["kits_buildable"], done["unknown"], done["complete"]) == (4, 3, 5, 1, 2)
+    assert done["overall"] == pytest.approx(3 / 5)
+    assert done["mean"] == pytest.approx((1.0 + 0.5 + 1.0 + 0.0) / 4)
+    assert brief(rows[1])["completion"] == 0.5 and brief(rows[1])["kits_buildable"] == 2
+    assert summarize([row(0, 0)])["completion"]["overall"] == 1.0  # nothing buildable, nothing built
+    assert summarize([row(1, None)])["completion"]["overall"] is None
+    import io
+    out = io.StringIO()
+    write_table(rows, s, out)
+    assert "completion: 0.6000 overall (kits built 3 of 5 buildable), mean 0.6250 over 4 run(s), 2 complete, " \
+           "1 without an oracle" in out.getvalue()
+
+
+def test_the_report_pages_show_buildable_and_completion(tmp_path: Path) -> None:
+    import json
+    from kb.report.campaign import campaign_body, completion_line
+    from kb.report.run import headline
+    from kb.report.source import normalise, read_campaign
+    from kb.testmethod.summary import summarize
+    assert "kits built 1 of 2 buildable, completion <span class=\"bad\">0.50</span>" in headline(normalise(row(1, 2)))
+    assert "kits buildable unknown (no part fates)" in headline(normalise(row(1, None)))
+    assert "buildable" not in headline(normalise({k: v for k, v in row(1, 2).items() if k != "oracle"}))
+    rows = [row(2, 2), row(1, 2)]
+    for i, r in enumerate(rows):
+        r["trial"]["index"] = i
+        (tmp_path / "trials").mkdir(exist_ok=True)
+        (tmp_path / "trials" / f"{i:05d}.json").write_text(json.dumps(r))
+    meta = {"method": "errors", "seed": 1, "trials": 2, "summary": summarize(rows)}
+    (tmp_path / "campaign.json").write_text(json.dumps(meta))
+    line = completion_line(meta["summary"])
+    assert "completion 0.7500 overall (3 kits built of 4 buildable), mean 0.7500, 1 of 2 runs complete" in line
+    body = campaign_body(read_campaign(tmp_path))
+    assert line in body and "built/buildable" in body and "1/2 (0.50)" in body

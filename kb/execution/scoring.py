@@ -7,6 +7,7 @@ cell's part fates, the goal's kits from the initial state, never the belief
 
 from __future__ import annotations
 
+import logging
 from typing import Any, Iterable, Sequence
 
 import numpy as np
@@ -110,6 +111,8 @@ def delivered_kits(actions: Iterable[tuple[str, Sequence[str]]], domain: DomainS
     return out
 
 
+log = logging.getLogger("kitkb.execution")
+
 #: what a run's ``oracle`` says when its cell tells no part fates (a real cell, a served one)
 NO_FATES = "the cell tells no ground truth of its parts: what was buildable is unknown"
 
@@ -129,4 +132,10 @@ def note_buildable(record: RunRecord, cell: Any, scene: Scene, spec: ProblemSpec
     for s, o in sorted(scene.facts.get(SKU_OF, ())):
         recorded.setdefault(s, o)
     built = [k.kit for k in record.kits if k.score == k.max_score]
-    record.oracle = buildable(cell.part_fates(), goals, recorded, built).as_dict()
+    try:
+        fates = cell.part_fates()
+    except Exception as exc:  # noqa: BLE001 - a cell that cannot tell them: unknown, the run stands
+        log.exception("the cell's part fates could not be read")
+        record.oracle = {"unknown": f"the cell's part fates could not be read: {type(exc).__name__}: {exc}"}
+        return
+    record.oracle = buildable(fates, goals, recorded, built).as_dict()

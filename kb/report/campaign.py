@@ -226,11 +226,31 @@ def trial_rows(trials: list[dict[str, Any]], href: Callable[[int], str] | None) 
         design = trial.get("design") if trial.get("noise") is None else f"{trial.get('design')} @ {trial['noise']}"
         rows.append((link, esc(trial.get("seed")), esc(design), yes_no(report.get("goal_holds")),
                      esc(len(report.get("failures") or [])), "&ndash;" if score is None else f"{score:.1f}",
-                     esc(trial.get("time_s", report.get("time_s"))), esc(failed_because(report) or "")))
+                     _completion(report), esc(trial.get("time_s", report.get("time_s"))), esc(failed_because(report) or "")))
     return rows
 
 
-TRIAL_HEADERS = ["trial", "seed", "design", "goal holds", "failures", "kit score %", "time (s)", "failed because"]
+def _completion(report: dict[str, Any]) -> str:
+    """A trial's kits built / kits buildable and completion (kb.metrics.oracle), or a dash."""
+    oracle, done = report.get("oracle") or {}, report.get("completion")
+    if not isinstance(done, (int, float)) or isinstance(done, bool):
+        return "&ndash;"
+    return f'{esc(oracle.get("kits_built", "?"))}/{esc(report.get("kits_buildable"))} ({float(done):.2f})'
+
+
+def completion_line(summary: Any) -> str:
+    """The campaign's completion by the oracle of what was buildable (its summary's
+    ``completion``), as a sentence; empty when no trial has an oracle."""
+    done = summary.get("completion") if isinstance(summary, dict) else None
+    if not isinstance(done, dict) or not done.get("runs"):
+        return ""
+    return (f'; completion {float(done["overall"]):.4f} overall ({esc(done["kits_built"])} kits built of '
+            f'{esc(done["kits_buildable"])} buildable), mean {float(done["mean"]):.4f}, '
+            f'{esc(done["complete"])} of {esc(done["runs"])} runs complete')
+
+
+TRIAL_HEADERS = ["trial", "seed", "design", "goal holds", "failures", "kit score %", "built/buildable", "time (s)",
+                 "failed because"]
 
 
 def campaign_body(campaign: Campaign, href: Callable[[int], str] | None = _default_href) -> str:
@@ -244,7 +264,8 @@ def campaign_body(campaign: Campaign, href: Callable[[int], str] | None = _defau
                                   ("folder", str(campaign.directory))], tid="campaign-table")
     summary = meta.get("summary")
     parts = [f"<h1>Campaign: {esc(meta.get('method'))}</h1>",
-             f'<p class="facts">{len(trials)} trials, {len(failed)} failed, seed {esc(meta.get("seed"))}</p>',
+             f'<p class="facts">{len(trials)} trials, {len(failed)} failed, seed {esc(meta.get("seed"))}'
+             f'{completion_line(summary)}</p>',
              section("Campaign", facts, "campaign"),
              sweep_section(summary)]
     if sweep_of(summary) is not None:  # the levels are in the sweep's section
@@ -261,9 +282,9 @@ def campaign_body(campaign: Campaign, href: Callable[[int], str] | None = _defau
     parts.append(section("Failures by mode", figure(modes, "modes-plot") if modes else note("No failure was found."),
                          "modes"))
     rows = trial_rows(failed, href)
-    parts.append(section("Trials that failed", table(TRIAL_HEADERS, rows, raw=[True] * 8, tid="failed-table")
+    parts.append(section("Trials that failed", table(TRIAL_HEADERS, rows, raw=[True] * len(TRIAL_HEADERS), tid="failed-table")
                          if rows else note("No trial failed."), "failed"))
-    parts.append(section("Every trial", table(TRIAL_HEADERS, trial_rows(trials, href), raw=[True] * 8,
+    parts.append(section("Every trial", table(TRIAL_HEADERS, trial_rows(trials, href), raw=[True] * len(TRIAL_HEADERS),
                                               tid="trials-table") if trials else note("The folder has no trial yet."),
                          "trials"))
     return "".join(parts)

@@ -28,8 +28,23 @@ def headline(report: dict[str, Any]) -> str:
                 for p in report["partial_kits"])
         if report.get("stopped"):
             state += f'; <span class="bad">stopped</span>: {esc(report["stopped"])}'
+        state += buildable_text(report)
     return (f'<p class="facts">{state}; {esc(report.get("actions", 0))} actions, {len(failures)} '
             f'failure{"s" if len(failures) != 1 else ""}, {esc(report.get("time_s", "?"))} s</p>')
+
+
+def buildable_text(report: dict[str, Any]) -> str:
+    """The oracle of what was buildable in the headline (:mod:`kb.metrics.oracle`): kits built of
+    kits buildable and the completion, or why it is unknown; nothing for a report without one."""
+    oracle = report.get("oracle")
+    if not isinstance(oracle, dict):
+        return ""
+    able, done = report.get("kits_buildable"), report.get("completion")
+    if not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in (able, done)):
+        return f"; kits buildable unknown ({esc(oracle.get('unknown', 'no oracle'))})"
+    done = float(done)
+    text = f'{esc(oracle.get("kits_built", "?"))} of {esc(report["kits_buildable"])} buildable'
+    return f'; kits built {text}, completion {yes_no(done >= 1.0, f"{done:.2f}", f"{done:.2f}")}'
 
 
 def _figure_or_note(fig: dict[str, Any] | str, div_id: str) -> str:

@@ -1,4 +1,5 @@
-"""A campaign's rows summed up: kits built, each metric's mean / median / 95th percentile,
+"""A campaign's rows summed up: kits built, kits buildable and completion by the oracle of what was
+buildable (:mod:`kb.metrics.oracle`), each metric's mean / median / 95th percentile,
 failures by mode, recoveries, detection quality (:mod:`kb.execution.quality`: faults injected,
 detected, diagnosed right and wrong, missed, false alarms), and for a noise sweep the detection
 quality per level; the rows as comparable data and as a text table.
@@ -40,6 +41,31 @@ def kits_of(row: dict[str, Any]) -> tuple[int, int]:
         return sum(1 for k in kits if k.get("score") == k.get("max_score")), len(kits)
     asked = len(row.get("trial", {}).get("designs") or [None])
     return (asked if row.get("goal_holds") else 0), asked
+
+
+def buildable_of(row: dict[str, Any]) -> tuple[int, int, float] | None:
+    """(kits built, kits buildable, completion) of a trial by the oracle of what was buildable
+    (its report's ``oracle``, :mod:`kb.metrics.oracle`); None when the run has none (a cell
+    without ground truth, an older report, a trial not executed)."""
+    oracle = row.get("oracle") or {}
+    built, able, done = oracle.get("kits_built"), oracle.get("kits_buildable"), oracle.get("completion")
+    if not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in (built, able, done)):
+        return None
+    return int(built), int(able), float(done)
+
+
+def completion(rows: Iterable[dict[str, Any]]) -> dict[str, Any]:
+    """The campaign's completion by the oracle: ``runs`` with one, their ``kits_buildable`` and
+    ``kits_built`` summed, ``overall`` = built / buildable over them (1.0 when nothing was
+    buildable), ``mean`` of the runs' completions, ``complete`` runs (completion 1.0), and
+    ``unknown`` trials without an oracle; ``overall`` and ``mean`` null when no run has one."""
+    rows = list(rows)
+    found = [b for b in map(buildable_of, rows) if b is not None]
+    built, able = sum(b for b, _, _ in found), sum(a for _, a, _ in found)
+    return {"runs": len(found), "kits_buildable": able, "kits_built": built,
+            "overall": (round(built / able, 6) if able else 1.0) if found else None,
+            "mean": round(float(np.mean([c for _, _, c in found])), 6) if found else None,
+            "complete": sum(1 for _, _, c in found if c >= 1.0), "unknown": len(rows) - len(found)}
 
 
 def figures(row: dict[str, Any]) -> dict[str, float]:
@@ -105,6 +131,8 @@ def summarize(rows: Iterable[dict[str, Any]], *, sweep: str | None = None, base:
         "goal_holds": sum(1 for r in rows if r.get("goal_holds")),
         "goal_unmet": goal_unmet(rows),
         "kits_built": built, "kits": asked,
+        "kits_buildable": sum(b[1] for b in map(buildable_of, rows) if b is not None),
+        "completion": completion(rows),
         "errors": sum(1 for r in rows if r.get("trial", {}).get("error")),
         "metrics": {name: _stats(values) for name, values in sorted(series.items())},
         "failures_by_mode": dict(sorted(modes.items())),
@@ -167,6 +195,7 @@ def brief(row: dict[str, Any]) -> dict[str, Any]:
         "index": trial.get("index"), "seed": trial.get("seed"), "design": trial.get("design"),
         "goal_holds": bool(row.get("goal_holds")), "goal_unmet": list(row.get("goal_unmet") or []),
         "kits_built": built, "kits": asked,
+        "kits_buildable": row.get("kits_buildable"), "completion": row.get("completion"),
         "score": sum(k.get("score", 0) for k in kits) if kits else None,
         "max_score": sum(k.get("max_score", 0) for k in kits) if kits else None,
         "actions": row.get("actions"), "failures": len(row.get("failures") or []),
@@ -202,6 +231,12 @@ def _summary(s: dict[str, Any], stream: TextIO) -> None:
     unmet = ", ".join(f"{name} {n}" for name, n in (s.get("goal_unmet") or {}).items())
     print(f"\n{s['trials']} trials: kits built {s['kits_built']} of {s['kits']}, goal held in {s['goal_holds']}"
           + (f" (unmet: {unmet})" if unmet else "") + f", errors {s['errors']}", file=stream)
+    done = s.get("completion") or {}
+    if done.get("runs"):
+        print(f"completion: {done['overall']:.4f} overall (kits built {done['kits_built']} of "
+              f"{done['kits_buildable']} buildable), mean {done['mean']:.4f} over {done['runs']} run(s), "
+              f"{done['complete']} complete" + (f", {done['unknown']} without an oracle" if done["unknown"] else ""),
+              file=stream)
     if s["metrics"]:
         width = max(len(n) for n in s["metrics"])
         print(f"{'metric':<{width}} {'mean':>12} {'median':>12} {'p95':>12}", file=stream)

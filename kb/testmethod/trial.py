@@ -205,6 +205,9 @@ class WatchedCell:
     def sensor_errors(self) -> Sequence[Any]:
         return self.cell.sensor_errors
 
+    def part_fates(self) -> list[Any]:
+        return self.cell.part_fates()
+
     def close(self) -> None:
         close_cell(self.cell)
 
