@@ -195,7 +195,8 @@ def record(task: dict, code: int | str, rep: dict | None, output: str, wall: flo
                    detected=Counter(x["kind"] for x, d in zip(rep.get("injected", []), sc["detected"]) if d),
                    failures=len(rep.get("failures", [])), diagnosed=sc["verdicts"].count("correct"),
                    wrong=sc["verdicts"].count("wrong"), unmatched=sc["verdicts"].count("unmatched"),
-                   time_s=rep.get("time_s"))
+                   time_s=rep.get("time_s"), kits_buildable=rep.get("kits_buildable"),
+                   kits_built=(rep.get("oracle") or {}).get("kits_built"), completion=rep.get("completion"))
     if not ok(out):
         out["output"] = output[-2000:]
     return out
@@ -282,7 +283,19 @@ def summarise(c: dict) -> dict:
             "wrong": sum(r.get("wrong", 0) for r in res), "unmatched": sum(r.get("unmatched", 0) for r in res),
             "mean_run_s": round(statistics.mean(r["wall_s"] for r in res), 2) if res else 0,
             "mean_cpu_s": round(statistics.mean(r.get("cpu_s", 0) for r in res), 2) if res else 0,
-            "wall_s": c["wall_s"]}
+            "wall_s": c["wall_s"], "completion": completion_of(res)}
+
+
+def completion_of(res: list[dict]) -> dict:
+    """The oracle of what was buildable over the runs with one (kb.metrics.oracle): kits built
+    and buildable summed, overall = built / buildable (1.0 when nothing was buildable), the mean
+    of the runs' completions, complete runs, runs without one."""
+    found = [r for r in res if isinstance(r.get("completion"), (int, float)) and r.get("kits_buildable") is not None]
+    built, able = sum(r["kits_built"] for r in found), sum(r["kits_buildable"] for r in found)
+    return {"runs": len(found), "kits_built": built, "kits_buildable": able,
+            "overall": (round(built / able, 4) if able else 1.0) if found else None,
+            "mean": round(statistics.mean(r["completion"] for r in found), 4) if found else None,
+            "complete": sum(r["completion"] >= 1.0 for r in found), "unknown": len(res) - len(found)}
 
 
 # --- results and the doc -------------------------------------------------------------------------
@@ -330,6 +343,12 @@ def render(run: dict) -> str:
               "| kind | injected | detected |", "|---|---:|---:|"]
     for k, f in s["faults"].items():
         lines.append(f"| {k} | {f['injected']} | {f['detected']} |")
+    done = s.get("completion") or {}
+    if done.get("runs"):
+        lines += ["", f"Completion by the oracle of what was buildable (docs/metrics.md): {done['overall']} overall "
+                      f"({done['kits_built']} kits built of {done['kits_buildable']} buildable), mean {done['mean']} "
+                      f"over {done['runs']} runs, {done['complete']} complete"
+                      + (f", {done['unknown']} runs without an oracle" if done["unknown"] else "") + "."]
     lines += ["", f"Failures diagnosed: {s['failures']}, of which {s['diagnosed']} with a mode the injected fault "
                   f"allows, {s['wrong']} another mode, {s['unmatched']} matched to no injected fault.", "",
               "How runs ended (stop reasons as `bench_execution.py` groups them):", "",
