@@ -40,7 +40,7 @@ def _quiet(who: str, text: str) -> None:
 def test_the_shipped_kinds_are_read_from_the_domain_in_their_order() -> None:
     kinds = shipped_fault_kinds()
     assert len(kinds) == 7 and [k.position for k in kinds] == list(range(1, 8))
-    assert kinds.actions == ("take-part", "put-part")
+    assert kinds.actions == ("take-part", "take-part-from-worktable", "put-part")  # defective-part strikes a part taken from a table too
     by_mechanism = {k.mechanism.name: k for k in kinds}
     assert set(by_mechanism) == {"GraspNothing", "ReleaseInTransit", "RemoveObject", "MarkDefective", "SwapSku",
                                  "DisplaceObject", "ShiftInPlane"}

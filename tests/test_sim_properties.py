@@ -69,7 +69,8 @@ def fault_specs() -> st.SearchStrategy[FaultSpec]:
         for action in KINDS.actions:
             kinds = [k.name for k in KINDS.eligible(action)]
             total = sum(weights[FAULT_KINDS.index(k)] for k in kinds) or 1.0
-            rates.update({k: scale * weights[FAULT_KINDS.index(k)] / total for k in kinds})
+            for k in kinds:  # a kind striking several actions (defective-part): its least share
+                rates[k] = min(rates.get(k, 1.0), scale * weights[FAULT_KINDS.index(k)] / total)
         return FaultSpec(rates, seed=seed)
     return st.builds(spec, st.lists(st.floats(0, 1), min_size=len(FAULT_KINDS), max_size=len(FAULT_KINDS)),
                      st.floats(0, 1), st.integers(0, 2**32 - 1))

@@ -217,6 +217,9 @@ ACTION_PARAMETERS = {
     "remove-endeffector": ["robot", "endeffector", "endeffectorholder", "changingstation"],
     "create-kit": ["kit", "kittray", "worktable"],
     "look-for-part": ["robot", "part", "partstray"],
+    # a part lying on a table, inspected and taken from there (issue 29)
+    "take-part-from-worktable": ["robot", "part", "worktable", "endeffector"],
+    "look-at-part-on-worktable": ["robot", "part", "worktable"],
 }
 ACTION_NAMES = set(ACTION_PARAMETERS)
 
@@ -226,7 +229,7 @@ PREDICATE_NAMES = {
     "endeffectorholder-location-changingstation", "kit-location-lbwk", "kit-location-robot",
     "kit-location-worktable", "kittray-location-lbwekt", "kittray-location-robot", "kittray-location-worktable",
     "lbwk-not-full", "part-location-kit", "part-location-partstray", "part-location-robot", "partstray-not-empty",
-    "robot-empty", "robot-holds-kit", "robot-holds-kittray", "robot-holds-part", "robot-with-endeffector",
+    "part-location-worktable", "robot-empty", "robot-holds-kit", "robot-holds-kittray", "robot-holds-part", "robot-with-endeffector",
     "robot-with-no-endeffector", "worktable-empty",
 }
 NON_SPATIAL_PREDICATE_NAMES = {  # SKU, model or sensor atoms only
@@ -341,8 +344,8 @@ def test_predicate_check_detects_a_broken_definition(graph: Graph):
         "endeffector-location-endeffectorholder", "endeffector-location-robot", "endeffectorholder-empty",
         "endeffectorholder-location-changingstation", "kit-location-lbwk", "kittray-location-lbwekt",
         "kittray-location-robot", "kittray-location-worktable", "lbwk-not-full", "part-location-kit",
-        "part-location-partstray", "partstray-not-empty", "robot-holds-kittray", "robot-holds-part",
-        "robot-with-endeffector"]
+        "part-location-partstray", "part-location-worktable", "partstray-not-empty", "robot-holds-kittray",
+        "robot-holds-part", "robot-with-endeffector"]
     assert all(str(SOAP['Partially-In']) in p for p in problems)  # the relation cut loose
 
 
@@ -398,7 +401,7 @@ def test_required_failure_modes_with_remediation(graph: Graph):
     modes = {str(graph.value(m, SOAP.hasFailureMode_Name)): m for m in graph.subjects(RDF.type, SOAP.FailureMode)}
     assert set(modes) == set(REQUIRED_FAILURES) | {
         "dropped-kit", "dropped-part-in-transit", "endeffector-attach-failed", "kit-not-on-worktable",
-        "parts-tray-empty", "object-left-on-worktable"}
+        "parts-tray-empty", "object-left-on-worktable", "part-off-tray", "defective-worktable-part"}
     for name, (action_name, phase, violated, recovery, recipient) in REQUIRED_FAILURES.items():
         m = modes[name]
         action = graph.value(m, SOAP.hasFailureMode_Action)
@@ -518,7 +521,7 @@ def test_loads_in_owlready2(tmp_path: Path):
     assert take_part is not None
     robot_param = world.search_one(iri=str(KD["take-part_robot"]))
     assert robot_param.hasParameter_Type.iri == str(KTW.Robot)  # punned class value
-    assert len(list(world.search(type=world[str(SOAP.Action)]))) == 10
+    assert len(list(world.search(type=world[str(SOAP.Action)]))) == 12
 
 
 @pytest.mark.slow
@@ -605,7 +608,7 @@ def test_compiled_domain_solves_a_two_kit_problem(graph: Graph):
     for f in fl.values():
         default = 0 if f.type.is_int_type() else False
         problem.add_fluent(f, default_initial_value=default)
-    assert len(actions) == 10
+    assert len(actions) == 12
     for a in actions:
         # look-for-part is optional by design: the goal must be reachable without it
         if a.name != "look-for-part":

@@ -208,7 +208,7 @@ class Executor(Recovery):
     def _do(self, step: Step, queue: deque) -> None:
         for param in self._grasped(step.action):  # an object to take a diagnosis found unusable: no new one
             obj = step.args.get(param)
-            if obj is not None and not self.belief.usable(obj):
+            if obj is not None and not self.belief.usable(obj) and not self._inspected_here(step, param, obj):
                 self._rebind_or_replan(step, self.index, queue, None, f"{self.belief.unusable[obj]} already", param)
                 return
         while True:
@@ -502,6 +502,14 @@ class Executor(Recovery):
                     break
             self._inspectors[action] = found
         return self._inspectors[action]
+
+    def _inspected_here(self, step: Step, param: str, obj: str) -> bool:
+        """``obj``, kept out until an inspection passes it (a part that fell), is taken by a step
+        that inspects it first (:meth:`_inspector`): the step goes ahead, and the inspection
+        decides (a part that fails is diagnosed as the inspecting action's failure)."""
+        inspector = self._inspector(step.action)
+        return (self.belief.awaits_inspection(obj) and inspector is not None and inspector[0] == param
+                and has(self.cell, "inspect") and self.belief.placed(obj))
 
     def _inspect(self, step: Step, i: int, queue: deque) -> str | None:
         """Inspect the object the step takes (:meth:`_inspector`): a defective one is

@@ -119,6 +119,9 @@ class Recovery(PartialKits):
     #: each object's SKU when the run started (what the plan was made for; a recognised SKU
     #: replaces the belief's)
     _skus: dict[str, str] | None = None
+    #: object -> (action index, mode) of the last failure whose diagnosis was about it
+    #: (:meth:`_note_diagnosed`)
+    _diagnosed: dict[str, tuple[int, str]] | None = None
 
     # provided by the executor
     def evaluator(self) -> Evaluator:
@@ -173,6 +176,7 @@ class Recovery(PartialKits):
                                 time=time.perf_counter(), considered=list(diag.considered),
                                 kit=self._kit_of(step), witnesses=witnesses)
         self.record.failures.append(failure)
+        self._note_diagnosed(failure, step, mode)
         self._emit(FailureFound(i, step.action, step.line(), phase, tuple(a.text() for a in violated), failure.mode))
         if mode is not None:
             fields = Fields({k: local(v) for k, v in step.args.items()})
@@ -184,6 +188,24 @@ class Recovery(PartialKits):
                 failure.notifications.append(Notice(n.recipient, message, attached))
                 self.notifier(n.recipient, message)
         return failure
+
+    def _note_diagnosed(self, failure: FailureRecord, step: Step, mode: FailureModeDef | None) -> None:
+        """Keep what this diagnosis is about (the objects of its mode's consequences and what its
+        check found: the part left on a table, say), and count it a repeated diagnosis
+        (``record.repeated_diagnoses``) where an earlier failure diagnosed the same object and no
+        action has had the object as an argument since: the same event diagnosed twice."""
+        if self._diagnosed is None:
+            self._diagnosed = {}
+        subjects = [step.args[c.parameter] for c in (mode.consequences if mode is not None else ())
+                    if c.parameter in step.args]
+        subjects += [w for w in failure.witnesses if w not in subjects]
+        for obj in subjects:
+            first = self._diagnosed.get(obj)
+            if first is not None and not any(a.index > first[0] and obj in a.args for a in self.record.actions):
+                self.record.repeated_diagnoses.append(
+                    {"object": local(obj), "first": {"action_index": first[0], "mode": first[1]},
+                     "again": {"action_index": failure.action_index, "mode": failure.mode}})
+            self._diagnosed[obj] = (failure.action_index, failure.mode)
 
     def _attachments(self, step: Step, failure: FailureRecord) -> dict[str, Any]:
         """What a notification carries: the failure's violated atoms, where its objects were
@@ -550,7 +572,9 @@ class Recovery(PartialKits):
         for fn in self.domain.functions:
             for args, v in ev.function_values(fn).items():
                 values[(fn, *map(pddl_name, args))] = v
-        excluded = {pddl_name(p) for p in self.belief.unusable}
+        # a part kept out until an inspection passes it (it fell: ReusableAfterInspection) is one
+        # the planner may use from where it lies: the executor inspects it before it is taken
+        excluded = {pddl_name(p) for p in self.belief.unusable if not self.belief.awaits_inspection(p)}
         started = time.perf_counter()
         try:
             result = self.plan_within_parts(facts, values, excluded)

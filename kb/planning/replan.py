@@ -49,7 +49,9 @@ def restated(spec: ProblemSpec, facts: Iterable[Atom], values: dict[Atom, float]
     for left, right in spec.goal_equal:
         kit_sku = left[1:]
         need = int(new_values.get(right, 0) - new_values.get(left, 0))
-        tokens = [p for p in in_trays.get(kit_sku[-1], []) + others.get(kit_sku[-1], []) if p not in used][:max(need, 0)]
+        # a part lying out of place (dropped, knocked out of its tray) first: taken from where it
+        # lies, it clears that place (the work table a kit tray must go on) and spares a tray's part
+        tokens = [p for p in others.get(kit_sku[-1], []) + in_trays.get(kit_sku[-1], []) if p not in used][:max(need, 0)]
         used.update(tokens)
         out.quota[left] = tokens
         if len(tokens) < need:

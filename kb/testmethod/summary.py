@@ -136,6 +136,7 @@ def summarize(rows: Iterable[dict[str, Any]], *, sweep: str | None = None, base:
         "errors": sum(1 for r in rows if r.get("trial", {}).get("error")),
         "metrics": {name: _stats(values) for name, values in sorted(series.items())},
         "failures_by_mode": dict(sorted(modes.items())),
+        "repeated_diagnoses": repeated_diagnoses(rows),
         "recoveries": {"by_strategy": dict(sorted(strategies.items())),
                        "recovered_by_mode": dict(sorted(recovered.items())),
                        "recovered": sum(recovered.values()),
@@ -173,6 +174,18 @@ def sweep_summary(rows: list[dict[str, Any]], sweep: str, base: str | None = Non
                        "kits_built": sum(b for b, _ in built), "kits": sum(a for _, a in built),
                        **quality.as_dict(), "false_alarm_count": quality.false_alarm_count})
     return {"key": name, "unit": unit, "sweep": sweep, "base": base, "levels": levels}
+
+
+def repeated_diagnoses(rows: Iterable[dict[str, Any]]) -> dict[str, Any]:
+    """Diagnoses of an event already diagnosed (issue 29, one fault one diagnosis; each run's
+    report counts them, kb.execution.recovery): the total, the trials with one, and per mode of
+    the second diagnosis. A row without the count (an older report) adds none."""
+    total, trials, by_mode = 0, 0, Counter()
+    for row in rows:
+        n = int(row.get("repeated_diagnoses") or 0)
+        total, trials = total + n, trials + (1 if n else 0)
+        by_mode.update(str(r.get("again", {}).get("mode")) for r in row.get("repeated") or [])
+    return {"total": total, "trials": trials, "by_mode": dict(sorted(by_mode.items()))}
 
 
 def goal_unmet(rows: Iterable[dict[str, Any]]) -> dict[str, int]:
@@ -247,6 +260,10 @@ def _summary(s: dict[str, Any], stream: TextIO) -> None:
                           ("recoveries by strategy", s["recoveries"]["by_strategy"])):
         if counts:
             print(f"{title}: " + ", ".join(f"{k} {v}" for k, v in counts.items()), file=stream)
+    rep = s.get("repeated_diagnoses") or {}
+    if rep:
+        print(f"repeated diagnoses: {rep['total']}" + (f" in {rep['trials']} trial(s) ("
+              + ", ".join(f"{k} {v}" for k, v in rep["by_mode"].items()) + ")" if rep["total"] else ""), file=stream)
     if s.get("detection"):
         print(_detection_line(s["detection"]), file=stream)
     if s.get("sweep"):

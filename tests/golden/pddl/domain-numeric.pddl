@@ -48,12 +48,14 @@
              (kittray-location-worktable ?kittray - kittray ?worktable - worktable)
              ; source: <https://w3id.org/kitkb/kitting-domain#kit-location-worktable>
              (kit-location-worktable ?kit - kit ?worktable - worktable)
+             ; source: <https://w3id.org/kitkb/kitting-domain#part-location-worktable>
+             (part-location-worktable ?part - part ?worktable - worktable)
+             ; source: <https://w3id.org/kitkb/kitting-domain#part-quality-ok>
+             (part-quality-ok ?part - part)
              ; source: <https://w3id.org/kitkb/kitting-domain#part-location-partstray>
              (part-location-partstray ?part - part ?partstray - partstray)
              ; source: <https://w3id.org/kitkb/kitting-domain#partstray-not-empty>
              (partstray-not-empty ?partstray - partstray)
-             ; source: <https://w3id.org/kitkb/kitting-domain#part-quality-ok>
-             (part-quality-ok ?part - part)
              ; source: <https://w3id.org/kitkb/kitting-domain#kit-location-robot>
              (kit-location-robot ?kit - kit ?robot - robot)
              ; source: <https://w3id.org/kitkb/kitting-domain#lbwk-not-full>
@@ -103,6 +105,11 @@
   :parameters ( ?kit - kit ?kittray - kittray ?worktable - worktable)
   :precondition (and (kit-kittray ?kit ?kittray) (kittray-location-worktable ?kittray ?worktable))
   :effect (and (not (kittray-location-worktable ?kittray ?worktable)) (kit-location-worktable ?kit ?worktable)))
+ ; source: <https://w3id.org/kitkb/kitting-domain#look-at-part-on-worktable>
+ (:action look-at-part-on-worktable
+  :parameters ( ?robot - robot ?part - part ?worktable - worktable)
+  :precondition (and (part-location-worktable ?part ?worktable))
+  :effect (and (part-quality-ok ?part)))
  ; source: <https://w3id.org/kitkb/kitting-domain#look-for-part>
  (:action look-for-part
   :parameters ( ?robot - robot ?part - part ?partstray - partstray)
@@ -143,4 +150,9 @@
   :parameters ( ?robot - robot ?part - part ?partstray - partstray ?endeffector - endeffector)
   :precondition (and (endeffector-location-robot ?endeffector ?robot) (endeffector-type-part ?endeffector ?part) (part-location-partstray ?part ?partstray) (partstray-not-empty ?partstray) (robot-empty ?robot) (robot-with-endeffector ?robot ?endeffector))
   :effect (and (not (part-location-partstray ?part ?partstray)) (not (robot-empty ?robot)) (part-location-robot ?part ?robot) (robot-holds-part ?robot ?part) (decrease (quantity-partstray ?partstray) 1)))
+ ; source: <https://w3id.org/kitkb/kitting-domain#take-part-from-worktable>
+ (:action take-part-from-worktable
+  :parameters ( ?robot - robot ?part - part ?worktable - worktable ?endeffector - endeffector)
+  :precondition (and (endeffector-location-robot ?endeffector ?robot) (endeffector-type-part ?endeffector ?part) (part-location-worktable ?part ?worktable) (robot-empty ?robot) (robot-with-endeffector ?robot ?endeffector))
+  :effect (and (not (part-location-worktable ?part ?worktable)) (not (robot-empty ?robot)) (part-location-robot ?part ?robot) (robot-holds-part ?robot ?part)))
 )
