@@ -196,7 +196,10 @@ def record(task: dict, code: int | str, rep: dict | None, output: str, wall: flo
                    failures=len(rep.get("failures", [])), diagnosed=sc["verdicts"].count("correct"),
                    wrong=sc["verdicts"].count("wrong"), unmatched=sc["verdicts"].count("unmatched"),
                    time_s=rep.get("time_s"), kits_buildable=rep.get("kits_buildable"),
-                   kits_built=(rep.get("oracle") or {}).get("kits_built"), completion=rep.get("completion"))
+                   kits_built=(rep.get("oracle") or {}).get("kits_built"), completion=rep.get("completion"),
+                   repeated=rep.get("repeated_diagnoses", 0),
+                   repeated_modes=Counter(x.get("mode") for x in rep.get("repeated", [])),
+                   partial=[(p.get("kit"), p.get("outcome")) for p in rep.get("partial_kits", [])])
     if not ok(out):
         out["output"] = output[-2000:]
     return out
@@ -283,7 +286,13 @@ def summarise(c: dict) -> dict:
             "wrong": sum(r.get("wrong", 0) for r in res), "unmatched": sum(r.get("unmatched", 0) for r in res),
             "mean_run_s": round(statistics.mean(r["wall_s"] for r in res), 2) if res else 0,
             "mean_cpu_s": round(statistics.mean(r.get("cpu_s", 0) for r in res), 2) if res else 0,
-            "wall_s": c["wall_s"], "completion": completion_of(res)}
+            "wall_s": c["wall_s"], "completion": completion_of(res),
+            "actions": sum(r.get("actions", 0) for r in res),
+            "repeated": sum(r.get("repeated", 0) for r in res),
+            "repeated_runs": sum(bool(r.get("repeated")) for r in res),
+            "repeated_modes": dict(sum((Counter(r.get("repeated_modes", {})) for r in res), Counter())),
+            "partial_kits": dict(Counter(o for r in res for _k, o in r.get("partial", []))),
+            "incomplete": [r["run"] for r in res if isinstance(r.get("completion"), (int, float)) and r["completion"] < 1.0]}
 
 
 def completion_of(res: list[dict]) -> dict:
@@ -349,6 +358,30 @@ def render(run: dict) -> str:
                       f"({done['kits_built']} kits built of {done['kits_buildable']} buildable), mean {done['mean']} "
                       f"over {done['runs']} runs, {done['complete']} complete"
                       + (f", {done['unknown']} runs without an oracle" if done["unknown"] else "") + "."]
+    if "repeated" in s:
+        per = 10000 * s["unmatched"] / s["actions"] if s.get("actions") else 0.0
+        lines += ["", f"Repeated diagnoses (a failure diagnosing an object an earlier failure of the run diagnosed, "
+                      f"with no action on it between): {s['repeated']} in {s['repeated_runs']} runs"
+                      + (f" ({', '.join(f'{k}: {v}' for k, v in sorted(s['repeated_modes'].items()))})"
+                         if s["repeated_modes"] else "")
+                      + f". False alarms (failures matched to no injected fault): {s['unmatched']} in "
+                        f"{s['actions']:,} actions ({per:.2f} per 10,000). Kits not finished, by the partial-kit "
+                        f"policy: " + (", ".join(f"{k} {v}" for k, v in sorted(s["partial_kits"].items()))
+                                       if s["partial_kits"] else "none") + "."]
+        if s.get("incomplete"):
+            lines += ["", f"Runs with completion below 1: {len(s['incomplete'])} (runs "
+                          + ", ".join(map(str, s["incomplete"][:20])) + (", ..." if len(s["incomplete"]) > 20 else "") + ")."]
+    before = run.get("before")
+    if before:
+        b = before["summary"]
+        lines += ["", f"Beside the campaign of {before['date']} (commit {before['commit']}, {b['runs']} runs, same "
+                      f"mixes, sizes and seeds): goal holds {b['stops'].get('goal holds', 0)} then, "
+                      f"{s['stops'].get('goal holds', 0)} now; stopped for want of a part "
+                      f"{sum(v for k, v in b['stops'].items() if k.startswith('no usable part'))} then, "
+                      f"{sum(v for k, v in s['stops'].items() if k.startswith('no usable part'))} now; failures "
+                      f"{b['failures']} then, {s['failures']} now; another mode {b['wrong']} then, {s['wrong']} now; "
+                      f"matched to no fault {b['unmatched']} then, {s['unmatched']} now; mean run {b['mean_run_s']} s "
+                      f"then, {s['mean_run_s']} s now."]
     lines += ["", f"Failures diagnosed: {s['failures']}, of which {s['diagnosed']} with a mode the injected fault "
                   f"allows, {s['wrong']} another mode, {s['unmatched']} matched to no injected fault.", "",
               "How runs ended (stop reasons as `bench_execution.py` groups them):", "",
@@ -378,6 +411,19 @@ def render(run: dict) -> str:
     lines += ["", "Every run's record (exit, report, stop, faults injected / detected, diagnoses, wall time) is in "
                   "`benchmarks/results/campaign.json`."]
     return "\n".join(lines) + "\n"
+
+
+def earlier(options: dict) -> dict | None:
+    """The latest saved campaign with the same runs, sizes and first seed (today's figures to
+    set the new ones beside)."""
+    old = json.loads(RESULTS.read_text()) if RESULTS.exists() else []
+    keys = ("runs", "sizes", "first_seed")
+    same = [r for r in old if all(r.get("options", {}).get(k) == options.get(k) for k in keys)]
+    if not same:
+        return None
+    r = same[-1]
+    return {"date": r["date"], "commit": r.get("checkout", {}).get("commit"), "summary":
+            {k: v for k, v in r["summary"].items() if k not in ("by_size", "faults", "incomplete")}}
 
 
 def _sizes(sizes: list[int]) -> str:
@@ -410,6 +456,7 @@ def main(argv: list[str] | None = None) -> int:
         run["generate_s"] = generate(sorted(set(args.sizes)), folder)
         run["campaign"] = campaign(args, folder)
     run["summary"] = summarise(run["campaign"])
+    run["before"] = earlier(run["options"])
     print(json.dumps({k: v for k, v in run["summary"].items() if k != "by_size"}, default=str))
     for n, b in run["summary"]["by_size"].items():
         print(f"  {n} parts: {b}")

@@ -574,7 +574,9 @@ class Recovery(PartialKits):
                 values[(fn, *map(pddl_name, args))] = v
         # a part kept out until an inspection passes it (it fell: ReusableAfterInspection) is one
         # the planner may use from where it lies: the executor inspects it before it is taken
-        excluded = {pddl_name(p) for p in self.belief.unusable if not self.belief.awaits_inspection(p)}
+        # (a cell that cannot inspect: it stays out)
+        inspects = has(self.cell, "inspect")
+        excluded = {pddl_name(p) for p in self.belief.unusable if not (inspects and self.belief.awaits_inspection(p))}
         started = time.perf_counter()
         try:
             result = self.plan_within_parts(facts, values, excluded)
