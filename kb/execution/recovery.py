@@ -22,8 +22,9 @@ follows from the failure mode's data (:mod:`kb.model.failures`); no mode is know
   their arguments bound from the failure, queued before the rest of the plan and checked like
   any plan action); **replan** from the current state, decided from geometry, with the same goal
   (:mod:`kb.planning.replan`), objects found unusable excluded; **abort**. A retry, rebinding
-  or recovery plan that cannot be done replans; replans and recovery plans are bounded
-  (``max_replans`` each). A failure without a diagnosis replans.
+  or recovery plan that cannot be done replans; recovery plans are bounded (``max_replans``), and
+  so are replans that make no progress (``max_replans`` in a row whose plan is no shorter than
+  the shortest before). A failure without a diagnosis replans.
 
 A step that still names an unusable part (no spare was left to put in its place) is rebound or
 replanned when it comes up, without a new diagnosis, and the run stops, saying which SKU ran
@@ -115,6 +116,11 @@ class Recovery(PartialKits):
     #: recovery plans run so far (bounded by ``max_replans``); the last step of a recovery
     #: plan after which the executor replans (``soap:hasFailureRemediation_ThenReplan``)
     _plans_run: int = 0
+    #: replanning's bound: the shortest plan left so far, and the replans since one was shorter
+    #: (``max_replans`` of those in a row and the run stops: a plan that keeps failing the same
+    #: way; a run whose replans keep making progress goes on however many faults it meets)
+    _least_left: int | None = None
+    _stalled: int = 0
     _replan_after: Step | None = None
     #: each object's SKU when the run started (what the plan was made for; a recognised SKU
     #: replaces the belief's)
@@ -562,8 +568,9 @@ class Recovery(PartialKits):
 
     # --- replanning -----------------------------------------------------------------
     def _replan(self, queue: deque, failure: FailureRecord | None) -> str:
-        if self.record.replans >= self.max_replans:
-            raise Stop(f"gave up after {self.record.replans} replans")
+        if self._stalled >= self.max_replans:
+            raise Stop(f"gave up after {self.record.replans} replans ({self._stalled} in a row that did not "
+                       f"shorten the plan left)")
         self.record.replans += 1
         self._sense_all()
         ev = self.evaluator()
@@ -588,6 +595,12 @@ class Recovery(PartialKits):
             raise Stop(why) from None
         finally:
             self.record.replan_time += time.perf_counter() - started
+        # progress is a plan left shorter than any before (a part placed, a kit done, a goal cut
+        # to the kits the parts allow); replans that do not shorten it are bounded by max_replans
+        if self._least_left is None or len(result.lines) < self._least_left:
+            self._least_left, self._stalled = len(result.lines), 0
+        else:
+            self._stalled += 1
         queue.clear()
         queue.extend(self.parse_plan(result.lines))
         if failure is not None:
