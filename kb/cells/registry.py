@@ -14,6 +14,9 @@ initial state's scene, faults, seed, the sensor's accuracy). Schemes (:func:`cel
     ``noise=`` (``position=1mm,orientation=0.5deg``, over ``request.accuracy``) may stand for
     the request's (a parameter and a different request value at once are refused). Every
     capability, ground truth included.
+``mujoco:``
+    the physics-based cell on MuJoCo (:class:`kb.physics.MujocoCell`, docs/physics.md), with
+    ``sim:``'s parameters and capabilities; its ground truth is where MuJoCo brought things to rest.
 ``kitkb://HOST[:PORT][?command=PORT&timeout=S]``
     a kitkb cell server (``kitkb sim serve``): PORT is its sensor port (default 3989), its
     command port PORT + 1 or ``command=``; :class:`kb.crcl.RemoteCell`. It moves, senses,
@@ -59,6 +62,7 @@ ENTRY_POINT_GROUP = "kitkb.cells"
 #: kitkb's own schemes: scheme -> (module, function), imported when a URL of it is first opened.
 BUILTIN: dict[str, tuple[str, str]] = {
     "sim": ("kb.sim.cell", "open_simulated"),
+    "mujoco": ("kb.physics.cell", "open_mujoco"),
     "kitkb": ("kb.cells.remote", "open_kitkb"),
     "crcl": ("kb.cells.remote", "open_crcl"),
 }
