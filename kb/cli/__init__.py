@@ -53,6 +53,7 @@ HANDLERS = {
     "predicates": "kb.cli.predicates:predicates",
     "faults": "kb.cli.faults:faults",
     "sim serve": "kb.cli.sim:serve",
+    "sim export-mjcf": "kb.cli.sim:export_mjcf",
     "testmethod": "kb.cli.testmethod:testmethod",
     "report": "kb.cli.report:report",
 }
@@ -431,6 +432,19 @@ def _add_sim(sub: Any) -> None:
     g.add_argument("--status-period", type=float, default=1.0, metavar="S",
                    help="a CRCL 1.x connection sent no status for S seconds is sent one (a heartbeat; "
                         "default 1; 0: statuses only when a command ends and on GetStatus)")
+    g.add_argument("--engine", choices=["kinematic", "mujoco"], default="kinematic", metavar="kinematic|mujoco",
+                   help="the simulator behind the ports: kitkb's kinematic cell (default) or the physics-based "
+                        "cell on MuJoCo (docs/physics.md)")
+    g = _sub(ssub, "export-mjcf", "sim export-mjcf", "write a state's MuJoCo scene (MJCF) as the physics cell builds it",
+             format_help="text: one line with the file and its bodies; json: one object with output, bodies, free, "
+                         "fixed and mocap (default text)",
+             description="Write the MJCF scene the MuJoCo cell (--cell mujoco:) builds from a state file: its "
+                         "solids as MuJoCo bodies (boxes, cylinders, open containers as floor and walls), parts "
+                         "and trays free, the rest fixed, the flange and effectors mocap bodies; MuJoCo's viewer "
+                         "opens it (python -m mujoco.viewer --mjcf FILE). docs/physics.md.")
+    g.add_argument("init", metavar="INIT", help="state file")
+    g.add_argument("-o", "--output", required=True, metavar="OUT", help="the MJCF file to write (.xml)")
+    g.add_argument("--goal", metavar="GOAL", help="goal state file: its individuals that INIT lacks exist, unplaced")
 
 
 def _add_testmethod(sub: Any) -> None:
