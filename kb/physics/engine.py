@@ -62,6 +62,7 @@ class Physics:
         self.gripped: int | None = None  # the world index welded to the flange
         self.steps = 0
         self.wall = 0.0
+        self.skipped = 0.0  # simulated seconds of quiet legs, not integrated
         mujoco.mj_forward(m, self.data)
 
     @property
@@ -87,6 +88,22 @@ class Physics:
             if self.at_rest():
                 break
         return self.time - start
+
+    def quiet(self) -> bool:
+        """Every body asleep (MuJoCo's island sleeping) and nothing held: stepping would move nothing."""
+        return self.gripped is None and int(self.data.ntree_awake) == 0
+
+    def collide(self) -> None:
+        """MuJoCo's collision detection where the bodies and mocap bodies are now (no integration)."""
+        t0 = _time.perf_counter()
+        mujoco.mj_kinematics(self.model, self.data)
+        mujoco.mj_collision(self.model, self.data)
+        self.wall += _time.perf_counter() - t0
+
+    def advance(self, seconds: float) -> None:
+        """MuJoCo's clock moved on by ``seconds`` with nothing integrated (a world at rest)."""
+        self.data.time += seconds
+        self.skipped += seconds
 
     def catch_up(self, limit: float = P.CATCH_UP) -> float:
         """Step until the held body moves slower than :data:`~kb.physics.params.REST_SPEED`

@@ -10,9 +10,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-#: Integration step (s). 2 ms is MuJoCo's default and stable for 2 cm parts at the speeds of a
-#: kitting robot (1 m/s); the contact time constant below is ten steps.
-TIMESTEP = 0.002
+#: Integration step (s). 4 ms: stable for the scenarios' parts (centimetres) at a kitting robot's
+#: speeds (1 m/s), the contact time constant below five steps (MuJoCo wants at least two); 2 ms
+#: gave the same kits and final poses at 1.3x the cost (docs/benchmarks.md).
+TIMESTEP = 0.004
 #: MuJoCo's contact softness (solref: time constant s, damping ratio): critically damped, 20 ms.
 CONTACT_SOLREF = (0.02, 1.0)
 #: Sliding, torsional and rolling friction of every contact (MuJoCo's geom friction): 0.6 is
@@ -61,6 +62,9 @@ WEAK_GRIP_MOMENT = (0.2, 0.8)
 PUSH_SPEED = (0.3, 0.8)
 #: A kit tray bumped: its speed range (m/s), lower (it is heavier and carries its parts).
 BUMP_SPEED = (0.15, 0.4)
+#: MuJoCo's contacts are read every this many steps of a move (10 ms: a tool at 1 m/s moves
+#: 1 cm), and a grip's force checked as often.
+CONTACT_EVERY = 5
 #: MuJoCo contacts that count as the robot touching something (m of penetration): as the
 #: kinematic cell, touching within 1 mm is not contact.
 CONTACT_DEPTH = 0.001

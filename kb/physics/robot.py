@@ -42,6 +42,7 @@ import numpy as np
 from kb.crcl.cell import Status
 from kb.physics import params as P
 from kb.physics.engine import Physics
+from kb.physics.mjcf import quaternion
 from kb.sim.robot import Robot, _turn
 from kb.sim.world import EFFECTOR_LOAD, World, translate
 
@@ -75,28 +76,6 @@ def profile(length: float, speed: float, accel: float = P.ACCELERATION) -> tuple
             return 0.5 * accel * ta * ta + speed * (t - ta)
         return length - 0.5 * accel * (total - t) ** 2
     return total, s2
-
-
-def _slerp(r0: np.ndarray, r1: np.ndarray, f: float) -> np.ndarray:
-    """The rotation a fraction ``f`` of the way from ``r0`` to ``r1`` (about one axis)."""
-    if f <= 0:
-        return r0
-    if f >= 1:
-        return r1
-    rel = r0.T @ r1
-    angle = float(np.arccos(np.clip((np.trace(rel) - 1) / 2, -1, 1)))
-    if angle < 1e-9:
-        return r1
-    axis = np.array([rel[2, 1] - rel[1, 2], rel[0, 2] - rel[2, 0], rel[1, 0] - rel[0, 1]])
-    n = np.linalg.norm(axis)
-    if n < 1e-9:  # a half turn: any axis perpendicular works; take the eigenvector
-        w, v = np.linalg.eigh((rel + rel.T) / 2)
-        axis = v[:, np.argmax(w)]
-    else:
-        axis = axis / n
-    a = angle * f
-    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
-    return r0 @ (np.eye(3) + np.sin(a) * k + (1 - np.cos(a)) * k @ k)
 
 
 class PhysicsRobot(Robot):
@@ -137,36 +116,41 @@ class PhysicsRobot(Robot):
 
     def _drive(self, start: np.ndarray, target: np.ndarray, duration: float, s: Callable[[float], float],
                length: float, weak: float | None) -> None:
-        """Step MuJoCo through one leg, the flange's mocap body along it."""
+        """Step MuJoCo through one leg, the flange's mocap body (and the mounted effector's) along
+        it; when nothing is held and every body is asleep nothing can move, so the leg only
+        looks for the robot's contacts at :data:`~kb.physics.params.CONTACT_EVERY` steps and
+        the clock advances (:meth:`_quiet_leg`)."""
         ph = self.physics
         n = max(1, int(np.ceil(duration / P.TIMESTEP)))
-        off = translate(0.0, 0.0, -self.tool_length())
-        mounted = None
-        if self.effector is not None:
-            mounted = np.linalg.inv(self.flange) @ self.world.poses[self.effector]
+        t = np.minimum(np.arange(1, n + 1) * P.TIMESTEP, duration)
+        f = np.array([s(x) for x in t]) / length if length > 0 else t / duration
+        flange_pos, flange_quat, eff_pos, eff_quat = self._trajectory(start, target, f)
         self._contacts_now = {}
         moving = self._moving()
+        if self.held is None and weak is None and ph.quiet():
+            self._quiet_leg(flange_pos, flange_quat, eff_pos, eff_quat, duration, moving)
+            self._report_contacts(start, target)
+            return
         dropped = None
-        for k in range(1, n + 1):
-            t = min(k * P.TIMESTEP, duration)
-            f = s(t) / length if length > 0 else t / duration
-            tip = np.eye(4)
-            tip[:3, 3] = start[:3, 3] + f * (target[:3, 3] - start[:3, 3])
-            tip[:3, :3] = _slerp(start[:3, :3], target[:3, :3], min(1.0, t / duration) if length <= 0 else f)
-            flange = tip @ off
-            ph.set_flange(flange)
-            if mounted is not None:
-                ph.set_mocap(self.effector, flange @ mounted)
+        d, fm = ph.data, ph.flange_mocap
+        em = ph.mocap.get(self.effector) if self.effector is not None else None
+        for k in range(n):
+            d.mocap_pos[fm] = flange_pos[k]
+            d.mocap_quat[fm] = flange_quat[k]
+            if em is not None:
+                d.mocap_pos[em] = eff_pos[k]
+                d.mocap_quat[em] = eff_quat[k]
             ph.step()
-            if weak is not None and t >= weak and self.held is not None:
+            if weak is not None and t[k] >= weak and self.held is not None:
                 dropped = self.held
                 self._let_go()
                 weak = None
-            elif self.strength is not None and k % 5 == 0 and ph.grip_force() > self.strength:
+            elif self.strength is not None and k % P.CONTACT_EVERY == 0 and ph.grip_force() > self.strength:
                 name = self.world.names[self.held] if self.held is not None else "?"
                 self.let_go.append((name, f"the grip's force passed its strength {self.strength:.2f} N"))
                 self._let_go()
-            self._note_contacts(moving)
+            if k % P.CONTACT_EVERY == 0 or k == n - 1:
+                self._note_contacts(moving)
         self.time += ph.catch_up()
         self._report_contacts(start, target)
         if dropped is not None:
@@ -177,6 +161,47 @@ class PhysicsRobot(Robot):
             where = w.names[sup] if sup >= 0 else "the floor"
             self.on_fault("drop_in_transit", (w.names[dropped],),
                           f"the grip let go in transit; came to rest at {_xyz(w.poses[dropped][:3, 3])} on {where}")
+
+    def _trajectory(self, start: np.ndarray, target: np.ndarray, f: np.ndarray) -> tuple[
+            np.ndarray, np.ndarray, np.ndarray | None, np.ndarray | None]:
+        """Positions (n, 3) and quaternions (n, 4) of the flange, and of the mounted effector
+        (None without one), at the fractions ``f`` of the leg (the orientation turned by the
+        same fraction, about one axis)."""
+        length = self.tool_length()
+        r0 = start[:3, :3]
+        axis, angle = _axis_angle(r0.T @ target[:3, :3])
+        half = 0.5 * angle * np.minimum(np.maximum(f, 0.0), 1.0)
+        turn = np.column_stack([np.cos(half), np.outer(np.sin(half), axis)])  # in the start's frame
+        q0 = quaternion(r0)
+        flange_quat = _qmul(q0, turn)
+        tips = start[:3, 3] + np.outer(f, target[:3, 3] - start[:3, 3])
+        z = _rotate(flange_quat, np.array([0.0, 0.0, 1.0]))
+        flange_pos = tips - length * z
+        if self.effector is None:
+            return flange_pos, flange_quat, None, None
+        mounted = np.linalg.inv(self.flange) @ self.world.poses[self.effector]
+        eff_pos = flange_pos + _rotate(flange_quat, mounted[:3, 3])
+        eff_quat = _qmul(flange_quat, quaternion(mounted[:3, :3]))
+        return flange_pos, flange_quat, eff_pos, eff_quat
+
+    def _quiet_leg(self, flange_pos: np.ndarray, flange_quat: np.ndarray, eff_pos: np.ndarray | None,
+                   eff_quat: np.ndarray | None, duration: float, moving: set[int]) -> None:
+        """A leg in a world at rest with nothing held: the robot's geoms placed every
+        :data:`~kb.physics.params.CONTACT_EVERY` steps and MuJoCo's collision detection run
+        there (its contacts noted), no integration; MuJoCo's clock advanced by the leg."""
+        ph = self.physics
+        d, fm = ph.data, ph.flange_mocap
+        em = ph.mocap.get(self.effector) if self.effector is not None else None
+        n = len(flange_pos)
+        for k in list(range(P.CONTACT_EVERY - 1, n, P.CONTACT_EVERY)) + [n - 1]:
+            d.mocap_pos[fm] = flange_pos[k]
+            d.mocap_quat[fm] = flange_quat[k]
+            if em is not None:
+                d.mocap_pos[em] = eff_pos[k]  # type: ignore[index]
+                d.mocap_quat[em] = eff_quat[k]  # type: ignore[index]
+            ph.collide()
+            self._note_contacts(moving)
+        ph.advance(duration)
 
     def _go(self, tip: np.ndarray) -> None:
         """The kinematic robot's end of a leg (its swept-box contacts, the flange and what it
@@ -360,6 +385,35 @@ class PhysicsRobot(Robot):
             if sup in w.subtree(node):
                 continue
             w.parent[node] = sup
+
+
+def _axis_angle(rel: np.ndarray) -> tuple[np.ndarray, float]:
+    """(unit axis, angle) of a rotation matrix (any axis for no turn)."""
+    angle = float(np.arccos(np.clip((np.trace(rel) - 1) / 2, -1, 1)))
+    axis = np.array([rel[2, 1] - rel[1, 2], rel[0, 2] - rel[2, 0], rel[1, 0] - rel[0, 1]])
+    n = np.linalg.norm(axis)
+    if angle < 1e-12:
+        return np.array([0.0, 0.0, 1.0]), 0.0
+    if n < 1e-9:  # a half turn: the eigenvector of eigenvalue 1
+        w, v = np.linalg.eigh((rel + rel.T) / 2)
+        return v[:, int(np.argmax(w))], angle
+    return axis / n, angle
+
+
+def _qmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Quaternion products a b (w, x, y, z), either of shape (4,) or (n, 4)."""
+    a, b = np.atleast_2d(a), np.atleast_2d(b)
+    w1, x1, y1, z1 = a.T
+    w2, x2, y2, z2 = b.T
+    return np.column_stack([w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2, w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
+                            w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2, w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2])
+
+
+def _rotate(q: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Vector ``v`` (3,) turned by each quaternion of ``q`` (n, 4): (n, 3)."""
+    w, u = q[:, :1], q[:, 1:]
+    t = 2.0 * np.cross(u, v)
+    return v + w * t + np.cross(u, t)
 
 
 def _covered(off: np.ndarray, half: np.ndarray, r: float, n: int = 15) -> float:
