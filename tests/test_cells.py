@@ -37,7 +37,7 @@ from kb.testmethod.trial import WatchedCell
 
 REPO = Path(__file__).resolve().parents[1]
 INIT, GOAL = str(ontology_path("scenarios/small-kit/init.ttl")), str(ontology_path("scenarios/small-kit/goal.ttl"))
-KNOWN = "(known schemes: crcl, kitkb, sim)"
+KNOWN = "(known schemes: crcl, kitkb, mujoco, sim)"
 
 
 @lru_cache(maxsize=None)
@@ -205,7 +205,7 @@ def plugin(tmp_path: Path, monkeypatch: pytest.MonkeyPatch):
 
 @pytest.mark.usefixtures("plugin")
 def test_another_package_adds_a_scheme_through_the_entry_point_group() -> None:
-    assert cell_schemes() == ["crcl", "kitkb", "partial", "sim"]
+    assert cell_schemes() == ["crcl", "kitkb", "mujoco", "partial", "sim"]
     cell = open_cell("partial://somewhere?x=1", CellRequest(scene=scene(), seed=7))
     import kitkb_partial_cell  # type: ignore[import-not-found]
     assert kitkb_partial_cell.OPENED == [("partial://somewhere?x=1", "somewhere", {"x": "1"}, 7)]
@@ -214,7 +214,7 @@ def test_another_package_adds_a_scheme_through_the_entry_point_group() -> None:
     # a built-in scheme cannot be taken over
     assert isinstance(open_cell("sim:", CellRequest(scene=scene())), SimulatedCell)
     # unknown schemes name the plugin's too
-    with pytest.raises(InputError, match=r"known schemes: crcl, kitkb, partial, sim"):
+    with pytest.raises(InputError, match=r"known schemes: crcl, kitkb, mujoco, partial, sim"):
         open_cell("nope:", CellRequest())
 
 

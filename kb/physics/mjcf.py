@@ -229,8 +229,12 @@ def _geoms(body: Body, lo: np.ndarray, hi: np.ndarray, open_top: bool, cylinder:
 def _mass(world: World, i: int) -> float | None:
     """The SKU weight (kg) of ``i`` itself (not what rests in it), None when none is given."""
     skus = world.objects(SKU, world.names[i])
-    w = world.number(SKU_WEIGHT, skus[0]) if skus else None
-    return w if w is not None and w > 0 else None
+    value = world.values.get(SKU_WEIGHT, {}).get(skus[0]) if skus else None
+    try:  # a number as the state file writes it (xsd:decimal reads as a Decimal)
+        w = float(value) if value is not None and not isinstance(value, bool) else None
+    except (TypeError, ValueError):
+        return None
+    return w if w is not None and np.isfinite(w) and w > 0 else None
 
 
 def quaternion(rotation: np.ndarray) -> np.ndarray:

@@ -416,12 +416,12 @@ def _rotate(q: np.ndarray, v: np.ndarray) -> np.ndarray:
     return v + w * t + np.cross(u, t)
 
 
-def _covered(off: np.ndarray, half: np.ndarray, r: float, n: int = 15) -> float:
+def _covered(off: np.ndarray, half: np.ndarray, r: float, n: int = 40) -> float:
     """The fraction of a disc of radius ``r`` centred ``off`` from a face's centre that lies on
-    the face (half-lengths ``half``): sampled on an n x n grid."""
+    the face (half-lengths ``half``): sampled at the centres of an n x n grid of cells."""
     if r <= 0:
         return 1.0 if np.all(np.abs(off) <= half) else 0.0
-    g = np.linspace(-r, r, n)
+    g = ((np.arange(n) + 0.5) / n * 2.0 - 1.0) * r
     x, y = np.meshgrid(g, g)
     disc = x * x + y * y <= r * r
     on = (np.abs(off[0] + x) <= half[0]) & (np.abs(off[1] + y) <= half[1])
