@@ -105,12 +105,11 @@ def _node(name: str) -> URIRef:
 
 
 def kind_of(world: World, i: int) -> str | None:
-    """``free``, ``static``, ``mocap`` or None (no body) for object ``i`` of ``world``."""
-    if world.is_a(i, "Robot"):
-        return "mocap"
+    """``free``, ``static``, ``mocap`` or None (no body) for object ``i`` of ``world`` (a robot
+    and an end effector: mocap; a robot's point has no geom)."""
     if not world.placed(i) or world.stand_in(i):
         return None
-    if world.is_a(i, "EndEffector"):
+    if world.is_a(i, "EndEffector") or world.is_a(i, "Robot"):
         return "mocap"
     if any(world.is_a(i, c) for c in FREE_CLASSES):
         return "free"
@@ -122,11 +121,13 @@ def build(world: World, cylinder_names: set[str] | frozenset[str] = frozenset(),
     bodies: dict[int, Body] = {}
     parts: list[str] = []
     used: set[str] = {FLANGE}
+    robots = [i for i in range(len(world)) if world.is_a(i, "Robot") and world.placed(i)]
+    robot = robots[0] if robots else -1  # the robot kb.sim.robot.Robot drives: the first placed
     for i in range(len(world)):
         kind = kind_of(world, i)
         if kind is None:
             continue
-        if world.is_a(i, "Robot"):
+        if i == robot:
             body = Body(i, FLANGE, "mocap")
         else:
             body = Body(i, _unique(local_name(world.names[i]), used), kind)
