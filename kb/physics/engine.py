@@ -57,7 +57,9 @@ class Physics:
                 self.weld[i] = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_EQUALITY, f"grip__{b.name}")
         self.flange_mocap = int(m.body_mocapid[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, FLANGE)])
         self.free = sorted(self.qadr)
-        self.containers = frozenset(i for i in self.body if world.open_top[i])
+        #: open containers with a body -> their footprint's area (m^2)
+        self.containers = {i: float(np.prod(world.local_hi[i, :2] - world.local_lo[i, :2]))
+                           for i in self.body if world.open_top[i]}
         self.gone: set[int] = set()
         self.gripped: int | None = None  # the world index welded to the flange
         self.steps = 0
@@ -306,15 +308,16 @@ class Physics:
             m.opt.enableflags = flags
 
     def supports(self) -> dict[int, int]:
-        """Each free body's support now: the open container it rests in, else the object it
-        presses on hardest from above (by the contact's normal force; contacts whose normal is
+        """Each free body's support now: the open container it rests in (the smallest of those
+        it touches: a kit tray, not the box the tray stands in), else the object it presses on
+        hardest from above (by the contact's normal force; contacts whose normal is
         within 60 degrees of vertical), -1 for the floor; bodies touching nothing from above
         are left out. (What lies in a tray on a table touches both: the tray's floor plate is
         under the tray's bottom face.)"""
         d, m = self.data, self.model
         self.collide_all()
-        best: dict[int, tuple[tuple[bool, float], int]] = {}
-        containers = getattr(self, "containers", frozenset())
+        best: dict[int, tuple[tuple[bool, float, float], int]] = {}
+        containers = self.containers
         f6 = np.zeros(6)
         for k in range(d.ncon):
             c = d.contact[k]
@@ -326,7 +329,9 @@ class Physics:
             upper, lower = (a, b) if normal[2] < 0 else (b, a)  # the normal points from geom1 into geom2
             if upper < 0 or upper not in self.qadr:
                 continue
-            score = (lower in containers, float(f6[0]))  # a tray's floor before the table under it
+            # an open container before what it stands on (a tray's floor plate lies under its bottom
+            # face, so what lies in it touches the table or box floor under it too), the smallest first
+            score = (lower in containers, -containers.get(lower, 0.0), float(f6[0]))
             if upper not in best or score > best[upper][0]:
                 best[upper] = (score, lower)
         return {i: s for i, (f, s) in best.items()}
