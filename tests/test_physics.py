@@ -212,3 +212,24 @@ def test_export_mjcf_command(tmp_path: Path) -> None:
     model = mujoco.MjModel.from_xml_path(str(out))
     assert model.body("part_a_1").id > 0
     assert main(["sim", "export-mjcf", str(tmp_path / "none.ttl"), "-o", str(out), "--quiet"]) == 2
+
+
+def test_sim_serve_engine_builds_the_physics_cell() -> None:
+    """kitkb sim serve --engine mujoco serves a MujocoCell (the same server and ports)."""
+    from kb.cli.sim import _cell
+    from kb.sim import SimulatedCell
+    assert isinstance(_cell(str(INIT), str(GOAL), None, 0, None, engine="mujoco"), MujocoCell)
+    plain = _cell(str(INIT), str(GOAL), None, 0, None)
+    assert isinstance(plain, SimulatedCell) and not isinstance(plain, MujocoCell)
+
+
+@pytest.mark.slow
+def test_a_crcl_client_drives_the_physics_cell_over_the_server() -> None:
+    """The MuJoCo cell behind kb.sim.CellServer: kitkb run --cell HOST:PORT builds small-kit."""
+    from kb.execution.loop import run_scenario
+    from kb.sim import CellServer
+    cell = MujocoCell(INIT, declared=[GOAL])
+    with CellServer(cell, sensor_port=0, command_port=0) as server:
+        run = run_scenario(INIT, GOAL, cell=f"kitkb://{server.host}:{server.sensor_port}?command={server.command_port}")
+    assert run.goal_holds
+    assert cell.physics.steps > 0
