@@ -28,7 +28,7 @@ from kb.core.resources import ontology_path
 from kb.execution import run_plan
 from kb.execution.events import KitsChosen
 from kb.model.policy import delivers_partial_kits
-from kb.planning.achievable import achievable, choose_kits, replan_achievable
+from kb.planning.achievable import achievable, choose_kits, delivered, replan_achievable
 from kb.planning.model import read_specs
 from kb.scenario import write_scenario
 from kb.sim import FaultSpec, SimulatedCell
@@ -125,6 +125,26 @@ def test_the_achievable_goal_gives_the_finished_kit_all_its_parts(two_kits: tupl
     result, _choice = replan_achievable(domain, spec, spec.facts, dict(spec.values), out, "deliver")
     assert not any("part_b_2" in line or "part_b_3" in line for line in result.lines)
     assert sum(line.startswith("(put-part ") for line in result.lines) == 4 + 2  # kit_2 whole, kit_1 its two c
+
+
+def test_a_kit_already_in_its_box_takes_no_more_parts(two_kits: tuple) -> None:
+    """A kit delivered partial earlier (its goal facts hold: it is in its box) is closed: no
+    part is planned into it again, whatever the policy, and what it lacks stays lacking. (A
+    campaign run planned the parts left into a kit already delivered and the planner proved the
+    goal unreachable: the run stopped with "no plan".)"""
+    init, goal, _plan = two_kits
+    domain, spec = read_specs([init], [goal], "numeric")
+    in_box = ("kit-location-lbwk", "kit_1", "finished_kit_receiver_1")
+    assert in_box in spec.goal
+    facts = set(spec.facts) | {in_box}
+    out = {"part_b_2", "part_b_3", "part_b_4"}
+    for policy in ("deliver", "leave"):
+        state, choice = achievable(domain, spec, facts, dict(spec.values), out, policy)
+        assert choice.finished == ["kit_2"], policy
+        assert choice.lacking["kit_1"] == {"sku_part_b": 2, "sku_part_c": 2}, policy
+        assert all(v == [] for k, v in state.quota.items() if k[1] == "kit_1"), policy
+    assert delivered(spec.goal, facts, ["kit_1", "kit_2"]) == {"kit_1"}
+    assert delivered(spec.goal, set(spec.facts), ["kit_1", "kit_2"]) == set()
 
 
 def test_an_unknown_policy_is_refused(two_kits: tuple) -> None:

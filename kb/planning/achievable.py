@@ -31,7 +31,7 @@ from kb.core.errors import InputError
 from kb.model.soap import DomainSpec
 from kb.planning.build import build_problem
 from kb.planning.goal import unreachable
-from kb.planning.planners import PlanResult, run
+from kb.planning.planners import NotSolvableError, PlanResult, run
 from kb.planning.problem import ProblemSpec, movable
 from kb.planning.replan import restated
 from kb.planning.strips import compile_domain, compile_problem
@@ -110,7 +110,8 @@ def choose_kits(needs: Mapping[str, Mapping[str, int]], pool: Mapping[str, int],
 
 
 def achievable(domain: DomainSpec, spec: ProblemSpec, facts: Iterable[Atom], values: dict[Atom, float],
-               excluded: Iterable[str] = (), policy: str = "deliver") -> tuple[ProblemSpec, KitChoice]:
+               excluded: Iterable[str] = (), policy: str = "deliver",
+               within: Iterable[str] | None = None) -> tuple[ProblemSpec, KitChoice]:
     """:func:`restated` with the goal the usable parts allow (module doc): its quota tokens
     given to the kits :func:`choose_kits` finishes, then (``deliver``) to the others; no shortage
     left. The :class:`KitChoice` says what each kit not finished lacks."""
@@ -126,12 +127,27 @@ def achievable(domain: DomainSpec, spec: ProblemSpec, facts: Iterable[Atom], val
         kit, sku = left[1], left[-1]
         needs.setdefault(kit, {})[sku] = max(int(state.values.get(right, 0.0) - quantity[left]), 0)
         placed[kit] = placed.get(kit, 0) + int(quantity[left])
+    # a kit whose goal facts all hold already (delivered to its box) takes no more parts: what it
+    # lacks stays lacking, whatever the policy
+    closed = {k for k in delivered(state.goal, state.facts, needs) if any(n > 0 for n in needs[k].values())}
+    shut = {k: needs[k] for k in closed}
+    needs = {k: v for k, v in needs.items() if k not in closed}
     standing = movable(state.facts, domain) & set(needs)
     finished = choose_kits(needs, {s: len(p) for s, p in pool.items()}, placed, standing, policy)
+    if within is not None:  # a choice the planner could not reach: only kits of ``within`` (and kits done)
+        keep = set(within)
+        finished = [k for k in finished if k in keep or not any(n > 0 for n in needs[k].values())]
     choice = KitChoice(policy, finished)
     free = {s: list(p) for s, p in pool.items()}
     quota: dict[Atom, list[str]] = {}
     order = finished + [k for k in sorted(needs) if k not in finished]
+    for kit, lacks in shut.items():
+        for left, _right in spec.goal_equal:
+            if left[1] == kit:
+                quota[left] = []
+        lacking = {sku: n for sku, n in lacks.items() if n > 0}
+        if lacking:
+            choice.lacking[kit] = lacking
     for kit in order:
         for left, _right in spec.goal_equal:
             if left[1] != kit:
@@ -154,14 +170,46 @@ def replan_achievable(domain: DomainSpec, spec: ProblemSpec, facts: Iterable[Ato
                       excluded: Iterable[str] = (), policy: str = "deliver", planner: str | None = None,
                       timeout: float | None = None) -> tuple[PlanResult, KitChoice]:
     """:func:`kb.planning.replan.replan` to the :func:`achievable` goal: a validated plan and
-    the choice of kits; NotSolvableError when none exists."""
+    the choice of kits; NotSolvableError when none exists.
+
+    The kits chosen are those the usable parts cover (:func:`choose_kits`); when the planner
+    proves that goal unreachable (a kit tray it cannot get, a part it cannot reach), one kit
+    fewer is finished, the kit that needs the most parts first, down to none finished: the
+    policy still applies to every kit, and the error is the planner's only when even that fails."""
     strips_domain, quotas = compile_domain(domain)
-    state, choice = achievable(domain, spec, facts, values, excluded, policy)
-    lost = {atom for atom, _why in unreachable(domain, state.objects, state.facts, state.goal)}
-    if lost:
-        state = replace(state, goal=[g for g in state.goal if g not in lost])
-    problem = compile_problem(state, quotas)
-    return run(build_problem(strips_domain, problem), None, planner, timeout), choice
+    within: list[str] | None = None
+    while True:
+        state, choice = achievable(domain, spec, facts, values, excluded, policy, within)
+        lost = {atom for atom, _why in unreachable(domain, state.objects, state.facts, state.goal)}
+        if lost:
+            state = replace(state, goal=[g for g in state.goal if g not in lost])
+        problem = compile_problem(state, quotas)
+        try:
+            return run(build_problem(strips_domain, problem), None, planner, timeout), choice
+        except NotSolvableError:
+            need = _needs(spec, state)
+            open_ = sorted((k for k in choice.finished if need.get(k, 0) > 0), key=lambda k: (need[k], k))
+            if not open_:
+                raise
+            within = open_[:-1]  # the kit that needs the most parts is given up first
+
+
+def delivered(goal: Iterable[Atom], facts: set[Atom], kits: Iterable[str]) -> set[str]:
+    """The kits whose goal facts (kit-location-lbwk(kit, box)) all hold now: delivered, they take
+    no more parts (no action of the domain opens a kit in its box again)."""
+    about: dict[str, list[Atom]] = {}
+    for g in goal:
+        for k in g[1:]:
+            about.setdefault(k, []).append(g)
+    return {k for k in kits if about.get(k) and all(g in facts for g in about[k])}
+
+
+def _needs(spec: ProblemSpec, state: ProblemSpec) -> dict[str, int]:
+    """Kit -> parts still to put in, over its SKUs."""
+    out: dict[str, int] = {}
+    for left, right in spec.goal_equal:
+        out[left[1]] = out.get(left[1], 0) + max(int(state.values.get(right, 0.0) - state.values.get(left, 0.0)), 0)
+    return out
 
 
 def _pool(domain: DomainSpec, spec: ProblemSpec, facts: set[Atom], values: dict[Atom, float],
