@@ -77,7 +77,7 @@ def test_problem_matches_golden_and_rereads(scenario: str, encoding: str) -> Non
     domain, problem = texts(scenario, encoding)
     check_golden(f"{scenario}-{encoding}.pddl", problem)
     reread = PDDLReader().parse_problem_string(domain, problem)
-    assert len(reread.actions) == 12  # with take-part-from-worktable and look-at-part-on-worktable (issue 29)
+    assert len(reread.actions) == 13  # with take-part-from-worktable, look-at-part-on-worktable and reject-part-from-worktable (issue 29)
     # UP reads back every object of kitkb's model and every goal atom written (as one conjunction)
     assert sorted(o.name for o in reread.all_objects) == sorted(generator(scenario, encoding).model.problem.objects)
     written = [line.strip() for line in problem.split("(:goal (and", 1)[1].splitlines() if line.strip().startswith("(")]

@@ -28,7 +28,7 @@ from kb.scenario import write_scenario
 from kb.sim import FaultSpec, SimulatedCell
 from kb.spatial.scene import Scene
 from kb.testmethod.summary import summarize
-from test_execution import assert_built, kit_contents, local, plan_of
+from test_execution import assert_built, kit_contents, local, plan_of, truth
 
 pytestmark = pytest.mark.usefixtures("own_directory")
 
@@ -171,3 +171,69 @@ def test_a_short_seeded_campaign_has_no_repeated_diagnoses(ten: tuple[str, str])
     assert any(f["mode"] == "part-off-tray" for r in rows for f in r["failures"])
     assert [r["repeated_diagnoses"] for r in rows] == [0, 0, 0, 0]
     assert summarize(rows)["repeated_diagnoses"] == {"total": 0, "trials": 0, "by_mode": {}}
+
+
+# --- a condemned part cleared into a reject bin (kd:RejectBin, reject-part-from-worktable) -----------
+
+REJECT_BIN = """
+@prefix kd: <https://w3id.org/kitkb/kitting-domain#> .
+:reject_bin_1 a owl:NamedIndividual, kd:RejectBin ;
+    ktw:hasSolidObject_PrimaryLocation :reject_bin_1_pose ;
+    ktw:hasSkuObject_Sku :sku_finished_kit_box ;
+    ktw:hasLargeContainer_SerialNumber "rb_1"^^xsd:NMTOKEN .
+:reject_bin_1_pose a owl:NamedIndividual, ktw:PoseOnlyLocation ;
+    ktw:hasPhysicalLocation_RefObject :kitting_workstation_1 ;
+    ktw:hasPoseLocation_Point :reject_bin_1_point ;
+    ktw:hasPoseLocation_XAxis :reject_bin_1_x_axis ;
+    ktw:hasPoseLocation_ZAxis :reject_bin_1_z_axis .
+:reject_bin_1_point a owl:NamedIndividual, ktw:Point ; ktw:hasPoint_X 2.0 ; ktw:hasPoint_Y -1.0 ; ktw:hasPoint_Z 0.0 .
+:reject_bin_1_x_axis a owl:NamedIndividual, ktw:Vector ; ktw:hasVector_I 1.0 ; ktw:hasVector_J 0.0 ; ktw:hasVector_K 0.0 .
+:reject_bin_1_z_axis a owl:NamedIndividual, ktw:Vector ; ktw:hasVector_I 0.0 ; ktw:hasVector_J 0.0 ; ktw:hasVector_K 1.0 .
+"""
+
+
+@pytest.fixture(scope="module")
+def six_bin(six: tuple[str, str], tmp_path_factory: pytest.TempPathFactory) -> tuple[str, str]:
+    """The six-part state with a reject bin on the floor beside the work table (in reach, on
+    no path of the plan), of the class the kitting domain declares."""
+    init, goal = six
+    d = tmp_path_factory.mktemp("six-bin")
+    (d / "init.ttl").write_text(Path(init).read_text() + REJECT_BIN)
+    (d / "goal.ttl").write_text(Path(goal).read_text())
+    return str(d / "init.ttl"), str(d / "goal.ttl")
+
+
+def test_a_part_failing_its_inspection_is_cleared_into_the_reject_bin(six_bin: tuple[str, str]) -> None:
+    """defective-worktable-part's remediation is a recovery plan of the domain: the condemned
+    part is taken from the table it lies on into the reject bin (bound as the first reject bin:
+    no precondition constrains it), then a replan; the kit is built, nothing is diagnosed twice,
+    and the ground truth has the part in the bin."""
+    init, goal = six_bin
+    run, cell = _run(init, goal, "dropped-part@11,defective-part@17")
+    fails = run.report()["failures"]
+    assert [(f["mode"], f["recovery"]) for f in fails] == [("dropped-part-in-transit", "replan"),
+                                                          ("defective-worktable-part", "recovery-plan")]
+    assert "reject-part-from-worktable robot_1 part_c_2 parts_table_1 part_gripper reject_bin_1" in fails[1]["outcome"]
+    assert _done_with(run, "part_c_2") == ["take-part", "reject-part-from-worktable"]
+    parts, bins, table = truth(cell).table("part-location-rejectbin")
+    inside = {(local(parts[i]), local(bins[j])) for i, j in zip(*table.nonzero())}
+    assert inside == {("part_c_2", "reject_bin_1")}
+    assert "part_c_2" not in {p for p, _s in kit_contents(cell)["kit_1"]}
+    assert_built(run, cell, init, goal)
+    assert run.report()["repeated_diagnoses"] == 0
+
+
+def test_a_state_with_a_reject_bin_validates_and_is_stored(six_bin: tuple[str, str], tmp_path: Path) -> None:
+    """A state placing a kd:RejectBin validates without naming the domain (the shipped domain's
+    classes are known to it), and kitkb run stores it in the world model."""
+    from kb.cli import main
+    from kb.validation import validate
+    init, goal = six_bin
+    assert validate([init]).conforms
+    db = tmp_path / "w.sqlite"
+    assert main(["run", init, goal, "--db", str(db), "-o", str(tmp_path / "out"), "-q"]) == 0
+    import sqlite3
+    with sqlite3.connect(db) as con:  # in the nearest model class's table, its own class beside
+        serials = {r[0] for r in con.execute("select serial_number from ktw_large_container")}
+        classes = {r[0] for r in con.execute("select class_iri from kitkb_type")}
+    assert "rb_1" in serials and "https://w3id.org/kitkb/kitting-domain#RejectBin" in classes

@@ -206,7 +206,7 @@ class Executor(Recovery):
 
     # --- one action -----------------------------------------------------------------
     def _do(self, step: Step, queue: deque) -> None:
-        for param in self._grasped(step.action):  # an object to take a diagnosis found unusable: no new one
+        for param in () if step.recovery else self._grasped(step.action):  # an object to take a diagnosis found unusable: no new one
             obj = step.args.get(param)
             if obj is not None and not self.belief.usable(obj) and not self._inspected_here(step, param, obj):
                 self._rebind_or_replan(step, self.index, queue, None, f"{self.belief.unusable[obj]} already", param)
@@ -235,7 +235,7 @@ class Executor(Recovery):
 
     def _attempt(self, step: Step, act: ActionRecord, queue: deque) -> str:
         i = act.index
-        if self._inspector(step.action) is not None:
+        if not step.recovery and self._inspector(step.action) is not None:
             rebound = self._inspect(step, i, queue)
             if rebound is not None:
                 act.status = "rebound"

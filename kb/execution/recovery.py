@@ -526,7 +526,7 @@ class Recovery(PartialKits):
             missing = [n for n, _c in spec.params if n not in args]
             if missing:
                 raise _Unbound(f"no object for {sd.action}'s {', '.join(missing)}")
-            step = Step(sd.action, {n: args[n] for n, _c in spec.params})
+            step = Step(sd.action, {n: args[n] for n, _c in spec.params}, recovery=True)
             known.update(step.args)
             out.append(step)
         return out
@@ -558,6 +558,13 @@ class Recovery(PartialKits):
                             break
                     except KitkbError:
                         continue
+        # a parameter no precondition constrains (where to put a rejected part): the first placed
+        # object of its class, by name (the preconditions over it hold vacuously)
+        for name, cls in spec.params:
+            if name not in args and not any(name in a.args for a in spec.pre):
+                found = sorted(o for o in self.belief.of_class(cls) if self.belief.placed(o))
+                if found:
+                    args[name] = found[0]
 
     def _after_recovery_step(self, step: Step, queue: deque) -> None:
         """Called by the executor when ``step`` is done: after a recovery plan's last step whose

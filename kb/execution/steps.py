@@ -24,6 +24,9 @@ class Step:
     action: str
     args: dict[str, str]  # parameter name -> IRI
     retries: int = 0
+    #: a step of a failure mode's recovery plan: it may handle an object the run found unusable
+    #: (clear a condemned part away), and what it takes is not inspected first
+    recovery: bool = False
 
     def line(self) -> str:
         return f"({self.action} {' '.join(pddl_name(a) for a in self.args.values())})"

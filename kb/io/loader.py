@@ -529,8 +529,17 @@ def declare_classes(sources: Iterable[Source]) -> None:
 
 def extension_classes() -> dict[str, frozenset[str]]:
     """The classes of objects the domains loaded declare beyond the kitting model (class -> its
-    named superclasses; :func:`declare_classes`)."""
+    named superclasses; :func:`declare_classes`); the shipped domain's (``kd:RejectBin``) always,
+    read once per process when none was loaded yet."""
+    global _SHIPPED_DECLARED
+    if not _SHIPPED_DECLARED:
+        _SHIPPED_DECLARED = True
+        declare_classes([s for s in load([ontology_path(SHIPPED_DOMAIN)]).sources
+                         if str(s.path).endswith(SHIPPED_DOMAIN)])
     return _EXTENSION_CLASSES
+
+
+_SHIPPED_DECLARED = False
 
 
 def _check_terms(extensions: list[Source], kb: KnowledgeBase) -> None:

@@ -128,6 +128,10 @@ def validate(paths: Sequence[str | Path], *, shapes_files: Sequence[str | Path] 
         if domain:
             loaded = _with_domain(loaded if loaded is not None else load([str(p) for p in paths]), domain)
             paths = [*domain, *paths]
+        elif paths:
+            loaded = loaded if loaded is not None else load([str(p) for p in paths])
+            if _types_from_domain(loaded):  # a state placing an object of a class the shipped domain declares
+                loaded = _with_domain(loaded, [])
         report = _validate(paths, shapes_files, started, frozenset(ignore), step, user, loaded)
     if ignore:
         report.diagnostics = [d for d in report.diagnostics if d.rule not in ignore]
@@ -337,6 +341,17 @@ def _with_domain(kb: KnowledgeBase, extensions: Sequence[str | Path]) -> Knowled
             seen.add(_key(s.path))
             extra.append(s)
     return KnowledgeBase([*kb.sources, *extra]) if extra else kb
+
+
+def _types_from_domain(kb: KnowledgeBase) -> bool:
+    """Whether a file of ``kb`` types an individual with a term of the shipped kitting domain's
+    namespace (``kd:RejectBin``): the domain's classes of objects are then known to the files, as
+    with ``--domain``, without naming it."""
+    kd = KITTING_DOMAIN_ONTOLOGY + "#"
+    wanted = KITTING_DOMAIN_ONTOLOGY.rstrip("#/")
+    if any((s.ontology_iri or "").rstrip("#/") == wanted for s in kb.sources):
+        return False  # the domain is among the files already
+    return any(str(o).startswith(kd) for s in kb.sources for o in set(s.graph.objects(None, RDF.type)))
 
 
 def _key(path: Any) -> str:

@@ -11,10 +11,12 @@
 ; type kittray: <https://w3id.org/kitkb/kitting#KitTray>
 ; type largeboxwithemptykittrays: <https://w3id.org/kitkb/kitting#LargeBoxWithEmptyKitTrays>
 ; type largeboxwithkits: <https://w3id.org/kitkb/kitting#LargeBoxWithKits>
+; type largecontainer: <https://w3id.org/kitkb/kitting#LargeContainer>
 ; type noskuobject: <https://w3id.org/kitkb/kitting#NoSkuObject>
 ; type part: <https://w3id.org/kitkb/kitting#Part>
 ; type partstray: <https://w3id.org/kitkb/kitting#PartsTray>
 ; type partsvessel: <https://w3id.org/kitkb/kitting#PartsVessel>
+; type rejectbin: <https://w3id.org/kitkb/kitting-domain#RejectBin>
 ; type robot: <https://w3id.org/kitkb/kitting#Robot>
 ; type skuobject: <https://w3id.org/kitkb/kitting#SkuObject>
 ; type solidobject: <https://w3id.org/kitkb/kitting#SolidObject>
@@ -24,7 +26,8 @@
     solidobject datathing - object
     stockkeepingunit - datathing
     noskuobject skuobject - solidobject
-    kittray part partsvessel - skuobject
+    kittray part partsvessel largecontainer - skuobject
+    rejectbin - largecontainer
     partstray - partsvessel
     endeffector endeffectorholder endeffectorchangingstation robot kit worktable largeboxwithkits largeboxwithemptykittrays - noskuobject
  )
@@ -79,14 +82,16 @@
              (robot-holds-part ?robot - robot ?part - part)
              ; source: <https://w3id.org/kitkb/kitting-domain#part-location-kit>
              (part-location-kit ?part - part ?kit - kit)
+             ; source: <https://w3id.org/kitkb/kitting-domain#endeffector-type-part>
+             (endeffector-type-part ?endeffector - endeffector ?part - part)
+             ; source: <https://w3id.org/kitkb/kitting-domain#part-location-rejectbin>
+             (part-location-rejectbin ?part - part ?rejectbin - rejectbin)
              ; source: <https://w3id.org/kitkb/kitting-domain#endeffector-type-kit>
              (endeffector-type-kit ?endeffector - endeffector ?kit - kit)
              ; source: <https://w3id.org/kitkb/kitting-domain#endeffector-type-kittray>
              (endeffector-type-kittray ?endeffector - endeffector ?kittray - kittray)
              ; source: <https://w3id.org/kitkb/kitting-domain#kittray-location-lbwekt>
              (kittray-location-lbwekt ?kittray - kittray ?largeboxwithemptykittrays - largeboxwithemptykittrays)
-             ; source: <https://w3id.org/kitkb/kitting-domain#endeffector-type-part>
-             (endeffector-type-part ?endeffector - endeffector ?part - part)
              ; source: <https://w3id.org/kitkb/kitting-domain#put-part_pre_less_quantity-kit_capacity-kit>
              (quantity-kit-pending ?kit - kit ?stockkeepingunit - stockkeepingunit ?part - part)
              ; source: <https://w3id.org/kitkb/kitting-domain#put-part_pre_less_quantity-kit_capacity-kit>
@@ -127,6 +132,11 @@
   :parameters ( ?robot - robot ?part - part ?kit - kit ?worktable - worktable ?sku - stockkeepingunit)
   :precondition (and (kit-location-worktable ?kit ?worktable) (part-location-robot ?part ?robot) (part-sku ?part ?sku) (robot-holds-part ?robot ?part) (quantity-kit-pending ?kit ?sku ?part))
   :effect (and (not (part-location-robot ?part ?robot)) (not (robot-holds-part ?robot ?part)) (not (quantity-kit-pending ?kit ?sku ?part)) (part-location-kit ?part ?kit) (robot-empty ?robot) (quantity-kit-counted ?kit ?sku ?part)))
+ ; source: <https://w3id.org/kitkb/kitting-domain#reject-part-from-worktable>
+ (:action reject-part-from-worktable
+  :parameters ( ?robot - robot ?part - part ?worktable - worktable ?endeffector - endeffector ?rejectbin - rejectbin)
+  :precondition (and (endeffector-location-robot ?endeffector ?robot) (endeffector-type-part ?endeffector ?part) (part-location-worktable ?part ?worktable) (robot-empty ?robot) (robot-with-endeffector ?robot ?endeffector))
+  :effect (and (not (part-location-worktable ?part ?worktable)) (part-location-rejectbin ?part ?rejectbin)))
  ; source: <https://w3id.org/kitkb/kitting-domain#remove-endeffector>
  (:action remove-endeffector
   :parameters ( ?robot - robot ?endeffector - endeffector ?endeffectorholder - endeffectorholder ?changingstation - endeffectorchangingstation)
