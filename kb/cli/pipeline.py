@@ -368,6 +368,9 @@ class _Drawing:
 
     def _pddl(self, event: ev.StageEnded) -> None:
         self.model = event.result  # the planning model: which goal atoms an action's effects make true
+        if event.result is None:  # too few parts for the whole goal: planned for the kits they allow
+            self._line("pddl: not written (too few usable parts for every kit: planning for the kits they allow)", event)
+            return
         self._line(f"pddl: {self.target / 'domain.pddl'}, {self.target / 'problem.pddl'}", event)
 
     def _plan(self, event: ev.StageEnded) -> None:

@@ -36,6 +36,7 @@ from pathlib import Path
 from typing import Any, Callable, Sequence
 
 from kb.core.errors import NotSolvableError
+from kb.core.namespaces import local_name
 from kb.core.memory import gc_paused
 from kb.core.progress import SILENT, Progress
 from kb.crcl.cell import CellInterface
@@ -165,6 +166,7 @@ class ClosedLoop:
         self._started: Any = None  # the planner started ahead (kb.planning.planners.Started)
         self._opened: tuple[Any, bool] | None = None  # the cell opened by the locate stage, kept for execute
         self._tmp: Any = None  # the folder of the sensed state when there is no out_dir
+        self._chosen: Any = None  # the kits the parts allow, when the first plan was made for them
 
     # --- the loop ---------------------------------------------------------------------------
     def run(self) -> LoopResult:
@@ -276,7 +278,21 @@ class ClosedLoop:
         assert inputs is not None
         out = Path(o.out_dir) if o.out_dir is not None else None
         t = self._stage("pddl", out_dir=str(out) if out is not None else None)
-        model, ahead = self._model if self._model is not None else (inputs.model("strips"), 0.0)
+        try:
+            model, ahead = self._model if self._model is not None else (inputs.model("strips"), 0.0)
+        except NotSolvableError:  # too few parts for the goal's kits: the kits they allow, if a policy says
+            result = self._within_parts()
+            if result is None:
+                raise
+            self._ended("pddl", t, None)  # nothing written: the whole goal has no problem to write
+            t = self._stage("plan")
+            self._clock = t
+            if out is not None:
+                out.mkdir(parents=True, exist_ok=True)
+                (out / "plan.txt").write_text("\n".join(result.lines) + "\n")
+            self.plan_time = time.perf_counter() - t
+            self._ended("plan", t, result)
+            return list(result.lines)
         if out is not None:
             get_generator("pddl")(model).write_outputs(out)
         self.result.model = model
@@ -290,13 +306,40 @@ class ClosedLoop:
             result = planning.run(model.up_problem, out / "plan.txt" if out is not None else None, o.planner,
                                   progress=self.progress, started=started)
         except NotSolvableError as e:
-            self.result.error = e
-            self._ended("plan", t, None, False, f"no plan: {e}")
-            return None
+            result = self._within_parts()
+            if result is None:
+                self.result.error = e
+                self._ended("plan", t, None, False, f"no plan: {e}")
+                return None
+            if out is not None:
+                (out / "plan.txt").write_text("\n".join(result.lines) + "\n")
         self.plan_time = time.perf_counter() - t
         self.result.plan = result
         self._ended("plan", t, result)
         return list(result.lines)
+
+    def _within_parts(self) -> Any:
+        """A state short of parts before the run: when a partial-kit policy is given (the run's or
+        the domain's) and the usable parts cannot fill every kit, the plan to the kits they allow
+        (:func:`kb.planning.achievable.replan_achievable`, as a replan makes it), its choice kept for
+        the run's record; else None (the run stops with "no plan", as before)."""
+        from kb.planning.achievable import check_policy, replan_achievable
+        from kb.planning.replan import restated
+        pin = self.plan_inputs or self.inputs.plan_inputs()  # type: ignore[union-attr]
+        o = self.options
+        delivers = pin.failures.delivers_partial_kits
+        policy = check_policy(o.partial_kits) if o.partial_kits is not None else \
+            (None if delivers is None else ("deliver" if delivers else "leave"))
+        spec = pin.problem
+        if policy is None or not restated(spec, spec.facts, dict(spec.values), (), pin.domain).shortage:
+            return None
+        try:
+            result, self._chosen = replan_achievable(pin.domain, spec, spec.facts, dict(spec.values), (), policy,
+                                                     o.planner)
+        except NotSolvableError:
+            return None
+        self.result.plan = result
+        return result
 
     def _start_planner(self) -> None:
         """Make the planning model and start the planner before validation, so that it plans on
@@ -404,6 +447,12 @@ class ClosedLoop:
         # the run's clock from its planning on, set before the run is stored (its rows equal the record)
         clock = self._clock if o.clock_from_plan and self._clock is not None else 0.0
         record = RunRecord(self.name, o.seed, plan_time=self.plan_time, started=clock)
+        if self._chosen is not None:  # planned for the kits the parts allow from the start
+            from kb.execution.events import KitsChosen
+            record.partial_kits = self._chosen.as_list()
+            self.on_event(KitsChosen([local_name(k) for k in self._chosen.finished],
+                                     [(local_name(p["kit"]), p["outcome"], tuple(p["lacks"].items()))
+                                      for p in record.partial_kits]))
 
         def notify(recipient: str, message: str) -> None:
             self.on_event(Notified(recipient, message))
