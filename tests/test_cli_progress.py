@@ -188,6 +188,7 @@ def _cases(tmp: Path) -> dict[str, list[str]]:
         "crcl convert": ["crcl", "convert", str(_crcl(tmp)), "-o", str(tmp / "p2.crcl")],
         "predicates": ["predicates", str(INIT), "-p", "part-location-partstray"],
         "faults": ["faults"],
+        "sim export-mjcf": ["sim", "export-mjcf", str(INIT), "-o", str(tmp / "scene.xml")],
         "metrics": ["metrics", str(_crcl(tmp))],
         "testmethod": ["testmethod", "basic", "--trials", "1", "--parts", "2", "--workers", "1", "--out", str(tmp / "tm")],
     }
@@ -207,6 +208,7 @@ FACTS = {
     "db dump": {"output", "db", "bytes", "seconds"},
     "crcl convert": {"output", "input", "form", "text_style", "xml_form", "commands", "unreadable", "xsd", "xml_not_validated"},
     "report": {"kind", "output", "bytes", "runs", "scene", "failures"},
+    "sim export-mjcf": {"output", "bodies", "free", "fixed", "mocap"},
 }
 
 
