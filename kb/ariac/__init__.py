@@ -1,0 +1,1 @@
+"""NIST ARIAC's kitting trials in kitkb (issue 32)."""
