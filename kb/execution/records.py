@@ -16,9 +16,10 @@ from typing import Any, Protocol
 import numpy as np
 
 from kb.execution.codec import Record, field_codec
+from kb.metrics.clock import timed_commands
 from kb.metrics.execution import execution_metrics
 from kb.metrics.kits import KitScore
-from kb.metrics.motion import Robot
+from kb.metrics.motion import cell_robot
 from kb.metrics.steps import text_steps
 
 
@@ -222,8 +223,9 @@ class RunRecord(Record):
         return self.stopped is None and bool(self.goal_holds)
 
     def metrics(self) -> dict[str, Any]:
-        """The execution metrics of the run (:func:`kb.metrics.execution.execution_metrics`)."""
-        robot = Robot(start=self.tip_start or (0.0, 0.0, 0.0), length_unit="meter")
+        """The execution metrics of the run (:func:`kb.metrics.execution.execution_metrics`), its
+        times on the cell's clock (:func:`kb.metrics.motion.cell_robot`)."""
+        robot = cell_robot(self.tip_start)
         return execution_metrics(self.failures, self.actions, replans=self.replans, plan_time=self.plan_time,
                                  replan_time=self.replan_time, violations=self.violations, robot=robot)
 
@@ -284,6 +286,7 @@ class RunRecord(Record):
             "kits": [k.as_dict() for k in self.kits],
             "violations": own["violations"], "tip_start": own["tip_start"] or None,
             "scene": own["scene"], "path": self.path(), "timeline": self.timeline(),
+            "commands": timed_commands(self.actions, cell_robot(self.tip_start)),  # the replay's, on the cell's clock
             **({"resumes": own["resumes"]} if self.resumes else {}),
             **({"oracle": own["oracle"]} if self.oracle is not None else {}),
             **({"sensor": own["sensor"]} if own["sensor"] is not None else {}),

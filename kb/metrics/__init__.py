@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from kb.metrics.motion import Robot, move_time
+from kb.metrics.motion import Robot, cell_robot, move_time
 from kb.metrics.score import DEFAULT_WEIGHTS, Score, read_weights, score
 from kb.metrics.static import METRICS, NAMES, UNITS, Row, StaticMetrics, describe, static_metrics
 from kb.metrics.steps import Step, read_steps, step_of, steps_of, text_steps
@@ -21,7 +21,7 @@ def program_metrics(path: str | Path, robot: Robot | None = None, *, rows: bool 
 
 
 __all__ = [
-    "DEFAULT_WEIGHTS", "METRICS", "NAMES", "UNITS", "Robot", "Row", "Score", "StaticMetrics", "Step",
+    "DEFAULT_WEIGHTS", "METRICS", "NAMES", "UNITS", "Robot", "Row", "cell_robot", "Score", "StaticMetrics", "Step",
     "describe", "move_time", "program_metrics", "read_steps", "read_weights", "score", "static_metrics",
     "step_of", "steps_of", "text_steps",
 ]

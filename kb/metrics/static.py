@@ -28,7 +28,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Any, Callable, Iterable, Sequence
 
-from kb.metrics.motion import Robot, move_time
+from kb.metrics.motion import INITIAL_PERCENT, Robot, timed_move, transfer_points
 from kb.metrics.steps import Step
 
 #: The metrics in the paper's order, and their names.
@@ -47,9 +47,6 @@ _SHORT = {"meter": "m", "millimeter": "mm", "inch": "in"}
 _ANGLE = {"degree": math.pi / 180.0, "radian": 1.0}
 #: The units InitCanon sets in the first paper's forms (kb.crcl.PAPER_UNITS).
 _PAPER_UNITS = ("millimeter", "degree")
-#: Speed and acceleration before a program sets them, in % of the robot's maxima (the
-#: kittingViewer's ``robotRelSpeed`` and ``robotRelAccel`` at the start).
-INITIAL_PERCENT = 10.0
 #: How far from 1 an axis' length, and from 0 the Z and X axes' dot product, may be.
 AXIS_TOLERANCE = 1e-4
 _DOWN = (0.0, 0.0, -1.0, 1.0, 0.0, 0.0)
@@ -70,6 +67,8 @@ class Row:
     values: tuple[float, ...]
     notes: tuple[str, ...] = ()
     settings: dict[str, Any] | None = field(default=None, compare=False)
+    #: a move's path: the points the tool tip passed through to its end (m), in order; () else
+    path: tuple[tuple[float, float, float], ...] = field(default=(), compare=False)
 
     def as_dict(self) -> dict[str, Any]:
         """The row as JSON data."""
@@ -120,23 +119,30 @@ def static_metrics(steps: Iterable[Step], robot: Robot | None = None, *, rows: b
 
 
 def session_metrics(programs: Iterable[Iterable[Step]], robot: Robot | None = None, *,
-                    source: str | None = None, units: tuple[str, str] | None = None) -> StaticMetrics:
+                    source: str | None = None, units: tuple[str, str] | None = None,
+                    rows: bool = False) -> StaticMetrics:
     """The static metrics of programs sent one after another to one robot — a run's CRCL, one
     program per action: each program's InitCanon and EndCanon are judged by their place in
     that program, the robot's state (where it stands, gripper, settings) carries over, and the
     counts add up. ``units``: those of the programs' form (default the paper's) where
-    ``robot`` names none."""
+    ``robot`` names none. ``rows``: keep the metrics after every command too, numbered across
+    the session, each with the tool tip's path (:attr:`Row.path`: the points it passed, m)."""
     robot = robot or Robot()
     run = _Run(robot, units)
     count = 0
+    kept: list[Row] | None = [] if rows else None
     for program in programs:
         steps = list(program)
-        count += len(steps)
         readable = [i for i, s in enumerate(steps) if s[0] != "Unreadable"]
         first, last = (readable[0], readable[-1]) if readable else (-1, -1)
         for index, step in enumerate(steps):
-            run.step(step, index == first, index == last)
-    return StaticMetrics(source, count, robot, dict(zip(METRICS, run.values())))
+            run.legs = []
+            notes = run.step(step, index == first, index == last)
+            if kept is not None:
+                kept.append(Row(count + index, step[1], describe(step), run.values(), tuple(notes), run.settings(),
+                                tuple(run.legs)))
+        count += len(steps)
+    return StaticMetrics(source, count, robot, dict(zip(METRICS, run.values())), kept)
 
 
 class _Run:
@@ -156,9 +162,10 @@ class _Run:
         self.changer_open = False
         self.scanning: set[str] = set()
         self.frame = "Workstation"
-        # the kittingViewer's start: 10 % of the maxima, tolerances 0
-        self.speed = INITIAL_PERCENT / 100.0 * robot.max_speed
-        self.acceleration = INITIAL_PERCENT / 100.0 * robot.max_acceleration
+        self.legs: list[tuple[float, float, float]] = []  # the last move's points (m)
+        # the robot's start (the kittingViewer's: 10 % of the maxima), tolerances 0
+        self.speed = robot.start_speed or INITIAL_PERCENT / 100.0 * robot.max_speed
+        self.acceleration = robot.start_acceleration or INITIAL_PERCENT / 100.0 * robot.max_acceleration
         self.tolerances = dict.fromkeys(
             ("end angle tolerance (rad)", "end point tolerance (m)", "intermediate point tolerance (m)"), 0.0)
         self._defaults()
@@ -276,25 +283,34 @@ class _Run:
 
     # --- execution: (action?, seconds, distance, why useless) ----------------------------------
 
-    def _path(self, poses: tuple[tuple[float, ...], ...]) -> tuple[float, tuple[float, ...], bool]:
-        """Length (m) of the straight lines from the tool tip through the poses' points, the
-        last point (m), and whether any pose turns the tool."""
+    def _path(self, poses: tuple[tuple[float, ...], ...], transfer: bool = False
+              ) -> tuple[float, tuple[float, ...], bool]:
+        """Length (m) of the straight lines from the tool tip through the poses' points (with
+        ``transfer``, a MoveTo's up, across and down: :func:`~kb.metrics.motion.transfer_points`),
+        the last point (m), and whether any pose turns the tool."""
         scale = _LENGTH[self.length_unit]
         here, total, axes, turned = self.point, 0.0, self.axes, False
         for p in poses:
             there = (p[0] * scale, p[1] * scale, p[2] * scale)
-            total += math.dist(here, there)
+            for corner in transfer_points(here, there) if transfer else (there,):
+                total += math.dist(here, corner)
+                here = corner
+                self.legs.append(corner)
             here = there
             turned = turned or p[3:9] != axes
         return total, here, turned
 
-    def _move(self, poses: tuple[tuple[float, ...], ...]) -> _Done:
-        distance, self.point, turned = self._path(poses)
+    def _move(self, poses: tuple[tuple[float, ...], ...], transfer: bool = False) -> _Done:
+        self.legs = []
+        distance, self.point, turned = self._path(poses, transfer)
         self.axes = poses[-1][3:9]
         useless = None if distance > 0 or turned else "the robot is already there"
-        return True, move_time(distance, self.speed, self.acceleration), distance, useless
+        return True, timed_move(distance, self.speed, self.acceleration, self.robot.accelerates), distance, useless
 
-    _MoveTo = _MoveStraightTo = _MoveThroughTo = _move
+    _MoveStraightTo = _MoveThroughTo = _move
+
+    def _MoveTo(self, poses: tuple[tuple[float, ...], ...]) -> _Done:
+        return self._move(poses, self.robot.move_to == "transfer")
 
     def _InitCanon(self, _: Any) -> _Done:
         self.ready, self.ended = True, False
