@@ -76,7 +76,8 @@ def skipped(trial: Trial) -> list[str]:
     out = []
     for o in trial.orders:
         if o.type != "kitting":
-            out.append(f"{o.where}: order {o.id} is a {o.type} order: kitkb models kitting only, skipped")
+            article = "an" if o.type == "assembly" else "a"
+            out.append(f"{o.where}: order {o.id} is {article} {o.type} order: kitkb models kitting only, skipped")
     if trial.conveyor is not None and trial.conveyor.get("active", False):
         n = sum(lot["number"] for lot in trial.conveyor["parts"])
         out.append(f"{trial.conveyor_where}: the conveyor belt ({n} part(s)) is not modelled (kitkb's cell has no "

@@ -46,7 +46,7 @@ HANDLERS = {
     "plan": "kb.cli.planning:plan",
     "db load": "kb.cli.world:load",
     "db dump": "kb.cli.world:dump",
-    "run": "kb.cli.pipeline:run",
+    "run": "kb.cli.ariac:scored_run",  # kb.cli.pipeline:run, with --scoring ariac-YEAR (kb.ariac)
     "crcl convert": "kb.cli.crcl:convert",
     "crcl send": "kb.cli.crcl:send",
     "metrics": "kb.cli.metrics:metrics",
@@ -56,6 +56,9 @@ HANDLERS = {
     "sim export-mjcf": "kb.cli.sim:export_mjcf",
     "testmethod": "kb.cli.testmethod:testmethod",
     "report": "kb.cli.report:report",
+    "ariac import": "kb.cli.ariac:import_command",
+    "ariac run": "kb.cli.ariac:run_command",
+    "ariac score": "kb.cli.ariac:score_command",
 }
 DIALECTS = ["sqlite", "postgresql", "mysql"]
 SENSOR_NOISE_HELP = ("the pose sensor's errors per look, over the state file's sensor (ktw:PoseSensor): "
@@ -277,6 +280,9 @@ def _add_run(sub: Any) -> None:
                    help="when the usable parts cannot finish every kit, the kits they can finish are built (as "
                         "many as possible) and each other kit is delivered partial or left, not delivered "
                         "(default: the domain's soap:hasExecutionPolicy_PartialKits, kitkb's: deliver; docs/execution.md)")
+    p.add_argument("--scoring", choices=["ariac-2023", "ariac-2024"], metavar="ariac-2023|ariac-2024",
+                   help="also score the run by NIST ARIAC's kitting score of that year, per quadrant with the reason "
+                        "for every point (states written by kitkb ariac import; docs/ariac.md)")
     p.add_argument("--resume", metavar="RUN_ID", type=int,
                    help="instead of INIT GOAL: go on with run RUN_ID of --db, which stopped (its report's stopped), "
                         "as the same run: from its last stable state, the cell sensed again, a new plan to the same "
@@ -503,6 +509,31 @@ def _add_report(sub: Any) -> None:
     p.add_argument("-o", "--output", required=True, metavar="OUT.html", help="the HTML page to write")
 
 
+def _add_ariac(sub: Any) -> None:
+    p = sub.add_parser("ariac", help="NIST ARIAC's kitting trials (YAML): import, run, score",
+                       description="NIST ARIAC's kitting trials: import a trial file as kitkb states, run it end to "
+                                   "end, score a run by ARIAC's kitting score of a year (docs/ariac.md).")
+    asub = p.add_subparsers(dest="ariac_command", required=True, metavar="SUBCOMMAND")
+    i = _sub(asub, "import", "ariac import", "write a trial's initial and goal states (and ariac.json)")
+    i.add_argument("trial", metavar="TRIAL.yaml", help="an ARIAC trial file (2023 or 2024 format)")
+    i.add_argument("-o", "--output", required=True, metavar="DIR", help="output folder (init.ttl, goal.ttl, ariac.json)")
+    r = _sub(asub, "run", "ariac run", "import a trial, run its kitting orders in a cell and score them")
+    r.add_argument("trial", metavar="TRIAL.yaml", help="an ARIAC trial file")
+    r.add_argument("-o", "--output", default="out/ariac", metavar="DIR", help="folder of the states and run outputs "
+                                                                            "(default out/ariac)")
+    r.add_argument("--report", metavar="FILE", help="write the run's report with its ARIAC scores (JSON)")
+    r.add_argument("--cell", metavar="URL", help="the cell to drive (as kitkb run --cell; default the simulated cell)")
+    r.add_argument("--faults", metavar="KIND=RATE,...", help="faults to inject (as kitkb run --faults)")
+    r.add_argument("--seed", type=int, default=0, help="seed of the cell's faults (default 0)")
+    r.add_argument("--partial-kits", choices=["deliver", "leave"], default="deliver", metavar="deliver|leave",
+                   help="a kit the parts cannot finish is submitted partial (ARIAC's rule, the default) or left")
+    s = _sub(asub, "score", "ariac score", "ARIAC's kitting score of a recorded run, per quadrant with reasons")
+    s.add_argument("report", metavar="REPORT.json", help="the report of kitkb run on an imported trial's states")
+    s.add_argument("--scoring", choices=["ariac-2023", "ariac-2024"], required=True, metavar="ariac-2023|ariac-2024")
+    s.add_argument("--trial", metavar="DIR", help="the import's folder (its ariac.json; default: where the report "
+                                                  "says, else beside the report)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``kitkb`` command."""
     parser = argparse.ArgumentParser(prog="kitkb", description=DESCRIPTION, epilog=EXIT_CODES)
@@ -510,7 +541,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--traceback", action="store_true", help="show the Python traceback of an error")
     sub = parser.add_subparsers(dest="subcommand", required=True, metavar="COMMAND")
     for add in (_add_files, _add_scenario, _add_generate, _add_plan, _add_db, _add_run, _add_crcl, _add_metrics,
-                _add_predicates, _add_faults, _add_sim, _add_testmethod, _add_report):
+                _add_predicates, _add_faults, _add_sim, _add_testmethod, _add_report, _add_ariac):
         add(sub)
     return parser
 
