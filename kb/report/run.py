@@ -6,6 +6,7 @@ from __future__ import annotations
 from typing import Any
 
 from kb.report.html import esc, figure, note, page, section, table, yes_no
+from kb.report.replay import replay_data, replay_html, replay_traces
 from kb.report.scene import scene_figure
 from kb.report.source import normalise
 from kb.report.tables import failures_table, injected_table, kits_table, metrics_table, run_facts
@@ -58,15 +59,32 @@ def colour_key(key: list[tuple[str, str, int]]) -> str:
     return f'<p class="keys">{items}</p>' if items else ""
 
 
+def workstation(report: dict[str, Any], prefix: str) -> str:
+    """The 3-D view, and under it the replay of the run (:mod:`kb.report.replay`) where the
+    report has its timed commands and the view could be drawn."""
+    data = replay_data(report)
+    replayable = isinstance(data, dict)
+    fig = scene_figure(report, (lambda colours: replay_traces(data, colours)) if replayable else None)
+    out = _figure_or_note(fig, f"{prefix}-scene") + (
+        '<p class="note">Drag to turn, scroll to zoom, double-click to go back; the buttons switch '
+        'between the final and the initial state; hover an object, the path or a failure for its name.</p>')
+    if isinstance(fig, str):
+        return out
+    if not replayable:
+        return out + note(str(data))
+    return out + (
+        '<h3>Replay</h3><p class="note">Plays the run\'s CRCL commands on the cell\'s clock (the TET of the '
+        'metrics): the tool tip at the commanded speeds, the objects it grasps with it, each failure when '
+        'it was found; the Metrics &amp; Settings after each completed command (the first paper\'s Fig. 14). '
+        'Keys: <kbd>g</kbd> the next action, <kbd>n</kbd> the next command, <kbd>p</kbd> play or pause.</p>'
+        + replay_html(data, prefix, f"{prefix}-scene"))
+
+
 def run_sections(report: dict[str, Any], prefix: str = "run") -> str:
     """The sections of one run's report (``prefix`` keeps element ids apart on a page of several)."""
     return "".join([
         section("Run", run_facts(report), f"{prefix}-facts"),
-        section("Workstation (3-D)", _figure_or_note(scene_figure(report), f"{prefix}-scene")
-                + '<p class="note">Drag to turn, scroll to zoom, double-click to go back; the buttons switch '
-                  'between the final and the initial state; hover an object, the path or a failure for its '
-                  'name.</p>',
-                f"{prefix}-workstation"),
+        section("Workstation (3-D)", workstation(report, prefix), f"{prefix}-workstation"),
         section("Metrics", metrics_table(report), f"{prefix}-metrics"),
         section("Kit scores", kits_table(report), f"{prefix}-kits"),
         section("Timeline", _figure_or_note(timeline_figure(report), f"{prefix}-timeline"), f"{prefix}-time"),

@@ -12,7 +12,7 @@ both. A few traces, not one per class: each trace costs WebGL set-up when the pa
 from __future__ import annotations
 
 from types import SimpleNamespace
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence
 
 import numpy as np
 
@@ -208,8 +208,11 @@ def failure_text(number: int, f: dict[str, Any]) -> str:
     return "<br>".join(lines)
 
 
-def scene_figure(report: dict[str, Any]) -> dict[str, Any] | str:
-    """The 3-D figure of a run report, or the reason there is none (text)."""
+def scene_figure(report: dict[str, Any],
+                 replay: Callable[[dict[str, str]], list[dict[str, Any]]] | None = None) -> dict[str, Any] | str:
+    """The 3-D figure of a run report, or the reason there is none (text); ``replay``: the
+    replay's traces given the classes' colours (:func:`kb.report.replay.replay_traces`), hidden
+    until it plays, with a button that shows them."""
     scene = report.get("scene")
     if not isinstance(scene, dict) or not isinstance(scene.get("objects"), list):
         return ("This report has no scene (the objects' boxes and poses): it was written before kitkb "
@@ -237,22 +240,32 @@ def scene_figure(report: dict[str, Any]) -> dict[str, Any] | str:
             where.update({name: box for _, name, box in items})
     if not where:
         where = {name: box for items in by_state["final"].values() for name, box in items}
-    extra = [t for t in (path_trace(report.get("path") or [], report.get("tip_start")), failure_trace(report, where))
-             if t is not None]
+    path, failed = path_trace(report.get("path") or [], report.get("tip_start")), failure_trace(report, where)
+    extra = [dict(t, meta=name) for t, name in ((path, "path"), (failed, "failures")) if t is not None]
     shown = states[0]
     for t, state in zip(traces, visible_in):
         t["visible"] = state == shown
-    data = traces + extra
+    more = replay(colours) if replay is not None else []
+    data = traces + extra + more
     key = [(cls, colours[cls], max(len(by_state[st].get(cls, [])) for st in states)) for cls in colours]
-    return {"data": data, "layout": _layout(states, visible_in, len(extra)), "key": key}
+    furniture = [t.get("legendgroup") == "initial" and t.get("type") == "mesh3d" and str(t["name"]).startswith("tables")
+                 for t in traces]
+    return {"data": data, "layout": _layout(states, visible_in, [t["meta"] for t in extra], len(more), furniture),
+            "key": key}
 
 
-def _layout(states: list[str], visible_in: list[str], extra: int) -> dict[str, Any]:
+def _layout(states: list[str], visible_in: list[str], extra: list[str], replayed: int = 0,
+            furniture: list[bool] | None = None) -> dict[str, Any]:
     buttons = []
     for label, show in (("final state", {"final"}), ("initial state", {"initial"}), ("both", {"initial", "final"})):
         if show <= set(states):
             buttons.append({"label": label, "method": "restyle",
-                            "args": [{"visible": [s in show for s in visible_in] + [True] * extra}]})
+                            "args": [{"visible": [s in show for s in visible_in] + [True] * len(extra)
+                                      + [False] * replayed}]})
+    if replayed:  # the replay: the furniture as at the start, the tool's path, the replay's traces
+        buttons.append({"label": "replay", "method": "restyle",
+                        "args": [{"visible": list(furniture or [False] * len(visible_in))
+                                  + [m == "path" for m in extra] + [True] * replayed}]})
     axis = {"showbackground": True, "backgroundcolor": "#f4f6f9", "gridcolor": "#d0d5dd"}
     return {"margin": {"l": 0, "r": 0, "t": 30, "b": 0}, "height": 620, "legend": {"groupclick": "toggleitem"},
             "scene": {"aspectmode": "data", "xaxis": {**axis, "title": {"text": "x (m)"}},

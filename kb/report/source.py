@@ -121,7 +121,7 @@ def read_source(source: str | Path) -> dict[str, Any] | Campaign:
 _LISTS = {"failures": ("objects", "violated"), "injected": ("objects",), "kits": ("lost",), "path": ("points",),
           "timeline": ("args", "objects")}
 #: The sections that hold one object.
-_OBJECTS = ("metrics", "scene", "trial", "units", "oracle")
+_OBJECTS = ("metrics", "scene", "trial", "units", "oracle", "commands")
 
 
 def _records(value: Any, lists: tuple[str, ...]) -> list[dict[str, Any]]:
