@@ -254,7 +254,10 @@ def _tray_parts(tray: dict[str, Any], objects: dict[str, Any], manifest: dict[st
         rel = inv @ _pose(obj)
         x, y, z = rel[:3, 3]
         if abs(x) <= hx + 1e-6 and abs(y) <= hy + 1e-6 and -0.01 <= z <= 0.25:
-            yield TrayPart(name, info["type"], info["color"], W.quadrant_of(x, y), bool(rel[2, 2] < 0), name in faulty)
+            # kitkb's cell puts a part down at its slot's pose, upright; but no action of the domain turns a
+            # part over, so a part that started upside down is upside down still
+            flipped = bool(rel[2, 2] < 0) or bool(info.get("flipped"))
+            yield TrayPart(name, info["type"], info["color"], W.quadrant_of(x, y), flipped, name in faulty)
 
 
 def score_run(report: dict[str, Any], manifest: dict[str, Any], year: str) -> dict[str, Any]:

@@ -173,9 +173,9 @@ def angle(value: Any) -> float | None:
     if m is None:
         return None
     sign, factor, divisor = m.groups()
-    v = math.pi * (float(factor) if factor else 1.0) / (float(divisor) if divisor else 1.0)
     if divisor is not None and float(divisor) == 0:
         return None
+    v = math.pi * (float(factor) if factor else 1.0) / (float(divisor) if divisor else 1.0)
     return -v if sign == "-" else v
 
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import inspect
 import json
+import os
 import tempfile
 from pathlib import Path
 from typing import Any
@@ -94,8 +95,12 @@ def scored_run(out: Output, scoring: str | None = None, **options: Any) -> int:
         raise InputError("--scoring takes an imported trial's states: kitkb run INIT GOAL --scoring ariac-YEAR")
     manifest = read_manifest(files[0])
     given = options.get("report")
-    with tempfile.TemporaryDirectory(prefix="kitkb-ariac-") as tmp:
-        options["report"] = given or str(Path(tmp) / "report.json")
+    # the rewritten report's file is made before the run, so that it cannot take the inode of a file
+    # the run reads and deletes (its database's journal): the command's guard would take it for that file
+    spare = tempfile.NamedTemporaryFile("w", dir=Path(given).resolve().parent if given else None,
+                                        prefix=".kitkb-ariac-", suffix=".tmp", delete=False, encoding="utf-8")
+    try:
+        options["report"] = given or spare.name
         code = run(out=out, **options)
         try:
             data = json.loads(Path(options["report"]).read_text(encoding="utf-8"))
@@ -107,7 +112,15 @@ def scored_run(out: Output, scoring: str | None = None, **options: Any) -> int:
         scores = score_run(run_data, manifest, scoring)
         if given:
             run_data["ariac"] = {"scores": {scoring: scores}}
-            write_atomic(given, json.dumps(data, indent=1) + "\n")
+            with spare:
+                spare.write(json.dumps(data, indent=1) + "\n")
+                spare.flush()
+                os.fsync(spare.fileno())
+            os.replace(spare.name, given)
+    finally:
+        spare.close()
+        if os.path.exists(spare.name) and spare.name != given:
+            os.unlink(spare.name)
     if not out.is_json:
         _print_scores(out, {scoring: scores})
     return code
