@@ -26,7 +26,7 @@ TRAYS = "kitting_trays:\n  tray_ids: [1]\n  slots: [2]\n"
 BINS = "parts:\n  bins:\n    bin1:\n      - type: 'pump'\n        color: 'red'\n        slots: [1, 2]\n"
 
 CASES = {
-    "unknown top key": (TRAYS + BINS + ORDER + "sensors: []\n", 28, "unknown key 'sensors'"),
+    "unknown top key": (TRAYS + BINS + ORDER + "sensors: []\n", 23, "unknown key 'sensors'"),
     "unknown lot key": (TRAYS + BINS + "        colour: 'red'\n" + ORDER, 10, "unknown key 'colour'"),
     "slot out of range": (TRAYS + BINS.replace("[1, 2]", "[1, 10]") + ORDER, 9, "from 1 to 9"),
     "slot twice": (TRAYS + BINS + "      - type: 'battery'\n        color: 'blue'\n        slots: [2]\n" + ORDER, 12,
@@ -39,17 +39,17 @@ CASES = {
     "ids and slots differ": ("kitting_trays:\n  tray_ids: [1, 2]\n  slots: [2]\n" + BINS + ORDER, 3,
                              "2 tray_ids but 1 slots"),
     "tray slot 7": (TRAYS.replace("[2]", "[7]") + BINS + ORDER, 3, "from 1 to 6"),
-    "quadrant 5": (TRAYS + BINS + ORDER.replace("quadrant: 1", "quadrant: 5"), 21, "from 1 to 4"),
+    "quadrant 5": (TRAYS + BINS + ORDER.replace("quadrant: 1", "quadrant: 5"), 22, "from 1 to 4"),
     "two conditions": (TRAYS + BINS + ORDER.replace("time_condition: 0", "time_condition: 0\n      submission_condition:"
-                                                    "\n        order_id: 'A1'"), 12, "2 given"),
-    "unknown destination": (TRAYS + BINS + ORDER.replace("'warehouse'", "'dock'"), 17, "destination 'dock'"),
+                                                    "\n        order_id: 'A1'"), 14, "2 given"),
+    "unknown destination": (TRAYS + BINS + ORDER.replace("'warehouse'", "'dock'"), 18, "destination 'dock'"),
     "order id twice": (TRAYS + BINS + ORDER + ORDER[len("orders:\n"):], 23, "order id 'A1' is given twice"),
     "submission of no order": (TRAYS + BINS + ORDER.replace("time_condition: 0", "submission_condition:\n"
-                                                            "        order_id: 'Z9'"), 8, "'Z9'"),
-    "challenge unknown": (TRAYS + BINS + ORDER + "challenges:\n  - earthquake:\n      duration: 3\n", 23,
+                                                            "        order_id: 'Z9'"), 11, "'Z9'"),
+    "challenge unknown": (TRAYS + BINS + ORDER + "challenges:\n  - earthquake:\n      duration: 3\n", 24,
                           "unknown key 'earthquake'"),
     "faulty part of no order": (TRAYS + BINS + ORDER + "challenges:\n  - faulty_part:\n      order_id: 'Q'\n"
-                                "      quadrant1: true\n", 23, "names order 'Q'"),
+                                "      quadrant1: true\n", 24, "names order 'Q'"),
     "not a mapping": ("- just\n- a list\n", 1, "trial must be a mapping"),
 }
 
