@@ -167,6 +167,9 @@ def _crcl(tmp_path: Path) -> Path:
     return path
 
 
+ARIAC_TRIAL = REPO / "tests" / "data" / "ariac" / "one_kit.yaml"
+
+
 def _cases(tmp: Path) -> dict[str, list[str]]:
     """A cheap command line of every subcommand (``sim serve`` and ``crcl send``, which need a
     peer, are tested apart: tests/test_sim_server.py, tests/test_crcl_wire.py)."""
@@ -191,6 +194,9 @@ def _cases(tmp: Path) -> dict[str, list[str]]:
         "sim export-mjcf": ["sim", "export-mjcf", str(INIT), "-o", str(tmp / "scene.xml")],
         "metrics": ["metrics", str(_crcl(tmp))],
         "testmethod": ["testmethod", "basic", "--trials", "1", "--parts", "2", "--workers", "1", "--out", str(tmp / "tm")],
+        "ariac import": ["ariac", "import", str(ARIAC_TRIAL), "-o", str(tmp / "ariac")],
+        "ariac run": ["ariac", "run", str(ARIAC_TRIAL), "-o", str(tmp / "ariac-run"), "--report", str(tmp / "ariac.json")],
+        "ariac score": ["ariac", "score", str(tmp / "ariac.json"), "--scoring", "ariac-2023"],  # ariac run's report
     }
 
 
@@ -209,6 +215,7 @@ FACTS = {
     "crcl convert": {"output", "input", "form", "text_style", "xml_form", "commands", "unreadable", "xsd", "xml_not_validated"},
     "report": {"kind", "output", "bytes", "runs", "scene", "failures"},
     "sim export-mjcf": {"output", "bodies", "free", "fixed", "mocap"},
+    "ariac import": {"init", "goal", "manifest", "kits"},
 }
 
 

@@ -510,7 +510,7 @@ def _add_report(sub: Any) -> None:
 
 
 def _add_ariac(sub: Any) -> None:
-    p = sub.add_parser("ariac", help="NIST ARIAC's kitting trials (YAML): import, run, score",
+    p = sub.add_parser("ariac", help="NIST ARIAC's kitting trials (YAML files) as kitkb states, run and scored",
                        description="NIST ARIAC's kitting trials: import a trial file as kitkb states, run it end to "
                                    "end, score a run by ARIAC's kitting score of a year (docs/ariac.md).")
     asub = p.add_subparsers(dest="ariac_command", required=True, metavar="SUBCOMMAND")
@@ -529,7 +529,8 @@ def _add_ariac(sub: Any) -> None:
                    help="a kit the parts cannot finish is submitted partial (ARIAC's rule, the default) or left")
     s = _sub(asub, "score", "ariac score", "ARIAC's kitting score of a recorded run, per quadrant with reasons")
     s.add_argument("report", metavar="REPORT.json", help="the report of kitkb run on an imported trial's states")
-    s.add_argument("--scoring", choices=["ariac-2023", "ariac-2024"], required=True, metavar="ariac-2023|ariac-2024")
+    s.add_argument("--scoring", choices=["ariac-2023", "ariac-2024"], required=True, metavar="ariac-2023|ariac-2024",
+                   help="the year whose scoring code to follow (docs/metrics.md, \"ARIAC's kitting score\")")
     s.add_argument("--trial", metavar="DIR", help="the import's folder (its ariac.json; default: where the report "
                                                   "says, else beside the report)")
 
