@@ -68,6 +68,32 @@ def test_replay_data_moves_what_the_gripper_takes(report: dict[str, Any]) -> Non
     assert failure["t"] == pytest.approx(max(ends)) and failure["mode"] == "missed-grasp"
 
 
+def test_a_missed_grasp_takes_nothing(report: dict[str, Any]) -> None:
+    data = replay_data(report)
+    assert isinstance(data, dict)
+    (failure,) = data["failures"]
+    held = [seg[0] for seg in next(o["segments"] for o in data["objects"] if o["name"] == "part_a_1") if seg[1] == "held"]
+    assert held and held[0] > failure["t"]  # taken by the retry, not by the grasp that missed
+
+
+def test_a_dropped_part_and_a_part_an_agent_moved_leave_their_place_when_it_happened() -> None:
+    cell = SimulatedCell(SMALL / "init.ttl", faults=FaultSpec.parse("dropped-part@6,part-moved@10", seed=1), seed=1)
+    run = run_scenario(SMALL / "init.ttl", SMALL / "goal.ttl", cell=cell, seed=1, notifier=lambda *a: None)
+    report = json.loads(json.dumps(run.record.report()))
+    assert sorted(x["kind"] for x in report["injected"]) == ["dropped-part", "part-moved"]
+    data = replay_data(report)
+    assert isinstance(data, dict) and data["put_right"] == ["kit_1"]  # both found where they went
+    final = _final_centres(report)
+    seg = {o["name"]: o["segments"] for o in data["objects"]}
+    dropped = seg["part_a_1"]
+    assert [s[1] for s in dropped] == ["rest", "held", "rest"] and dropped[2][0] < data["t_end"]
+    assert _centre(dropped[2][2]) == pytest.approx(final["part_a_1"].tolist(), abs=1e-4)  # on the floor
+    moved = seg["part_a_3"]
+    rows10 = [r[2] for r in data["rows"] if r[0] >= 10]
+    assert [s[1] for s in moved] == ["rest", "rest"] and moved[1][0] == pytest.approx(min(rows10))
+    assert _centre(moved[1][2]) == pytest.approx(final["part_a_3"].tolist(), abs=1e-4)
+
+
 def test_a_report_without_timed_commands_says_why(report: dict[str, Any]) -> None:
     old = {k: v for k, v in report.items() if k != "commands"}
     assert "no timed commands" in replay_data(old)

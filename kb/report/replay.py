@@ -4,19 +4,13 @@ from the run's report — its ``commands`` (each CRCL command with its start and
 clock, the tool tip's path, the metrics and settings once it completed: :mod:`kb.metrics.clock`),
 its ``scene`` (the objects' boxes, initial and final poses) and its ``failures``.
 
-The commands say where the tool tip goes and when the gripper closes and opens; what they grasp
-is found here as the cell finds it (:mod:`kb.sim.robot`): at a ``CloseGripper`` the object whose
-top face is at the tip (within :data:`GRASP_TOLERANCE`) and whose footprint holds the tip, with
-what rests in it (a kit tray's parts); at a ``CloseToolChanger`` the end effector whose mount
-face is there. A held object moves with the tip, keeping its orientation, until the gripper (or
-the tool changer) opens; it then rests where it was let go. What the commands do not show — a
-part a fault took away or pushed, a kit that came into being, a turn of a held object — is put
-right at the end: every object ends at its final pose (the replay reaches the final scene), and
-those put right are listed. Each failure appears at the time of the action it was found in.
-
-Each object's motion is a list of segments ``[t, kind, corners]``: from time ``t`` on it rests
-with its box's 8 world corners ``corners`` (``"rest"``), or is held with its corners relative to
-the tool tip (``"held"``), or is not there (``"gone"``, no corners).
+What the robot grasped and released, and when, is :func:`kb.metrics.handling.handled` (the
+cell's rules on the commands and the scene, with the cell's ground truth of injected faults: a
+missed grasp takes nothing, a dropped part leaves the tip in transit, a part or tray an external
+agent moved leaves its place when the action it struck starts and is found where the robot next
+grasps it); every object ends at its final pose (the replay reaches the final scene), those the
+commands did not bring there listed. Each failure appears at the end of the action it was found
+in; the Metrics & Settings panel shows the row of the last completed command.
 """
 
 from __future__ import annotations
@@ -29,70 +23,9 @@ from typing import Any
 import numpy as np
 
 from kb.metrics import NAMES, UNITS
+from kb.metrics.handling import Handling, fault_mechanisms, handled
 from kb.report.html import esc
-from kb.report.scene import _FAINT, _placed, corners, failure_text, recovered
-
-#: How far (m) an object's top may be from the tip for a grasp to take it (the cell: 2 mm; a
-#: report rounds poses to the micrometre, and a released object may have settled a little).
-GRASP_TOLERANCE = 0.005
-#: How far above a held object's top what rests in it may reach (m).
-CONTENT_REACH = 0.05
-#: Classes the replay never moves.
-_FIXED = _FAINT | {"Robot", "EndEffectorHolder"}
-_CLOSE = {"CloseGripper()": "gripper", "CloseToolChanger()": "changer"}
-_OPEN = {"OpenGripper()": "gripper", "OpenToolChanger()": "changer"}
-
-
-def _r(a: np.ndarray) -> list[Any]:
-    return np.round(a, 5).tolist()
-
-
-class _Objects:
-    """The movable objects of a scene and where the replay has them."""
-
-    def __init__(self, scene: dict[str, Any]) -> None:
-        objs = [o for o in scene.get("objects") or [] if str(o.get("class")) not in _FIXED
-                and (_placed(o, "initial") or _placed(o, "final"))]
-        self.items = objs
-        self.names = [str(o.get("name", "")) for o in objs]
-        self.classes = [str(o.get("class") or "object") for o in objs]
-        self.now: list[np.ndarray | None] = [corners(o["lo"], o["hi"], o["initial"]) if _placed(o, "initial") else None
-                                             for o in objs]
-        self.final: list[np.ndarray | None] = [corners(o["lo"], o["hi"], o["final"]) if _placed(o, "final") else None
-                                               for o in objs]
-        self.segments: list[list[list[Any]]] = [[[0.0, "rest", _r(c)]] if c is not None else [[0.0, "gone"]]
-                                                for c in self.now]
-
-    def at_tip(self, tip: np.ndarray, held: set[int], effector: bool) -> int | None:
-        """The object whose top is at ``tip`` and whose footprint holds it (an end effector for
-        the tool changer, anything else for the gripper): the nearest top, then the smallest."""
-        best: tuple[float, float, int] | None = None
-        for n, c in enumerate(self.now):
-            if c is None or n in held or (self.classes[n] == "EndEffector") != effector:
-                continue
-            lo, hi = c.min(axis=0), c.max(axis=0)
-            gap = abs(hi[2] - tip[2])
-            if gap > GRASP_TOLERANCE or not (lo[0] - 1e-3 <= tip[0] <= hi[0] + 1e-3 and lo[1] - 1e-3 <= tip[1] <= hi[1] + 1e-3):
-                continue
-            key = (round(gap, 4), float(np.prod(hi - lo)), n)
-            if best is None or key < best:
-                best = key
-        return None if best is None else best[2]
-
-    def contents(self, n: int, held: set[int]) -> list[int]:
-        """The objects resting in object ``n`` (their centre over its footprint, between its
-        bottom and a little above its top)."""
-        c = self.now[n]
-        assert c is not None
-        lo, hi = c.min(axis=0), c.max(axis=0)
-        out = []
-        for m, other in enumerate(self.now):
-            if m == n or other is None or m in held or self.classes[m] == "EndEffector":
-                continue
-            centre = other.mean(axis=0)
-            if lo[0] <= centre[0] <= hi[0] and lo[1] <= centre[1] <= hi[1] and lo[2] <= centre[2] <= hi[2] + CONTENT_REACH:
-                out.append(m)
-        return out
+from kb.report.scene import failure_text, recovered
 
 
 def replay_data(report: dict[str, Any]) -> dict[str, Any] | str:
@@ -105,32 +38,16 @@ def replay_data(report: dict[str, Any]) -> dict[str, Any] | str:
     rows = [r for r in commands["rows"] if _row_ok(r, len(settings))]
     if not rows:
         return "This report's timed commands are not of the shape kitkb writes, so there is no replay."
-    objects = _Objects(report.get("scene") or {})
-    held: dict[int, np.ndarray] = {}  # object -> corners relative to the tip
-    by: dict[str, list[int]] = {"gripper": [], "changer": []}
-    start = np.asarray(commands["start"] if _point(commands.get("start")) else [0.0, 0.0, 0.0], float)
-    tip = start
-    for row in rows:
-        t_end, tip_after = float(row[3]), row[4]
-        if isinstance(tip_after, list) and len(tip_after) == 3:
-            tip = np.asarray(tip_after, float)
-        text = str(row[1])
-        if text in _CLOSE and not by[_CLOSE[text]]:
-            _grasp(objects, held, by, _CLOSE[text], tip, t_end)
-        elif text in _OPEN and by[_OPEN[text]]:
-            for n in by[_OPEN[text]]:
-                objects.now[n] = held.pop(n) + tip
-                objects.segments[n].append([t_end, "rest", _r(objects.now[n])])
-            by[_OPEN[text]] = []
-    t_last = float(rows[-1][3]) if rows else 0.0
-    for n in list(held):  # still held at the end: where the tip left it
-        objects.now[n] = held.pop(n) + tip
-    put_right = _finish(objects, t_last)
-    return {"t_end": t_last, "start": _r(start), "metrics": commands.get("metrics") or [],
+    start = commands["start"] if _point(commands.get("start")) else [0.0, 0.0, 0.0]
+    injected = [x for x in report.get("injected") or [] if isinstance(x, dict)]
+    moved = handled({"rows": rows, "start": start}, report.get("scene") or {}, injected,
+                    fault_mechanisms(sorted({str(x.get("kind")) for x in injected})))
+    t_last = moved.t_end
+    return {"t_end": t_last, "start": start, "metrics": commands.get("metrics") or [],
             "settings": settings, "rows": rows,
             "objects": [{"name": name, "class": cls, "segments": seg}
-                        for name, cls, seg in zip(objects.names, objects.classes, objects.segments)],
-            "put_right": put_right, "failures": _failures(report, rows, objects, t_last),
+                        for name, cls, seg in zip(moved.names, moved.classes, moved.segments)],
+            "put_right": moved.put_right, "failures": _failures(report, rows, moved, t_last),
             "totals": (report.get("metrics") or {}).get("static") or {}}
 
 
@@ -150,45 +67,7 @@ def _row_ok(r: Any, settings: int) -> bool:
             and isinstance(r[7], int) and 0 <= r[7] < settings)
 
 
-def _grasp(objects: _Objects, held: dict[int, np.ndarray], by: dict[str, list[int]], what: str, tip: np.ndarray,
-           t: float) -> None:
-    """Close the gripper or the tool changer at ``tip``: what it takes, and what rests in it,
-    held from ``t`` on (an end effector hangs below the tip it becomes: its far face is the tip)."""
-    n = objects.at_tip(tip, set(held), effector=what == "changer")
-    if n is None:
-        return
-    taken = [n] if what == "changer" else [n, *objects.contents(n, set(held))]
-    lift = np.zeros(3)
-    if what == "changer":
-        c = objects.now[n]
-        assert c is not None
-        lift[2] = float(c[:, 2].max() - c[:, 2].min())
-    for m in taken:
-        c = objects.now[m]
-        assert c is not None
-        held[m] = c - tip + lift
-        objects.now[m] = None
-        objects.segments[m].append([t, "held", _r(held[m])])
-    by[what] = taken
-
-
-def _finish(objects: _Objects, t_end: float) -> list[str]:
-    """Every object to its final pose at ``t_end`` (gone if the final state has it not): the
-    names of those the commands did not bring there (more than a millimetre off)."""
-    out = []
-    for n, (now, final) in enumerate(zip(objects.now, objects.final)):
-        if final is None:
-            if now is not None:
-                objects.segments[n].append([t_end, "gone"])
-                out.append(objects.names[n])
-            continue
-        if now is None or float(np.abs(now - final).max()) > 1e-3:
-            objects.segments[n].append([t_end, "rest", _r(final)])
-            out.append(objects.names[n])
-    return out
-
-
-def _failures(report: dict[str, Any], rows: list[list[Any]], objects: _Objects, t_end: float) -> list[dict[str, Any]]:
+def _failures(report: dict[str, Any], rows: list[list[Any]], objects: Handling, t_end: float) -> list[dict[str, Any]]:
     """Each failure at the end of the action it was found in (before it, with no command of
     its own), with a place to mark: where it was seen, else its first object's box where the
     replay had it at the start."""
