@@ -227,7 +227,9 @@ class RunRecord(Record):
         times on the cell's clock (:func:`kb.metrics.motion.cell_robot`)."""
         robot = cell_robot(self.tip_start)
         return execution_metrics(self.failures, self.actions, replans=self.replans, plan_time=self.plan_time,
-                                 replan_time=self.replan_time, violations=self.violations, robot=robot)
+                                 replan_time=self.replan_time, violations=self.violations, robot=robot,
+                                 scene=self.scene, injected=self.injected, sensor_errors=self.sensor_errors,
+                                 checks=len(self.checks), resumes=len(self.resumes), stopped=self.stopped)
 
     def path(self) -> list[dict[str, Any]]:
         """The tool tip's commanded positions (m, to the micrometre), per action, in order."""

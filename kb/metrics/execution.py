@@ -24,7 +24,9 @@ from __future__ import annotations
 from collections import Counter
 from typing import Any, Iterable, Protocol, Sequence
 
+from kb.metrics.clock import timed_commands
 from kb.metrics.motion import Robot
+from kb.metrics.robustness import paper_metrics
 from kb.metrics.score import CONSTRAINT_OF_KIND
 from kb.metrics.static import session_metrics
 from kb.metrics.steps import text_steps
@@ -74,8 +76,14 @@ def crcl_metrics(actions: Iterable[ActionLike], robot: Robot | None = None) -> d
 def execution_metrics(failures: Sequence[FailureLike], actions: Sequence[ActionLike], *, replans: int,
                       plan_time: float | None = None, replan_time: float = 0.0,
                       violations: Sequence[dict[str, Any]] | None = None,
-                      robot: Robot | None = None) -> dict[str, Any]:
-    """The execution metrics of a run (JSON data; see the module's docstring)."""
+                      robot: Robot | None = None, scene: dict[str, Any] | None = None,
+                      injected: Sequence[dict[str, Any]] = (), sensor_errors: Sequence[Any] | None = None,
+                      checks: int = 0, resumes: int = 0, stopped: str | None = None) -> dict[str, Any]:
+    """The execution metrics of a run (JSON data; see the module's docstring), with the first
+    paper's transporting components, manipulation robustness, failure classes and failure modes
+    recovery (:func:`kb.metrics.robustness.paper_metrics`; ``scene``, ``injected``,
+    ``sensor_errors``: the run's, ``checks`` how many it made, ``resumes`` how many times an
+    operator resumed it, ``stopped`` why it stopped)."""
     per_kit = Counter(_local(f.kit) if f.kit else "-" for f in failures)
     done = [recovered(f, actions) for f in failures]
     by_mode = Counter(f.mode for f in failures)
@@ -90,6 +98,9 @@ def execution_metrics(failures: Sequence[FailureLike], actions: Sequence[ActionL
         "contact_errors": None, "violations": None, "constraints": None,
         "static": crcl_metrics(actions, robot),
     }
+    out.update(paper_metrics(failures, done, timed_commands(actions, robot), scene=scene, injected=injected,
+                             violations=violations, sensor_errors=sensor_errors, checks=checks, resumes=resumes,
+                             stopped=stopped))
     if violations is not None:
         kinds = Counter(str(v.get("kind")) for v in violations)
         out["contact_errors"] = kinds.get("contact", 0)

@@ -35,6 +35,10 @@ def replay_data(report: dict[str, Any]) -> dict[str, Any] | str:
         return ("This report has no timed commands, so there is no replay: it was written before kitkb "
                 "recorded them (issue 31), or by a run that sent no command.")
     settings = commands.get("settings") if isinstance(commands.get("settings"), list) else []
+    if not all(isinstance(x, dict) for x in settings):
+        settings = []
+    metrics = commands.get("metrics")
+    metrics = [str(m) for m in metrics if isinstance(m, str)] if isinstance(metrics, list) else []
     rows = [r for r in commands["rows"] if _row_ok(r, len(settings))]
     if not rows:
         return "This report's timed commands are not of the shape kitkb writes, so there is no replay."
@@ -43,12 +47,12 @@ def replay_data(report: dict[str, Any]) -> dict[str, Any] | str:
     moved = handled({"rows": rows, "start": start}, report.get("scene") or {}, injected,
                     fault_mechanisms(sorted({str(x.get("kind")) for x in injected})))
     t_last = moved.t_end
-    return {"t_end": t_last, "start": start, "metrics": commands.get("metrics") or [],
+    return {"t_end": t_last, "start": start, "metrics": metrics,
             "settings": settings, "rows": rows,
             "objects": [{"name": name, "class": cls, "segments": seg}
                         for name, cls, seg in zip(moved.names, moved.classes, moved.segments)],
             "put_right": moved.put_right, "failures": _failures(report, rows, moved, t_last),
-            "totals": (report.get("metrics") or {}).get("static") or {}}
+            }
 
 
 def _number(v: Any) -> bool:

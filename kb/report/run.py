@@ -20,13 +20,17 @@ def headline(report: dict[str, Any]) -> str:
         state = f'<span class="bad">not executed</span>: {esc(report.get("reason"))}'
     else:
         state = "goal " + yes_no(report.get("goal_holds"), "holds", "does not hold")
-        if report.get("goal_unmet"):
-            state += f' (unmet: {esc(", ".join(report["goal_unmet"]))})'
-        if report.get("partial_kits"):  # kits the usable parts could not finish (kb.execution.partial)
+        unmet = report.get("goal_unmet")
+        if isinstance(unmet, list) and unmet:
+            state += f' (unmet: {esc(", ".join(map(str, unmet)))})'
+        partial = [p for p in report.get("partial_kits") or [] if isinstance(p, dict)] \
+            if isinstance(report.get("partial_kits"), list) else []
+        if partial:  # kits the usable parts could not finish (kb.execution.partial)
             state += "; partial kits: " + "; ".join(
                 f'{esc(p.get("kit"))} {esc(p.get("outcome"))} (lacks '
-                + esc(", ".join(f"{sku} {n}" for sku, n in (p.get("lacks") or {}).items())) + ")"
-                for p in report["partial_kits"])
+                + esc(", ".join(f"{sku} {n}" for sku, n in (p["lacks"] if isinstance(p.get("lacks"), dict)
+                                                            else {}).items())) + ")"
+                for p in partial)
         if report.get("stopped"):
             state += f'; <span class="bad">stopped</span>: {esc(report["stopped"])}'
         state += buildable_text(report)
@@ -80,12 +84,45 @@ def workstation(report: dict[str, Any], prefix: str) -> str:
         + replay_html(data, prefix, f"{prefix}-scene"))
 
 
+def _figure(value: Any) -> Any:
+    return value if isinstance(value, (int, float, str)) or value is None else None
+
+
+def paper_table(report: dict[str, Any], prefix: str = "run") -> str:
+    """Transporting components, manipulation robustness by stage, failure classes and failure
+    modes recovery (:mod:`kb.metrics.robustness`), or why the report has none."""
+    m = report.get("metrics") if isinstance(report.get("metrics"), dict) else {}
+    t, r, c = (m.get(k) if isinstance(m.get(k), dict) else None for k in ("transporting", "robustness", "failure_classes"))
+    if t is None and r is None and c is None:
+        return note("This report has none of them: it was written before kitkb computed them (issue 31).")
+    rows: list[tuple[Any, ...]] = []
+    if t is not None:
+        rows.append(("Transporting components", "parts delivered into a kit without a drop / parts transported",
+                     f'{_figure(t.get("parts_delivered"))} / {_figure(t.get("parts_transported"))} '
+                     f'({_figure(t.get("dropped"))} dropped)', _figure(t.get("rate"))))
+    if r is not None:
+        for stage in ("detection", "approach", "manipulation"):
+            s = r.get(stage) if isinstance(r.get(stage), dict) else {}
+            rows.append(("Manipulation robustness", f"{stage}: failures / attempts",
+                         f'{_figure(s.get("failures"))} / {_figure(s.get("attempts"))}', _figure(s.get("per_attempt"))))
+        rows.append(("Manipulation robustness", "operator interventions", _figure(r.get("operator_interventions")), None))
+    if c is not None:
+        rows.append(("Failures by class", "precondition / action / unattributable",
+                     " / ".join(str(_figure(c.get(k))) for k in ("precondition", "action", "unattributable")), None))
+    if "failure_modes" in m:
+        rows.append(("Failure modes recovery", "failure modes recovered from / seen (instances recovered)",
+                     f'{_figure(m.get("failure_modes_recovered"))} / {_figure(m.get("failure_modes"))} '
+                     f'({_figure(m.get("recovered"))})', None))
+    return table(["metric", "what", "count", "rate"], rows, tid=f"{prefix}-paper-table")
+
+
 def run_sections(report: dict[str, Any], prefix: str = "run") -> str:
     """The sections of one run's report (``prefix`` keeps element ids apart on a page of several)."""
     return "".join([
         section("Run", run_facts(report), f"{prefix}-facts"),
         section("Workstation (3-D)", workstation(report, prefix), f"{prefix}-workstation"),
         section("Metrics", metrics_table(report), f"{prefix}-metrics"),
+        section("The first paper's execution metrics (§IV-B)", paper_table(report, prefix), f"{prefix}-paper"),
         section("Kit scores", kits_table(report), f"{prefix}-kits"),
         section("Timeline", _figure_or_note(timeline_figure(report), f"{prefix}-timeline"), f"{prefix}-time"),
         section("Failures and recoveries", failures_table(report), f"{prefix}-failures"),
