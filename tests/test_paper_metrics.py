@@ -115,3 +115,17 @@ def test_the_run_page_shows_them(faulty: dict[str, Any]) -> None:
     for text in ("Transporting components", "Manipulation robustness", "unattributable", "operator interventions",
                  "failure modes recovered"):
         assert text in html, text
+
+
+def test_a_campaign_pools_them(clean: dict[str, Any], faulty: dict[str, Any]) -> None:
+    from kb.testmethod.summary import figures, paper_metrics as pooled
+    p = pooled([clean, faulty])
+    assert p["transporting"] == {"parts_delivered": 6, "parts_transported": 7, "dropped": 1, "rate": round(6 / 7, 6)}
+    assert p["failure_classes"] == {"precondition": 0, "action": 1, "unattributable": 1}
+    man = p["robustness"]["manipulation"]
+    assert man["failures"] == 1 and man["attempts"] == (clean["metrics"]["robustness"]["manipulation"]["attempts"]
+                                                        + faulty["metrics"]["robustness"]["manipulation"]["attempts"])
+    assert (p["failure_modes"], p["failure_modes_recovered"]) == (2, 2)
+    row = dict(faulty, executed=True)
+    assert figures(row)["metrics.transporting.rate"] == 0.75
+    assert figures(row)["metrics.robustness.manipulation.failures"] == 1.0

@@ -90,11 +90,54 @@ def figures(row: dict[str, Any]) -> dict[str, float]:
             out[f"metrics.{key}"] = float(value)
         elif key == "static" and isinstance(value, dict):
             out.update({f"static.{k}": float(v) for k, v in value.items() if isinstance(v, (int, float))})
+        elif key in PAPER_KEYS and isinstance(value, dict):  # the first paper's §IV-B (kb.metrics.robustness)
+            out.update({f"metrics.{key}.{k}": float(v) for k, v in _flat(value).items()})
     kits = row.get("kits") or []
     scored = [k["score"] / k["max_score"] for k in kits if k.get("max_score")]
     if scored:
         out["kit_score"] = float(np.mean(scored))
     return out
+
+
+#: the nested §IV-B metrics of a run (kb.metrics.robustness) a summary pools and keeps per trial
+PAPER_KEYS = ("transporting", "robustness", "failure_classes")
+
+
+def _flat(value: dict[str, Any], prefix: str = "") -> dict[str, float]:
+    out: dict[str, float] = {}
+    for k, v in value.items():
+        if isinstance(v, dict):
+            out.update(_flat(v, f"{prefix}{k}."))
+        elif isinstance(v, (int, float)) and not isinstance(v, bool):
+            out[f"{prefix}{k}"] = float(v)
+    return out
+
+
+def paper_metrics(rows: Iterable[dict[str, Any]]) -> dict[str, Any]:
+    """The first paper's §IV-B metrics over the trials (kb.metrics.robustness): parts delivered
+    and transported, each stage's failures and attempts pooled (and their ratio), failures by
+    class, operator interventions, and the distinct failure modes recovered from in any trial."""
+    sums: Counter[str] = Counter()
+    seen: set[str] = set()
+    got: set[str] = set()
+    for row in rows:
+        m = row.get("metrics") or {}
+        sums.update({k: v for k, v in _flat({k: m[k] for k in PAPER_KEYS if isinstance(m.get(k), dict)}).items()
+                     if not k.endswith(("rate", "per_attempt"))})
+        seen.update(str(f.get("mode")) for f in row.get("failures") or [])
+        got.update((m.get("recovered_by_mode") or {}).keys())
+    def ratio(a: str, b: str) -> float | None:
+        return round(sums[a] / sums[b], 6) if sums[b] else None
+    stages = {s: {"failures": int(sums[f"robustness.{s}.failures"]), "attempts": int(sums[f"robustness.{s}.attempts"]),
+                  "per_attempt": ratio(f"robustness.{s}.failures", f"robustness.{s}.attempts")}
+              for s in ("detection", "approach", "manipulation")}
+    return {"transporting": {"parts_delivered": int(sums["transporting.parts_delivered"]),
+                             "parts_transported": int(sums["transporting.parts_transported"]),
+                             "dropped": int(sums["transporting.dropped"]),
+                             "rate": ratio("transporting.parts_delivered", "transporting.parts_transported")},
+            "robustness": {**stages, "operator_interventions": int(sums["robustness.operator_interventions"])},
+            "failure_classes": {c: int(sums[f"failure_classes.{c}"]) for c in ("precondition", "action", "unattributable")},
+            "failure_modes": len(seen), "failure_modes_recovered": len(got & seen)}
 
 
 def _stats(values: list[float]) -> dict[str, float]:
@@ -142,6 +185,7 @@ def summarize(rows: Iterable[dict[str, Any]], *, sweep: str | None = None, base:
                        "recovered": sum(recovered.values()),
                        "failures": sum(modes.values())},
         "injected_by_kind": dict(sorted(injected.items())),
+        "paper": paper_metrics(rows),  # the first paper's §IV-B, pooled
         "detection": score_detection(rows, kinds).as_dict(),
         **({"sweep": sweep_summary(rows, sweep, base, kinds)} if sweep else {}),
     }
