@@ -82,12 +82,16 @@
         }
       }
       const fs = data.failures.filter(f => f.t <= t + 1e-9 && f.at);
-      const updates = [[index['replay-objects'], {x: [xs], y: [ys], z: [zs]}],
-                       [index['replay-tool'], {x: [[tip[0]]], y: [[tip[1]]], z: [[tip[2] + 0.01]]}],
-                       [index['replay-failures'], {x: [fs.map(f => f.at[0])], y: [fs.map(f => f.at[1])],
-                        z: [fs.map(f => f.at[2] + 0.04)], text: [fs.map(f => f.label)], hovertext: [fs.map(f => f.text)],
-                        'marker.color': [fs.map(f => f.recovered ? '#e67e22' : '#c0392b')]}]];
-      for (const [k, u] of updates) if (k !== undefined) Plotly.restyle(gd, u, [k]);
+      const moving = [index['replay-objects'], index['replay-tool']];
+      if (!moving.includes(undefined))  // one redraw for the objects and the tool
+        Plotly.restyle(gd, {x: [xs, [tip[0]]], y: [ys, [tip[1]]], z: [zs, [tip[2] + 0.01]]}, moving);
+      const k = index['replay-failures'];
+      if (k !== undefined && fs.length !== state.failuresShown) {  // the failures: only when they change
+        state.failuresShown = fs.length;
+        Plotly.restyle(gd, {x: [fs.map(f => f.at[0])], y: [fs.map(f => f.at[1])], z: [fs.map(f => f.at[2] + 0.04)],
+                            text: [fs.map(f => f.label)], hovertext: [fs.map(f => f.text)],
+                            'marker.color': [fs.map(f => f.recovered ? '#e67e22' : '#c0392b')]}, [k]);
+      }
       state.last = {tip, where, failures: fs.map(f => f.label)};
       panel();
     }
