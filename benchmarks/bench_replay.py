@@ -51,7 +51,7 @@ KITKB = [sys.executable, "-m", "kb.cli"]
 READY = """new Promise((resolve, reject) => {
   const t0 = performance.now();
   const check = () => {
-    if (window.kitkbReplays && window.kitkbReplays['run-scene']) return resolve(performance.now());
+    if (window.kitkbReplays && window.kitkbReplays['run-scene']) return resolve(window.kitkbReplays['run-scene'].readyMs);
     if (performance.now() - t0 > 30000) return reject(new Error('no replay'));
     setTimeout(check, 5);
   };
@@ -131,16 +131,20 @@ def load(pages: dict[str, dict[str, Any]], repeat: int, frames: int) -> dict[str
         browser = Browser(binary, profile)
         try:
             browser.open(pages["replay"]["page"].as_uri())  # the first load apart
-            for _ in range(repeat):
+            for _ in range(repeat):  # loading, taking turns; nothing else runs in the browser meanwhile
                 for name, page in pages.items():
-                    samples[name].append(_open(browser, page["page"].as_uri(), name == "replay", frames))
+                    samples[name].append(_open(browser, page["page"].as_uri(), False, frames))
+            player = [_open(browser, pages["replay"]["page"].as_uri(), True, frames) for _ in range(repeat)]
         finally:
             browser.close()
     out = {}
     for name, runs in samples.items():
         keys = [k for k in runs[0] if isinstance(runs[0][k], (int, float))]
-        out[name] = {k: median([r[k] for r in runs]) for k in keys}
+        out[name] = {k: median([r[k] for r in runs if isinstance(r.get(k), (int, float))]) for k in keys}
         out[name]["errors"] = sorted({e for r in runs for e in r.get("errors", [])})
+    keys = [k for k in player[0] if isinstance(player[0][k], (int, float)) and k not in ("paint_ms", "drawn_ms", "player_ready_ms")]
+    out["replay"].update({k: median([r[k] for r in player]) for k in keys})
+    out["replay"]["errors"] = sorted(set(out["replay"]["errors"]) | {e for r in player for e in r.get("errors", [])})
     return out
 
 
@@ -157,8 +161,9 @@ def _open(browser: Any, url: str, replay: bool, frames: int) -> dict[str, Any]:
         browser.evaluate(session, DRAWN)
         facts = browser.evaluate(session, "({paint_ms: (performance.getEntriesByName('first-contentful-paint')[0] "
                                           "|| {startTime: null}).startTime, drawn_ms: Number(document.body.dataset.drawnMs)})")
+        facts["player_ready_ms"] = browser.evaluate(session, READY) if "kitkbReplays" in str(
+            browser.evaluate(session, "Object.keys(window).filter(k => k.startsWith('kitkb')).join(' ')")) else None
         if replay:
-            facts["player_ready_ms"] = browser.evaluate(session, READY)
             facts.update(browser.evaluate(session, FRAMES % frames))
             facts.update(browser.evaluate(session, STEPPING % STEPS))
         facts["errors"] = browser.console_errors(session)
@@ -183,7 +188,8 @@ def render(r: dict[str, Any]) -> str:
              f"Machine: {r['machine']}, {r['cpus']} cores, Python {r['python']}, {r['chromium']} (headless, software "
              f"WebGL: SwiftShader); run {r['when']} at commit `{r['commit']}`, 1-minute load average {r['load'][0]:.2f} "
              f"at the start and {r['load'][1]:.2f} at the end (the machine is shared: wall times are noisy). Medians of "
-             f"{r['repeat']} loads of each page taking turns in one browser (the first load apart).", "",
+             f"{r['repeat']} loads of each page taking turns in one browser (the first load apart), then "
+             f"{r['repeat']} loads of the replay's page for the player's times.", "",
              f"The run: `kitkb scenario generate --parts {r['parts']} --kits 1 --seed 0`, `kitkb run ... --faults "
              f"missed-grasp@6,dropped-part=0.02 --seed 1 --report run.json` ({f['actions']} actions, {f['failures']} "
              f"failures, {f['commands']:,} CRCL commands, {f['objects']} objects, TET {f['tet_s']:.1f} s on the cell's "

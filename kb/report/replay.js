@@ -164,6 +164,7 @@
     });
     slider.addEventListener('input', () => { current = api; pause(); seek(slider.value); });
     root.querySelector('.replay-controls').hidden = false;
+    api.readyMs = performance.now();  // since navigation started
     players[id] = api;
     current = current || api;
     panel();
@@ -177,14 +178,19 @@
     else if (e.key === 'p') current.state().playing ? current.pause() : current.play();
   });
 
+  // each replay starts once its 3-D view is drawn: at once if it is, else when the page says it drew
+  // its figures (<body data-drawn>, kb.report.html's DRAW; no polling: a hidden tab's timers are slowed)
   function start() {
     for (const el of document.querySelectorAll('script[type="application/json"][data-replay]')) {
       const id = el.dataset.replay, gd = document.getElementById(id), root = document.getElementById(el.dataset.root);
-      if (players[id] || !gd || !root) continue;
-      if (!gd._fullLayout || !window.Plotly) return setTimeout(start, 50);
+      if (players[id] || !gd || !root || !gd._fullLayout || !window.Plotly) continue;
       try { Player(id, JSON.parse(el.textContent), gd, root); }
       catch (err) { console.error('kitkb replay ' + id + ': ' + err); }
     }
   }
-  if (document.readyState === 'loading') document.addEventListener('DOMContentLoaded', start); else start();
+  function watch() {
+    new MutationObserver(start).observe(document.body, {attributes: true, attributeFilter: ['data-drawn']});
+    start();
+  }
+  if (document.readyState === 'loading') document.addEventListener('DOMContentLoaded', watch); else watch();
 })();
