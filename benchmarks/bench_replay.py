@@ -210,7 +210,18 @@ def render(r: dict[str, Any]) -> str:
              f"corners, the panel, one `Plotly.restyle`) {rb['frame_ms']:.1f} ms (95th percentile "
              f"{rb['frame_p95_ms']:.1f} ms); one action step with `g` {rb['action_step_ms']:.1f} ms (the first "
              f"{int(rb['action_steps'])} actions); one command step {rb['command_step_ms']:.1f} ms. Console errors: "
-             f"{', '.join(rb['errors'] + nb['errors']) or 'none'}.", ""]
+             f"{', '.join(rb['errors'] + nb['errors']) or 'none'}.", "",
+             f"Reading it: the replay adds {(w['replay']['page_bytes'] - w['no replay']['page_bytes']) / 1e6:.2f} MB to "
+             f"the page and {(f['report_bytes'] - f['report_without_commands_bytes']) / 1e6:.2f} MB to the report (the "
+             f"`commands` rows, {(f['report_bytes'] - f['report_without_commands_bytes']) / f['commands']:.0f} bytes a "
+             f"command: its text, times, tip, path, the eleven metrics and a settings number), and nothing to the time "
+             f"to the first paint or to every figure drawn: the player starts once the figures are drawn "
+             f"({(rb['player_ready_ms'] - rb['drawn_ms']):.0f} ms after). Writing the page takes "
+             f"{w['replay']['write_s'] - w['no replay']['write_s']:.2f} s more (what was grasped and released, "
+             f"kb.metrics.handling, over {f['commands']:,} commands and {f['objects']} objects). A frame of "
+             f"{rb['frame_ms']:.0f} ms is about {1000 / rb['frame_ms']:.0f} frames a second while playing in software "
+             f"WebGL. Not measured here: a campaign's trial reports grow by the same share (each carries its "
+             f"`commands`).", ""]
     return "\n".join(lines)
 
 
@@ -220,7 +231,11 @@ def main() -> int:
     p.add_argument("--repeat", type=int, default=5)
     p.add_argument("--frames", type=int, default=60)
     p.add_argument("--no-doc", action="store_true")
+    p.add_argument("--render", action="store_true", help="only rewrite the section from the latest results")
     args = p.parse_args()
+    if args.render:
+        write_doc(TITLE, render(json.loads(RESULTS.read_text())[-1]))
+        return 0
     load_start = os.getloadavg()[0]
     with tempfile.TemporaryDirectory(prefix="kitkb-bench-replay-") as tmp:
         folder = Path(tmp)
