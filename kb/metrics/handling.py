@@ -102,6 +102,28 @@ class Handling:
     t_end: float
 
 
+class _Boxes(list):
+    """The objects' corners now (None: held, lost or gone), with their world boxes kept as arrays
+    (lo, hi; NaN for None) so that a grasp's search is one numpy expression."""
+
+    def __init__(self, items: list[np.ndarray | None]) -> None:
+        super().__init__(items)
+        self.lo = np.full((len(items), 3), np.nan)
+        self.hi = np.full((len(items), 3), np.nan)
+        for n, c in enumerate(items):
+            self._bound(n, c)
+
+    def _bound(self, n: int, c: np.ndarray | None) -> None:
+        if c is None:
+            self.lo[n] = self.hi[n] = np.nan
+        else:
+            self.lo[n], self.hi[n] = c.min(axis=0), c.max(axis=0)
+
+    def __setitem__(self, n: int, c: np.ndarray | None) -> None:  # type: ignore[override]
+        super().__setitem__(n, c)
+        self._bound(n, c)
+
+
 class _State:
     def __init__(self, scene: dict[str, Any]) -> None:
         objs = [o for o in scene.get("objects") or [] if str(o.get("class")) not in FIXED
@@ -109,8 +131,9 @@ class _State:
         self.names = [str(o.get("name", "")) for o in objs]
         self.classes = [str(o.get("class") or "object") for o in objs]
         self.index = {n: k for k, n in enumerate(self.names)}
-        self.now: list[np.ndarray | None] = [box_corners(o["lo"], o["hi"], o["initial"]) if placed(o, "initial")
-                                             else None for o in objs]
+        self.effector = np.array([c == "EndEffector" for c in self.classes], bool)
+        self.now = _Boxes([box_corners(o["lo"], o["hi"], o["initial"]) if placed(o, "initial") else None
+                           for o in objs])
         self.final: list[np.ndarray | None] = [box_corners(o["lo"], o["hi"], o["final"]) if placed(o, "final")
                                                else None for o in objs]
         self.shape = [(c if c is not None else f) for c, f in zip(self.now, self.final)]
@@ -122,20 +145,24 @@ class _State:
         self.open: dict[int, Transport] = {}
         self.transports: list[Transport] = []
 
+    def bounds(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Every object's world box now (lo, hi: n x 3; NaN where it is held, lost or gone) and
+        which are placed."""
+        return self.now.lo, self.now.hi, ~np.isnan(self.now.lo[:, 0])
+
     def at_tip(self, tip: np.ndarray, effector: bool) -> int | None:
-        best: tuple[float, float, int] | None = None
-        for n, c in enumerate(self.now):
-            if c is None or n in self.held or (self.classes[n] == "EndEffector") != effector:
-                continue
-            lo, hi = c.min(axis=0), c.max(axis=0)
-            gap = abs(hi[2] - tip[2])
-            if gap > GRASP_TOLERANCE or not (lo[0] - 1e-3 <= tip[0] <= hi[0] + 1e-3
-                                             and lo[1] - 1e-3 <= tip[1] <= hi[1] + 1e-3):
-                continue
-            key = (round(gap, 4), float(np.prod(hi - lo)), n)
-            if best is None or key < best:
-                best = key
-        return None if best is None else best[2]
+        """The object whose top is at ``tip`` and whose footprint holds it (an end effector for
+        the tool changer, anything else for the gripper): the nearest top, then the smallest."""
+        lo, hi, here = self.bounds()
+        with np.errstate(invalid="ignore"):
+            gap = np.abs(hi[:, 2] - tip[2])
+            ok = (here & (gap <= GRASP_TOLERANCE) & (self.effector == effector)
+                  & np.all(lo[:, :2] - 1e-3 <= tip[:2], axis=1) & np.all(hi[:, :2] + 1e-3 >= tip[:2], axis=1))
+        found = np.flatnonzero(ok)
+        if not len(found):
+            return None
+        size = np.prod(hi[found] - lo[found], axis=1)
+        return int(min(zip(np.round(gap[found], 4), size, found))[2])
 
     def found_lost(self, tip: np.ndarray, effector: bool) -> int | None:
         """An object whose place is not known, grasped at ``tip``: the nearest (by where it was)."""
@@ -156,17 +183,18 @@ class _State:
         self.lost.pop(n)[2] = _r(corners)
 
     def contents(self, n: int) -> list[int]:
+        """The objects resting in object ``n`` (their centre over its footprint, between its
+        bottom and a little above its top), end effectors apart."""
         c = self.now[n]
         assert c is not None
         lo, hi = c.min(axis=0), c.max(axis=0)
-        out = []
-        for m, other in enumerate(self.now):
-            if m == n or other is None or m in self.held or self.classes[m] == "EndEffector":
-                continue
-            centre = other.mean(axis=0)
-            if lo[0] <= centre[0] <= hi[0] and lo[1] <= centre[1] <= hi[1] and lo[2] <= centre[2] <= hi[2] + CONTENT_REACH:
-                out.append(m)
-        return out
+        olo, ohi, here = self.bounds()
+        centre = (olo + ohi) / 2
+        with np.errstate(invalid="ignore"):
+            ok = (here & ~self.effector & np.all(centre[:, :2] >= lo[:2], axis=1) & np.all(centre[:, :2] <= hi[:2], axis=1)
+                  & (centre[:, 2] >= lo[2]) & (centre[:, 2] <= hi[2] + CONTENT_REACH))
+        ok[n] = False
+        return [int(m) for m in np.flatnonzero(ok)]
 
     def lose(self, n: int, t: float, gone: bool = False) -> None:
         """Object ``n`` leaves the robot's knowledge at ``t`` (moved by an agent, dropped)."""
