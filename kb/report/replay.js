@@ -172,7 +172,8 @@
   }
 
   document.addEventListener('keydown', e => {
-    if (!current || e.ctrlKey || e.metaKey || e.altKey || /INPUT|SELECT|TEXTAREA/.test(e.target.tagName)) return;
+    const typing = /SELECT|TEXTAREA/.test(e.target.tagName) || (e.target.tagName === 'INPUT' && e.target.type !== 'range');
+    if (!current || e.ctrlKey || e.metaKey || e.altKey || typing) return;
     if (e.key === 'g') current.action();
     else if (e.key === 'n') current.command();
     else if (e.key === 'p') current.state().playing ? current.pause() : current.play();
